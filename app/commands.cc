@@ -1,0 +1,285 @@
+#include "app/commands.h"
+
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+#include <map>
+#include <sstream>
+
+#include "app/csv_writer.h"
+#include "core/build.h"
+#include "core/model_state.h"
+#include "solver/simulator.h"
+#include "solver/sundials_support.h"
+
+namespace momenta {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double Since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+std::string Ms(double seconds) {
+  std::ostringstream s;
+  s.precision(3);
+  s << seconds * 1e3 << " ms";
+  return s.str();
+}
+
+std::string Stem(const std::string& path) {
+  size_t slash = path.find_last_of('/');
+  std::string base = slash == std::string::npos ? path : path.substr(slash + 1);
+  size_t dot = base.find_last_of('.');
+  return dot == std::string::npos ? base : base.substr(0, dot);
+}
+
+}  // namespace
+
+ParameterOverrides ParseOverrides(const std::vector<std::string>& pairs) {
+  ParameterOverrides out;
+  for (const auto& p : pairs) {
+    size_t eq = p.find('=');
+    if (eq == std::string::npos || eq == 0 || eq + 1 == p.size()) {
+      throw std::invalid_argument("-p takes NAME=VALUE, found '" + p + "'");
+    }
+    std::string name = p.substr(0, eq), text = p.substr(eq + 1);
+    double v;
+    if (text == "true") {
+      v = 1;
+    } else if (text == "false") {
+      v = 0;
+    } else {
+      try {
+        size_t used = 0;
+        v = std::stod(text, &used);
+        if (used != text.size()) throw std::invalid_argument(text);
+      } catch (const std::exception&) {
+        throw std::invalid_argument("-p " + name + ": '" + text + "' is not a number");
+      }
+    }
+    out[name] = v;
+  }
+  return out;
+}
+
+int RunSimulate(const SimulateArgs& args) {
+  ParameterOverrides overrides;
+  try {
+    overrides = ParseOverrides(args.params);
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "momenta: " << e.what() << "\n";
+    return kExitUsage;
+  }
+  std::shared_ptr<const CompiledModel> model;
+  BuildReport report;
+  double load_s = 0, build_s = 0;
+  std::unique_ptr<ModelState> state;
+  SimulationOptions opt;
+  try {
+    auto t0 = Clock::now();
+    ModelSpec spec = LoadModelFile(args.model);
+    load_s = Since(t0);
+    auto t1 = Clock::now();
+    model = BuildModel(spec, BuiltinLibrary(), overrides, &report);
+    build_s = Since(t1);
+    state = std::make_unique<ModelState>(model);
+    state->SetParameters(overrides);
+    opt = OptionsFromExperiment(model->experiment);
+    if (args.stop >= 0) opt.stop = args.stop;
+    if (args.rtol > 0) opt.rtol = args.rtol;
+    if (args.atol > 0) opt.atol = args.atol;
+    if (args.interval > 0) opt.interval = args.interval;
+    if (!args.linear_solver.empty()) opt.linear_solver = args.linear_solver;
+    if (!(opt.stop > opt.start)) throw ModelError(args.model + ": the stop time must be after the start time " + FormatDouble(opt.start));
+  } catch (const ModelError& e) {
+    std::cerr << e.what() << "\n";
+    return kExitModel;
+  }
+  for (const auto& w : report.warnings) std::cerr << args.model << ": warning: " << w << "\n";
+
+  std::string out_path = args.out.empty() ? Stem(args.model) + ".csv" : args.out;
+  std::unique_ptr<CsvWriter> csv;
+  try {
+    csv = std::make_unique<CsvWriter>(out_path, model->output_names);
+  } catch (const std::exception& e) {
+    std::cerr << "momenta: " << e.what() << "\n";
+    return kExitUsage;
+  }
+  std::vector<double> last(model->output_names.size());
+  double last_t = opt.start;
+  SolverStats stats;
+  int code = kExitOk;
+  std::string failure;
+  try {
+    Simulate(state.get(), opt, [&](double t, const std::vector<double>& v) {
+      csv->Row(t, v);
+      last = v;
+      last_t = t;
+    }, &stats);
+  } catch (const SolverError& e) {
+    failure = e.what();
+    code = kExitSolver;
+  } catch (const ModelError& e) {
+    failure = e.what();
+    code = kExitModel;
+  }
+  size_t rows = csv->rows();
+  csv.reset();
+
+  if (!failure.empty()) {
+    std::cerr << args.model << ": simulation failed " << failure << "\n";
+    std::cerr << "  results up to t = " << FormatDouble(last_t) << " are kept in " << out_path << " ("
+              << rows << " rows)\n";
+    return code;
+  }
+  if (args.quiet) return kExitOk;
+  std::ostream& o = std::cout;
+  o << model->flat->model_name << " (" << args.model << "): simulated " << FormatDouble(opt.start)
+    << " to " << FormatDouble(stats.final_time) << " s\n";
+  o << "  build " << Ms(load_s + build_s) << " (load " << Ms(load_s);
+  for (const auto& p : report.passes) o << ", " << p.name << " " << Ms(p.seconds);
+  o << "); initialise " << Ms(stats.init_seconds) << "; integrate " << Ms(stats.integrate_seconds) << "\n";
+  o << "  " << model->num_unknowns() << " unknowns (" << model->num_states() << " states), IDA with "
+    << stats.linear_solver << " LU" << (SundialsOptimized() ? "" : " (unoptimised SUNDIALS)") << ": "
+    << stats.steps << " steps, " << stats.residual_evals << " residual evaluations, "
+    << stats.jacobian_evals << " Jacobians, " << stats.error_test_failures << " error-test failures, "
+    << stats.nonlinear_failures << " convergence failures\n";
+  o << "  results: " << out_path << " (" << rows << " rows)\n";
+  if (!model->output_names.empty()) {
+    o << "  final values at t = " << FormatDouble(last_t) << ":\n";
+    for (size_t k = 0; k < last.size(); ++k) {
+      char buf[64];
+      std::snprintf(buf, sizeof buf, "%.10g", last[k]);
+      o << "    " << model->output_names[k] << " = " << buf << "\n";
+    }
+  }
+  return kExitOk;
+}
+
+int RunCheck(const CheckArgs& args) {
+  ParameterOverrides overrides;
+  try {
+    overrides = ParseOverrides(args.params);
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "momenta: " << e.what() << "\n";
+    return kExitUsage;
+  }
+  BuildReport report;
+  std::shared_ptr<const CompiledModel> model;
+  double load_s = 0;
+  try {
+    auto t0 = Clock::now();
+    ModelSpec spec = LoadModelFile(args.model);
+    load_s = Since(t0);
+    model = BuildModel(spec, BuiltinLibrary(), overrides, &report);
+    ModelState state(model);
+    state.SetParameters(overrides);
+  } catch (const ModelError& e) {
+    std::cerr << e.what() << "\n";
+    return kExitModel;
+  }
+  std::ostream& o = std::cout;
+  o << "model " << model->flat->model_name << " (" << args.model << "): " << report.num_components
+    << " components, " << report.num_parameters << " parameters\n";
+  char line[256];
+  std::snprintf(line, sizeof line, "  %-22s %10s %10s %10s  %s\n", "pass", "time", "unknowns", "equations", "");
+  o << line;
+  std::snprintf(line, sizeof line, "  %-22s %10s %10s %10s  %s\n", "load", Ms(load_s).c_str(), "", "", "");
+  o << line;
+  double total = load_s;
+  for (const auto& p : report.passes) {
+    std::snprintf(line, sizeof line, "  %-22s %10s %10zu %10zu  ", p.name.c_str(), Ms(p.seconds).c_str(),
+                  p.variables, p.equations);
+    o << line << p.note << "\n";
+    total += p.seconds;
+  }
+  o << "  total " << Ms(total) << "\n";
+  auto list = [&](const std::string& title, const std::vector<std::string>& names) {
+    o << title << " (" << names.size() << ")";
+    size_t limit = args.verbose ? names.size() : 20;
+    for (size_t k = 0; k < names.size() && k < limit; ++k) o << (k ? ", " : ": ") << names[k];
+    if (names.size() > limit) o << ", … (--verbose lists all)";
+    o << "\n";
+  };
+  list("states", report.states);
+  list("outputs", model->output_names);
+  list("pruned", report.pruned);
+  if (args.verbose) {
+    // The DAE as IDA sees it, then the initial conditions, in the user's names.
+    ExprNamer names = model->flat->Namer();
+    o << "equations for IDA (" << model->num_unknowns() << "):\n";
+    for (size_t k = 0; k < model->num_unknowns(); ++k) {
+      o << "  0 = " << ToString(*model->pool, model->residual_exprs[k], names) << "\n      from "
+        << model->residual_origin[k] << "\n";
+    }
+    o << "initial equations (" << model->initial_exprs.size() << "):\n";
+    for (size_t k = 0; k < model->initial_exprs.size(); ++k) {
+      o << "  0 = " << ToString(*model->pool, model->initial_exprs[k], names) << "\n      from "
+        << model->initial_origin[k] << "\n";
+    }
+    o << "outputs:\n";
+    for (size_t k = 0; k < model->output_names.size(); ++k) {
+      o << "  " << model->output_names[k] << " = " << ToString(*model->pool, model->output_exprs[k], names) << "\n";
+    }
+  }
+  for (const auto& w : report.warnings) o << "warning: " << w << "\n";
+  return kExitOk;
+}
+
+int RunList(const std::string& name) {
+  const Library& lib = BuiltinLibrary();
+  std::ostream& o = std::cout;
+  if (name.empty()) {
+    std::map<std::string, std::vector<const ComponentType*>> by_file;
+    for (const auto& n : lib.ComponentNames()) {
+      const ComponentType* t = lib.FindComponent(n);
+      by_file[t->loc.file].push_back(t);
+    }
+    for (const auto& [file, types] : by_file) {
+      o << file << "\n";
+      for (const ComponentType* t : types) {
+        char buf[64];
+        std::snprintf(buf, sizeof buf, "  %-24s", t->name.c_str());
+        o << buf << t->doc << "\n";
+      }
+    }
+    o << "connectors: " << JoinNames(lib.ConnectorNames()) << "\n";
+    return kExitOk;
+  }
+  const ComponentType* t = lib.FindComponent(name);
+  if (!t) {
+    if (const ConnectorType* c = lib.FindConnector(name)) {
+      o << c->name << " (connector): " << c->doc << "\n";
+      for (const auto& v : c->potentials) o << "  potential " << v.name << " [" << v.unit << "]: " << v.doc << "\n";
+      for (const auto& v : c->flows) o << "  flow " << v.name << " [" << v.unit << "]: " << v.doc << "\n";
+      if (c->is_signal) o << "  signal " << (c->is_input ? "input" : "output") << " of type " << ValueTypeName(c->signal_type) << "\n";
+      return kExitOk;
+    }
+    auto close = ClosestNames(name, lib.ComponentNames());
+    std::cerr << "momenta: no component named '" << name << "'"
+              << (close.empty() ? "" : " (did you mean " + JoinNames(close) + "?)") << " (valid: "
+              << JoinNames(lib.ComponentNames(), 200) << ")\n";
+    return kExitUsage;
+  }
+  o << t->name << ": " << t->doc << "\n";
+  if (!t->parameters.empty()) o << "parameters:\n";
+  for (const auto& p : t->parameters) {
+    o << "  " << p.name << " = " << p.value_text << (p.unit.empty() ? "" : " [" + p.unit + "]");
+    if (p.min) o << ", min " << FormatDouble(*p.min);
+    if (p.max) o << ", max " << FormatDouble(*p.max);
+    o << (p.doc.empty() ? "" : ": " + p.doc) << "\n";
+  }
+  if (!t->connectors.empty()) o << "connectors:\n";
+  for (const auto& c : t->connectors) o << "  " << c.name << ": " << c.type << (c.doc.empty() ? "" : " — " + c.doc) << "\n";
+  if (!t->variables.empty()) o << "variables:\n";
+  for (const auto& v : t->variables) {
+    o << "  " << v.name << (v.unit.empty() ? "" : " [" + v.unit + "]") << (v.doc.empty() ? "" : ": " + v.doc) << "\n";
+  }
+  o << "equations:\n";
+  for (const auto& e : t->equations) o << "  " << e.text << "\n";
+  for (const auto& e : t->initial_equations) o << "  initial: " << e.text << "\n";
+  return kExitOk;
+}
+
+}  // namespace momenta

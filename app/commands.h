@@ -1,0 +1,36 @@
+#pragma once
+/// The command line's subcommands. Each returns the process exit code: 0 success, 1 the model is
+/// wrong, 2 usage, 3 the solver failed (results so far kept).
+
+#include <string>
+#include <vector>
+
+#include "core/flat_system.h"
+
+namespace momenta {
+
+constexpr int kExitOk = 0, kExitModel = 1, kExitUsage = 2, kExitSolver = 3;
+
+struct SimulateArgs {
+  std::string model;
+  std::vector<std::string> params;  ///< NAME=VALUE
+  double stop = -1, rtol = -1, atol = -1, interval = -1;
+  std::string out;  ///< empty: <model file stem>.csv
+  std::string linear_solver;
+  bool quiet = false;
+};
+
+struct CheckArgs {
+  std::string model;
+  std::vector<std::string> params;
+  bool verbose = false;
+};
+
+int RunSimulate(const SimulateArgs& args);
+int RunCheck(const CheckArgs& args);
+int RunList(const std::string& name);
+
+/// Parses NAME=VALUE pairs; throws std::invalid_argument with a usage message.
+ParameterOverrides ParseOverrides(const std::vector<std::string>& pairs);
+
+}  // namespace momenta

@@ -1,0 +1,146 @@
+# momenta: third-party dependencies.
+#
+# Included by the top-level CMakeLists.txt after project(). Defines INTERFACE targets so the rest
+# of the build does not care where a dependency came from:
+#   momenta_sundials  SUNDIALS 6.4.x: IDA, KINSOL, serial NVector, dense + sparse SUNMatrix,
+#                     dense + KLU SUNLinearSolver (and KLU). Compile definition
+#                     MOMENTA_SUNDIALS_OPTIMIZED=1 (our -O2 build) or =0 (Debian's).
+#   momenta_yaml      yaml-cpp
+#   momenta_eigen     Eigen3::Eigen
+#   momenta_cli11     CLI11::CLI11
+# and, when tests / benchmarks are enabled, finds GTest (GTest::gtest_main) and Google Benchmark
+# (benchmark::benchmark).
+#
+# Options / cache variables:
+#   MOMENTA_BUILD_TESTS          (ON)  find GTest, enable_testing()
+#   MOMENTA_BUILD_BENCH          (ON)  find Google Benchmark
+#   MOMENTA_SANITIZE             (OFF) ASan + UBSan on everything defined after this file
+#   MOMENTA_SUNDIALS_ROOT        optimised SUNDIALS prefix made by scripts/setup.sh
+#   MOMENTA_USE_SYSTEM_SUNDIALS  (OFF) ignore MOMENTA_SUNDIALS_ROOT, use the system SUNDIALS
+# Sets MOMENTA_SUNDIALS_OPTIMIZED (ON/OFF) and MOMENTA_SUNDIALS_VERSION in the including scope.
+
+include_guard(GLOBAL)
+
+option(MOMENTA_BUILD_TESTS "Build the unit tests (needs GTest)" ON)
+option(MOMENTA_BUILD_BENCH "Build the benchmarks (needs Google Benchmark)" ON)
+option(MOMENTA_SANITIZE "Build with AddressSanitizer and UndefinedBehaviorSanitizer" OFF)
+option(MOMENTA_USE_SYSTEM_SUNDIALS "Use the system SUNDIALS even if the optimised build exists" OFF)
+
+# ---- Sanitizers: compile and link flags of every target defined after this point -------------
+if(MOMENTA_SANITIZE)
+  set(_momenta_san_flags -fsanitize=address,undefined -fno-omit-frame-pointer
+                         -fno-sanitize-recover=undefined)
+  add_compile_options(${_momenta_san_flags})
+  add_link_options(${_momenta_san_flags})
+  list(JOIN _momenta_san_flags " " _momenta_san_text)
+  message(STATUS "momenta: sanitizers ON (${_momenta_san_text})")
+endif()
+
+# ---- SUNDIALS ------------------------------------------------------------------------------
+# Default root of the optimised build: $MOMENTA_DEPS_DIR/sundials-6.4.1 or /opt/momenta-deps/...
+if(DEFINED ENV{MOMENTA_DEPS_DIR} AND NOT "$ENV{MOMENTA_DEPS_DIR}" STREQUAL "")
+  set(_momenta_sundials_default_root "$ENV{MOMENTA_DEPS_DIR}/sundials-6.4.1")
+else()
+  set(_momenta_sundials_default_root "/opt/momenta-deps/sundials-6.4.1")
+endif()
+set(MOMENTA_SUNDIALS_ROOT "${_momenta_sundials_default_root}" CACHE PATH
+    "Prefix of the optimised SUNDIALS build made by scripts/setup.sh")
+
+# Components momenta links, in link order (solvers before what they use).
+set(_momenta_sundials_components
+    ida kinsol sunlinsolklu sunlinsoldense sunmatrixsparse sunmatrixdense nvecserial)
+
+# The search is redone at every configure: forget what the last run found, so that an optimised
+# build installed (or removed) since then is noticed.
+unset(SUNDIALS_DIR CACHE)
+unset(SUNDIALS_DIR)
+
+set(MOMENTA_SUNDIALS_OPTIMIZED OFF)
+set(_momenta_sundials_why "")
+
+# 1. The optimised build, if its install is complete (scripts/setup.sh writes the stamp last).
+set(_momenta_sundials_stamp "${MOMENTA_SUNDIALS_ROOT}/.momenta-sundials-stamp")
+if(MOMENTA_USE_SYSTEM_SUNDIALS)
+  set(_momenta_sundials_why "MOMENTA_USE_SYSTEM_SUNDIALS=ON")
+elseif(NOT EXISTS "${_momenta_sundials_stamp}")
+  set(_momenta_sundials_why "no complete optimised build in ${MOMENTA_SUNDIALS_ROOT} (run scripts/setup.sh)")
+else()
+  find_package(SUNDIALS 6.4 CONFIG QUIET
+               COMPONENTS ${_momenta_sundials_components}
+               PATHS "${MOMENTA_SUNDIALS_ROOT}" NO_DEFAULT_PATH)
+  if(SUNDIALS_FOUND AND SUNDIALS_VERSION VERSION_GREATER_EQUAL 6.4 AND SUNDIALS_VERSION VERSION_LESS 6.5)
+    set(MOMENTA_SUNDIALS_OPTIMIZED ON)
+  elseif(SUNDIALS_FOUND)
+    message(FATAL_ERROR "momenta: ${MOMENTA_SUNDIALS_ROOT} holds SUNDIALS ${SUNDIALS_VERSION}, need 6.4.x; "
+                        "remove it and rerun scripts/setup.sh, or set -DMOMENTA_USE_SYSTEM_SUNDIALS=ON")
+  else()
+    set(_momenta_sundials_why "the SUNDIALS package in ${MOMENTA_SUNDIALS_ROOT} could not be loaded")
+    unset(SUNDIALS_DIR CACHE)
+    unset(SUNDIALS_DIR)
+  endif()
+endif()
+
+# 2. Otherwise the system SUNDIALS (Debian's libsundials-dev, built without optimisation).
+if(NOT MOMENTA_SUNDIALS_OPTIMIZED)
+  find_package(SUNDIALS 6.4 CONFIG REQUIRED COMPONENTS ${_momenta_sundials_components})
+  if(SUNDIALS_VERSION VERSION_LESS 6.4 OR NOT SUNDIALS_VERSION VERSION_LESS 6.5)
+    message(FATAL_ERROR "momenta: found SUNDIALS ${SUNDIALS_VERSION} in ${SUNDIALS_DIR}, need 6.4.x")
+  endif()
+endif()
+
+add_library(momenta_sundials INTERFACE)
+foreach(_c IN LISTS _momenta_sundials_components)
+  # The optimised prefix holds static libraries only (PIC, so they also go into shared objects):
+  # nothing to find at run time, no LD_LIBRARY_PATH or RPATH needed. The system package's
+  # un-suffixed names are aliases of its shared libraries in /usr/lib.
+  if(MOMENTA_SUNDIALS_OPTIMIZED)
+    set(_t SUNDIALS::${_c}_static)
+  else()
+    set(_t SUNDIALS::${_c})
+  endif()
+  if(NOT TARGET ${_t})
+    message(FATAL_ERROR "momenta: SUNDIALS in ${SUNDIALS_DIR} has no target ${_t}")
+  endif()
+  target_link_libraries(momenta_sundials INTERFACE ${_t})
+endforeach()
+# KLU itself (SuiteSparse); sunlinsolklu already brings it, listed so its headers are always seen.
+if(TARGET SUNDIALS::KLU)
+  target_link_libraries(momenta_sundials INTERFACE SUNDIALS::KLU)
+endif()
+if(MOMENTA_SUNDIALS_OPTIMIZED)
+  target_compile_definitions(momenta_sundials INTERFACE MOMENTA_SUNDIALS_OPTIMIZED=1)
+  message(STATUS "momenta: SUNDIALS ${SUNDIALS_VERSION}: optimised build (static, -O2) in ${MOMENTA_SUNDIALS_ROOT}")
+else()
+  target_compile_definitions(momenta_sundials INTERFACE MOMENTA_SUNDIALS_OPTIMIZED=0)
+  message(STATUS "momenta: SUNDIALS ${SUNDIALS_VERSION}: system package in ${SUNDIALS_DIR} "
+                 "(not optimised; ${_momenta_sundials_why})")
+endif()
+set(MOMENTA_SUNDIALS_VERSION "${SUNDIALS_VERSION}")
+
+# ---- yaml-cpp (Debian 12: 0.7, target 'yaml-cpp'; newer releases: yaml-cpp::yaml-cpp) --------
+find_package(yaml-cpp CONFIG REQUIRED)
+add_library(momenta_yaml INTERFACE)
+if(TARGET yaml-cpp::yaml-cpp)
+  target_link_libraries(momenta_yaml INTERFACE yaml-cpp::yaml-cpp)
+else()
+  target_link_libraries(momenta_yaml INTERFACE yaml-cpp)
+endif()
+
+# ---- Eigen ---------------------------------------------------------------------------------
+find_package(Eigen3 3.3 CONFIG REQUIRED)
+add_library(momenta_eigen INTERFACE)
+target_link_libraries(momenta_eigen INTERFACE Eigen3::Eigen)
+
+# ---- CLI11 (header-only) -------------------------------------------------------------------
+find_package(CLI11 CONFIG REQUIRED)
+add_library(momenta_cli11 INTERFACE)
+target_link_libraries(momenta_cli11 INTERFACE CLI11::CLI11)
+
+# ---- Test and benchmark frameworks, only when those are built ------------------------------
+if(MOMENTA_BUILD_TESTS)
+  find_package(GTest REQUIRED)   # GTest::gtest, GTest::gtest_main
+  enable_testing()
+endif()
+if(MOMENTA_BUILD_BENCH)
+  find_package(benchmark CONFIG REQUIRED)   # benchmark::benchmark
+endif()

@@ -1,0 +1,19 @@
+#pragma once
+/// Alias elimination: equations `a = b`, `a = -b`, `a = ±b + c` and `a = c`, with c a parameter
+/// expression, remove a variable and an equation each. Connections produce most of them (equal
+/// potentials, flows summing to zero over two connectors), so most of a flat model goes here.
+
+#include "core/equation_system.h"
+
+namespace momenta {
+
+struct AliasStats {
+  size_t aliases = 0;    ///< variables replaced by ±another + offset
+  size_t constants = 0;  ///< variables replaced by a parameter expression
+};
+
+/// Removes every alias equation. The variable that stays of an alias set is, in order of
+/// preference: one whose derivative appears, one with `state: prefer`, the first declared.
+EquationSystem EliminateAliases(EquationSystem sys, AliasStats* stats);
+
+}  // namespace momenta

@@ -1,0 +1,35 @@
+#pragma once
+/// The pipeline from a model file's spec to a CompiledModel: flatten, eliminate aliases, reduce
+/// the index, analyse, prune, causalise, set up initialisation, compile. Each pass reports its
+/// size and time (what `momenta check` prints).
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/compiled_model.h"
+#include "core/model_spec.h"
+
+namespace momenta {
+
+struct PassReport {
+  std::string name;
+  double seconds = 0;
+  size_t variables = 0;  ///< unknowns after the pass
+  size_t equations = 0;  ///< equations after the pass
+  std::string note;
+};
+
+struct BuildReport {
+  std::vector<PassReport> passes;
+  std::vector<std::string> warnings;
+  std::vector<std::string> pruned;      ///< names of pruned variables
+  std::vector<std::string> states;      ///< names of the states
+  size_t num_components = 0, num_parameters = 0;
+};
+
+std::shared_ptr<const CompiledModel> BuildModel(const ModelSpec& spec, const Library& library,
+                                                const ParameterOverrides& overrides,
+                                                BuildReport* report);
+
+}  // namespace momenta

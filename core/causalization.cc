@@ -1,0 +1,69 @@
+#include "core/causalization.h"
+
+#include "core/graph.h"
+
+namespace momenta {
+
+EquationSystem Causalize(EquationSystem sys, Structure* st, CausalStats* stats) {
+  ExprPool& p = *sys.pool;
+  const size_t ne = sys.equations.size();
+  // Dependency graph among equations that determine algebraic unknowns.
+  std::vector<uint32_t> start{0}, adj;
+  std::vector<bool> algebraic_eq(ne, false);
+  for (size_t k = 0; k < ne; ++k) {
+    uint32_t v = static_cast<uint32_t>(st->var_of_equation[k]);
+    algebraic_eq[k] = !st->is_state[v];
+    if (algebraic_eq[k]) {
+      for (ExprId leaf : CollectLeaves(p, sys.equations[k].residual, kHasVar)) {
+        uint32_t w = p.node(leaf).a;
+        if (w == v || sys.role[w] != VarRole::kUnknown || st->is_state[w]) continue;
+        adj.push_back(static_cast<uint32_t>(st->equation_of_var[w]));
+      }
+    }
+    start.push_back(static_cast<uint32_t>(adj.size()));
+  }
+  auto components = StronglyConnectedComponents(static_cast<uint32_t>(ne), start, adj);
+  // Solve singletons explicitly, dependencies first.
+  Substitution& s = *sys.eliminated;
+  std::vector<bool> removed(ne, false);
+  for (const auto& comp : components) {
+    if (comp.size() > 1) {
+      ++stats->algebraic_loops;
+      stats->loop_variables += comp.size();
+      continue;
+    }
+    uint32_t k = comp[0];
+    if (!algebraic_eq[k]) continue;
+    uint32_t v = static_cast<uint32_t>(st->var_of_equation[k]);
+    if (sys.flat->variables[v].type != ValueType::kReal) continue;
+    ExprId r = s.Apply(sys.equations[k].residual);
+    ExprId coefficient;
+    ExprId value = SolveFor(&p, r, p.Var(VarId(v)), true, &coefficient);
+    if (!value.valid()) continue;
+    s.Set(p.Var(VarId(v)), value);
+    s.Set(p.Pre(VarId(v)), value);
+    if (!p.IsConst(coefficient)) {
+      sys.guards.push_back({coefficient, sys.equations[k].origin, VarId(v)});
+    }
+    sys.role[v] = VarRole::kInlined;
+    removed[k] = true;
+    ++stats->inlined;
+  }
+  std::vector<SystemEquation> kept;
+  std::vector<int32_t> var_of_eq;
+  for (size_t k = 0; k < ne; ++k) {
+    if (removed[k]) continue;
+    kept.push_back(sys.equations[k]);
+    var_of_eq.push_back(st->var_of_equation[k]);
+  }
+  sys.equations.swap(kept);
+  st->var_of_equation.swap(var_of_eq);
+  std::fill(st->equation_of_var.begin(), st->equation_of_var.end(), -1);
+  for (size_t k = 0; k < sys.equations.size(); ++k) {
+    st->equation_of_var[st->var_of_equation[k]] = static_cast<int32_t>(k);
+  }
+  sys.ApplyEliminations();
+  return sys;
+}
+
+}  // namespace momenta

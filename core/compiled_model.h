@@ -1,0 +1,69 @@
+#pragma once
+/// A model ready to simulate: the DAE F(t, y, y') = 0 for IDA, its sparse Jacobian, the
+/// initialisation system, the outputs, all as compiled programs over one register layout. It is
+/// immutable after building; everything that changes during a run (time, y, y', parameter values)
+/// lives in a ModelState.
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/equation_system.h"
+#include "core/flat_system.h"
+#include "core/program.h"
+
+namespace momenta {
+
+/// A sparse matrix pattern in compressed-column form (what KLU takes).
+struct SparsePattern {
+  int32_t rows = 0, cols = 0;
+  std::vector<int32_t> col_start{0};
+  std::vector<int32_t> row_index;
+  size_t nnz() const { return row_index.size(); }
+};
+
+struct CompiledModel {
+  std::shared_ptr<const FlatSystem> flat;
+  std::shared_ptr<ExprPool> pool;
+
+  // The DAE: unknowns y (IDA's vector), with y' for the states.
+  std::vector<VarId> unknowns;
+  std::vector<bool> is_state;                ///< by y index
+  std::vector<double> nominal;               ///< by y index, for absolute tolerances
+  std::vector<uint32_t> state_y;             ///< y index of each state
+  std::vector<ExprId> residual_exprs;        ///< F, one per y index (the matched equation)
+  std::vector<std::string> residual_origin;  ///< the user's equation behind each residual
+  size_t num_states() const { return state_y.size(); }
+  size_t num_unknowns() const { return unknowns.size(); }
+
+  // Outputs.
+  std::vector<std::string> output_names;
+  std::vector<ExprId> output_exprs;
+
+  // Initialisation: unknowns z = [y; y' of the states]; equations [F; G].
+  std::vector<ExprId> initial_exprs;          ///< G
+  std::vector<std::string> initial_origin;
+  std::vector<std::string> defaulted_starts;  ///< states whose start value was taken as fixed
+
+  // Parameter-dependent checks: divisors that must not be zero.
+  std::vector<DivisorGuard> guards;
+  std::vector<std::string> guard_text;
+
+  // Compiled programs.
+  RegisterLayout layout;
+  std::vector<std::pair<uint32_t, double>> constants;
+  Program parameters;    ///< parameter-only subexpressions
+  Program residual;      ///< out: F (n)
+  Program jacobian;      ///< out: dF/dy + cj dF/dy' in `jacobian_pattern` order
+  SparsePattern jacobian_pattern;
+  Program outputs;       ///< out: outputs
+  Program start_values;  ///< out: guesses for y (n)
+  Program init_residual; ///< out: [F; G]
+  Program init_jacobian; ///< out: d[F; G]/dz in `init_pattern` order
+  SparsePattern init_pattern;
+  Program guard_values;  ///< out: the divisors
+
+  ExperimentSpec experiment;
+};
+
+}  // namespace momenta

@@ -1,0 +1,102 @@
+#pragma once
+/// Component and connector types as declared in a library file or a model's `define:` section
+/// (docs/FORMAT.md). Declarations only: names are resolved when a type is first instantiated.
+
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/ast.h"
+#include "core/error.h"
+
+namespace momenta {
+
+enum class ValueType { kReal, kInteger, kBoolean };
+const char* ValueTypeName(ValueType t);
+
+struct ParameterDecl {
+  std::string name;
+  AstPtr value;  ///< default binding: a number or an expression of the type's other parameters
+  std::string value_text;
+  std::string unit, doc;
+  std::optional<double> min, max;
+  ValueType type = ValueType::kReal;
+  SourceLoc loc;
+};
+
+struct VariableDecl {
+  std::string name;
+  std::string unit, doc;
+  AstPtr start;  ///< null: 0 (or false)
+  bool fixed = false;
+  double nominal = 1.0;
+  std::optional<double> min, max;
+  int state_priority = 0;  ///< +1 prefer, -1 avoid
+  ValueType type = ValueType::kReal;
+  SourceLoc loc;
+};
+
+struct EquationDecl {
+  std::string text;
+  AstEquation ast;
+  SourceLoc loc;
+};
+
+struct ConnectorVariable {
+  std::string name, unit, doc;
+};
+
+struct ConnectorType {
+  std::string name, doc;
+  bool is_signal = false;
+  bool is_input = false;  ///< signals: input (true) or output (false)
+  ValueType signal_type = ValueType::kReal;
+  std::vector<ConnectorVariable> potentials, flows;
+  SourceLoc loc;
+};
+
+struct ConnectorDecl {
+  std::string name, type, doc;
+  SourceLoc loc;
+};
+
+struct ComponentType {
+  std::string name, doc;
+  std::vector<ParameterDecl> parameters;
+  std::vector<ConnectorDecl> connectors;
+  std::vector<VariableDecl> variables;
+  std::vector<EquationDecl> equations;
+  std::vector<EquationDecl> initial_equations;
+  SourceLoc loc;
+  bool user_defined = false;  ///< from a model's define: section
+};
+
+/// The types a model can use: the built-in library plus the model's own definitions.
+class Library {
+ public:
+  void AddConnector(ConnectorType c);
+  void AddComponent(ComponentType c);
+  const ConnectorType* FindConnector(const std::string& name) const;
+  const ComponentType* FindComponent(const std::string& name) const;
+  bool Has(const std::string& name) const;
+  std::vector<std::string> ComponentNames() const;
+  std::vector<std::string> ConnectorNames() const;
+
+ private:
+  std::map<std::string, std::shared_ptr<ConnectorType>> connectors_;
+  std::map<std::string, std::shared_ptr<ComponentType>> components_;
+};
+
+/// The library compiled into the binary (components/*.yaml).
+const Library& BuiltinLibrary();
+
+/// Names as a readable list: "a, b, c" (at most `limit`, then "…").
+std::string JoinNames(const std::vector<std::string>& names, size_t limit = 40);
+
+/// The closest names to `wanted` (edit distance), for "did you mean" hints.
+std::vector<std::string> ClosestNames(const std::string& wanted,
+                                      const std::vector<std::string>& candidates);
+
+}  // namespace momenta

@@ -1,0 +1,11 @@
+# Writes OUTPUT (a C++ fragment) holding every components/*.yaml file as a raw string literal.
+file(GLOB yaml_files RELATIVE "${SOURCE_DIR}" "${SOURCE_DIR}/components/*.yaml")
+list(SORT yaml_files)
+set(content "static const EmbeddedFile kEmbeddedLibraryFiles[] = {\n")
+foreach(f IN LISTS yaml_files)
+  file(READ "${SOURCE_DIR}/${f}" text)
+  string(APPEND content "  {\"${f}\", R\"momenta_yaml(${text})momenta_yaml\"},\n")
+endforeach()
+string(APPEND content "};\n")
+file(WRITE "${OUTPUT}.tmp" "${content}")
+execute_process(COMMAND ${CMAKE_COMMAND} -E copy_if_different "${OUTPUT}.tmp" "${OUTPUT}")

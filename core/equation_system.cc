@@ -1,0 +1,80 @@
+#include "core/equation_system.h"
+
+namespace momenta {
+
+const char* VarRoleName(VarRole r) {
+  switch (r) {
+    case VarRole::kUnknown: return "unknown";
+    case VarRole::kAlias: return "alias";
+    case VarRole::kConstant: return "constant";
+    case VarRole::kConstrained: return "constrained state";
+    case VarRole::kInlined: return "inlined";
+    case VarRole::kPruned: return "pruned";
+  }
+  return "?";
+}
+
+size_t EquationSystem::num_unknowns() const {
+  size_t n = 0;
+  for (VarRole r : role) n += r == VarRole::kUnknown;
+  return n;
+}
+
+std::string EquationSystem::Describe(const SystemEquation& eq) const {
+  switch (eq.kind) {
+    case SystemEquation::Kind::kDynamic:
+      return flat->DescribeEquation(flat->equations[eq.origin]);
+    case SystemEquation::Kind::kInitial:
+      return "initial equation " + flat->DescribeEquation(flat->initial_equations[eq.origin]);
+    case SystemEquation::Kind::kFixedStart: {
+      const FlatVariable& v = flat->variables[eq.origin];
+      return "fixed start value of " + v.name + " (" + v.loc.ToString() + ")";
+    }
+  }
+  return "";
+}
+
+void EquationSystem::ApplyEliminations() {
+  Substitution& s = *eliminated;
+  for (auto& e : equations) e.residual = s.Apply(e.residual);
+  for (auto& e : initial) e.residual = s.Apply(e.residual);
+  for (auto& o : outputs) o = s.Apply(o);
+}
+
+EquationSystem MakeEquationSystem(std::shared_ptr<const FlatSystem> flat) {
+  EquationSystem sys;
+  sys.flat = flat;
+  sys.pool = flat->pool;
+  sys.eliminated = std::make_shared<Substitution>(sys.pool.get());
+  sys.role.assign(flat->variables.size(), VarRole::kUnknown);
+  sys.guess.resize(flat->variables.size());
+  ExprPool& p = *sys.pool;
+  for (uint32_t k = 0; k < flat->equations.size(); ++k) {
+    sys.equations.push_back({flat->equations[k].residual, k, SystemEquation::Kind::kDynamic});
+  }
+  for (uint32_t k = 0; k < flat->initial_equations.size(); ++k) {
+    sys.initial.push_back({flat->initial_equations[k].residual, k, SystemEquation::Kind::kInitial});
+  }
+  for (uint32_t k = 0; k < flat->variables.size(); ++k) {
+    const FlatVariable& v = flat->variables[k];
+    sys.guess[k] = v.start.valid() ? v.start : p.Zero();
+    if (v.fixed) {
+      sys.initial.push_back({p.Sub(p.Var(VarId(k)), sys.guess[k]), k, SystemEquation::Kind::kFixedStart});
+    }
+  }
+  for (const auto& o : flat->outputs) sys.outputs.push_back(o.expr);
+  return sys;
+}
+
+std::vector<bool> DifferentiatedVariables(const EquationSystem& sys) {
+  std::vector<bool> diff(sys.role.size(), false);
+  for (const auto& e : sys.equations) {
+    if (!(sys.pool->mask(e.residual) & kHasDer)) continue;
+    for (ExprId leaf : CollectLeaves(*sys.pool, e.residual, kHasDer)) {
+      diff[sys.pool->node(leaf).a] = true;
+    }
+  }
+  return diff;
+}
+
+}  // namespace momenta

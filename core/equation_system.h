@@ -1,0 +1,65 @@
+#pragma once
+/// The working form of a model between flattening and compilation. Each pass takes an
+/// EquationSystem and returns a smaller one: eliminated variables leave the unknowns and are
+/// replaced, in every remaining equation, initial equation and output, by an expression of the
+/// variables that stay (`eliminated`).
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/flat_system.h"
+
+namespace momenta {
+
+/// What became of a variable of the flat system.
+enum class VarRole : uint8_t {
+  kUnknown,      ///< still solved for
+  kAlias,        ///< = ±other + offset (alias elimination)
+  kConstant,     ///< = a parameter expression (alias elimination)
+  kConstrained,  ///< a state fixed by a constraint on other states (index reduction)
+  kInlined,      ///< computed explicitly from its equation (causalisation)
+  kPruned,       ///< nothing requested needs it
+};
+const char* VarRoleName(VarRole r);
+
+struct SystemEquation {
+  ExprId residual;
+  uint32_t origin;  ///< index into flat->equations, or into flat->initial_equations (initial), or the variable (fixed start)
+  enum class Kind : uint8_t { kDynamic, kInitial, kFixedStart } kind = Kind::kDynamic;
+};
+
+/// A parameter expression that divides in an eliminated variable's formula: zero would make the
+/// model singular, so it is checked whenever parameters are set.
+struct DivisorGuard {
+  ExprId divisor;
+  uint32_t equation;  ///< index into flat->equations
+  VarId variable;
+};
+
+struct EquationSystem {
+  std::shared_ptr<const FlatSystem> flat;
+  std::shared_ptr<ExprPool> pool;
+  std::vector<SystemEquation> equations;  ///< continuous-time equations
+  std::vector<SystemEquation> initial;    ///< initial equations and fixed start values
+  std::vector<VarRole> role;              ///< by flat variable
+  std::vector<ExprId> guess;              ///< start value (guess) by flat variable, parameter-only
+  std::vector<ExprId> outputs;            ///< by flat output
+  std::shared_ptr<Substitution> eliminated;
+  std::vector<DivisorGuard> guards;
+
+  size_t num_unknowns() const;
+  /// The flat equation an equation came from, described in the user's names.
+  std::string Describe(const SystemEquation& eq) const;
+  /// Applies `eliminated` to every equation, initial equation, output and guess.
+  void ApplyEliminations();
+};
+
+/// Sets up the working form: every flat variable unknown, every equation present, fixed start
+/// values as initial equations `x = start`.
+EquationSystem MakeEquationSystem(std::shared_ptr<const FlatSystem> flat);
+
+/// Variables whose derivative appears in the equations (the candidate states), by flat variable.
+std::vector<bool> DifferentiatedVariables(const EquationSystem& sys);
+
+}  // namespace momenta

@@ -1,0 +1,327 @@
+#include "core/expr.h"
+
+#include <cmath>
+#include <cstring>
+
+#include "core/error.h"
+#include "core/expr_eval.h"
+
+namespace momenta {
+
+int Arity(Op op) {
+  switch (op) {
+    case Op::kConst:
+    case Op::kVar:
+    case Op::kDer:
+    case Op::kPre:
+    case Op::kParam:
+    case Op::kTime:
+    case Op::kInitial:
+    case Op::kCj:
+      return 0;
+    case Op::kNeg:
+    case Op::kSin:
+    case Op::kCos:
+    case Op::kTan:
+    case Op::kAsin:
+    case Op::kAcos:
+    case Op::kAtan:
+    case Op::kSinh:
+    case Op::kCosh:
+    case Op::kTanh:
+    case Op::kExp:
+    case Op::kLog:
+    case Op::kLog10:
+    case Op::kSqrt:
+    case Op::kAbs:
+    case Op::kSign:
+    case Op::kNot:
+      return 1;
+    case Op::kIf:
+      return 3;
+    default:
+      return 2;
+  }
+}
+
+bool IsLeaf(Op op) { return Arity(op) == 0; }
+
+bool IsRelation(Op op) {
+  return op == Op::kLt || op == Op::kLe || op == Op::kGt || op == Op::kGe || op == Op::kEq ||
+         op == Op::kNe;
+}
+
+bool IsBooleanOp(Op op) {
+  return IsRelation(op) || op == Op::kAnd || op == Op::kOr || op == Op::kNot;
+}
+
+const char* OpName(Op op) {
+  switch (op) {
+    case Op::kConst: return "const";
+    case Op::kVar: return "var";
+    case Op::kDer: return "der";
+    case Op::kPre: return "pre";
+    case Op::kParam: return "param";
+    case Op::kTime: return "time";
+    case Op::kInitial: return "initial";
+    case Op::kCj: return "cj";
+    case Op::kAdd: return "+";
+    case Op::kSub: return "-";
+    case Op::kMul: return "*";
+    case Op::kDiv: return "/";
+    case Op::kPow: return "^";
+    case Op::kNeg: return "-";
+    case Op::kSin: return "sin";
+    case Op::kCos: return "cos";
+    case Op::kTan: return "tan";
+    case Op::kAsin: return "asin";
+    case Op::kAcos: return "acos";
+    case Op::kAtan: return "atan";
+    case Op::kSinh: return "sinh";
+    case Op::kCosh: return "cosh";
+    case Op::kTanh: return "tanh";
+    case Op::kExp: return "exp";
+    case Op::kLog: return "log";
+    case Op::kLog10: return "log10";
+    case Op::kSqrt: return "sqrt";
+    case Op::kAbs: return "abs";
+    case Op::kSign: return "sign";
+    case Op::kAtan2: return "atan2";
+    case Op::kMin: return "min";
+    case Op::kMax: return "max";
+    case Op::kLt: return "<";
+    case Op::kLe: return "<=";
+    case Op::kGt: return ">";
+    case Op::kGe: return ">=";
+    case Op::kEq: return "==";
+    case Op::kNe: return "<>";
+    case Op::kAnd: return "and";
+    case Op::kOr: return "or";
+    case Op::kNot: return "not";
+    case Op::kIf: return "if";
+  }
+  return "?";
+}
+
+namespace {
+
+constexpr uint32_t kEmpty = 0xffffffffu;
+
+uint64_t HashNode(const Node& n) {
+  uint64_t bits;
+  std::memcpy(&bits, &n.value, sizeof bits);
+  uint64_t h = static_cast<uint64_t>(n.op) * 0x9E3779B97F4A7C15ull;
+  h ^= (static_cast<uint64_t>(n.a) + 0x632BE59BD9B4E019ull + (h << 6) + (h >> 2));
+  h ^= (static_cast<uint64_t>(n.b) * 0xC2B2AE3D27D4EB4Full + (h << 6) + (h >> 2));
+  h ^= (static_cast<uint64_t>(n.c) * 0x165667B19E3779F9ull + (h << 6) + (h >> 2));
+  h ^= bits + n.flags + (h << 6) + (h >> 2);
+  h ^= h >> 33;
+  h *= 0xff51afd7ed558ccdull;
+  h ^= h >> 33;
+  return h;
+}
+
+bool SameNode(const Node& x, const Node& y) {
+  return x.op == y.op && x.a == y.a && x.b == y.b && x.c == y.c && x.flags == y.flags &&
+         std::memcmp(&x.value, &y.value, sizeof x.value) == 0;
+}
+
+bool IsCommutative(Op op) {
+  return op == Op::kAdd || op == Op::kMul || op == Op::kMin || op == Op::kMax ||
+         op == Op::kAnd || op == Op::kOr || op == Op::kEq || op == Op::kNe;
+}
+
+}  // namespace
+
+ExprPool::ExprPool() {
+  table_.assign(1024, kEmpty);
+  zero_ = Const(0.0);
+  one_ = Const(1.0);
+  time_ = Leaf(Op::kTime, 0);
+}
+
+void ExprPool::Grow() {
+  std::vector<uint32_t> old;
+  old.swap(table_);
+  table_.assign(old.size() * 2, kEmpty);
+  const size_t mask = table_.size() - 1;
+  for (uint32_t id : old) {
+    if (id == kEmpty) continue;
+    size_t slot = HashNode(nodes_[id]) & mask;
+    while (table_[slot] != kEmpty) slot = (slot + 1) & mask;
+    table_[slot] = id;
+  }
+}
+
+ExprId ExprPool::Intern(const Node& n) {
+  if ((table_used_ + 1) * 2 > table_.size()) Grow();
+  const size_t mask = table_.size() - 1;
+  size_t slot = HashNode(n) & mask;
+  while (table_[slot] != kEmpty) {
+    if (SameNode(nodes_[table_[slot]], n)) return ExprId(table_[slot]);
+    slot = (slot + 1) & mask;
+  }
+  Node stored = n;
+  // The leaf-kind mask of the subtree.
+  switch (n.op) {
+    case Op::kVar: stored.mask = kHasVar; break;
+    case Op::kDer: stored.mask = kHasDer; break;
+    case Op::kPre: stored.mask = kHasPre; break;
+    case Op::kParam: stored.mask = kHasParam; break;
+    case Op::kTime: stored.mask = kHasTime; break;
+    case Op::kInitial: stored.mask = kHasInitial; break;
+    case Op::kCj: stored.mask = kHasTime; break;
+    case Op::kConst: stored.mask = 0; break;
+    default: {
+      int arity = Arity(n.op);
+      uint8_t m = 0;
+      if (arity >= 1) m |= nodes_[n.a].mask;
+      if (arity >= 2) m |= nodes_[n.b].mask;
+      if (arity >= 3) m |= nodes_[n.c].mask;
+      if (IsRelation(n.op)) m |= kHasRelation;
+      stored.mask = m;
+    }
+  }
+  uint32_t id = static_cast<uint32_t>(nodes_.size());
+  nodes_.push_back(stored);
+  table_[slot] = id;
+  ++table_used_;
+  return ExprId(id);
+}
+
+ExprId ExprPool::Leaf(Op op, uint32_t payload) {
+  Node n;
+  n.op = op;
+  n.a = payload;
+  return Intern(n);
+}
+
+ExprId ExprPool::Const(double v) {
+  Node n;
+  n.op = Op::kConst;
+  n.value = (v == 0.0) ? 0.0 : v;  // one zero, not two
+  return Intern(n);
+}
+
+bool ExprPool::IsConst(ExprId id, double v) const {
+  const Node& n = node(id);
+  return n.op == Op::kConst && n.value == v;
+}
+
+ExprId ExprPool::Add(ExprId a, ExprId b) { return Binary(Op::kAdd, a, b); }
+ExprId ExprPool::Sub(ExprId a, ExprId b) { return Binary(Op::kSub, a, b); }
+ExprId ExprPool::Mul(ExprId a, ExprId b) { return Binary(Op::kMul, a, b); }
+ExprId ExprPool::Div(ExprId a, ExprId b) { return Binary(Op::kDiv, a, b); }
+ExprId ExprPool::Pow(ExprId a, ExprId b) { return Binary(Op::kPow, a, b); }
+
+ExprId ExprPool::Neg(ExprId a) {
+  const Node& n = node(a);
+  if (n.op == Op::kConst) return Const(-n.value);
+  if (n.op == Op::kNeg) return ExprId(n.a);
+  if (n.op == Op::kSub) return Sub(ExprId(n.b), ExprId(n.a));
+  Node m;
+  m.op = Op::kNeg;
+  m.a = a.value();
+  return Intern(m);
+}
+
+ExprId ExprPool::Unary(Op op, ExprId a) {
+  if (op == Op::kNeg) return Neg(a);
+  if (IsConst(a)) return Const(ApplyUnary(op, ConstValue(a)));
+  if (op == Op::kNot && node(a).op == Op::kNot) return ExprId(node(a).a);
+  Node m;
+  m.op = op;
+  m.a = a.value();
+  return Intern(m);
+}
+
+ExprId ExprPool::Binary(Op op, ExprId a, ExprId b, uint8_t flags) {
+  const bool ca = IsConst(a), cb = IsConst(b);
+  if (ca && cb) {
+    double va = ConstValue(a), vb = ConstValue(b);
+    // x/0 and 0^-1 stay symbolic so the error surfaces at run time with the equation's name.
+    if (!(op == Op::kDiv && vb == 0.0)) return Const(ApplyBinary(op, va, vb));
+  }
+  switch (op) {
+    case Op::kAdd:
+      if (IsConst(a, 0)) return b;
+      if (IsConst(b, 0)) return a;
+      if (node(b).op == Op::kNeg) return Sub(a, ExprId(node(b).a));
+      if (node(a).op == Op::kNeg) return Sub(b, ExprId(node(a).a));
+      break;
+    case Op::kSub:
+      if (IsConst(b, 0)) return a;
+      if (IsConst(a, 0)) return Neg(b);
+      if (a == b) return zero_;
+      if (node(b).op == Op::kNeg) return Add(a, ExprId(node(b).a));
+      break;
+    case Op::kMul:
+      if (IsConst(a, 0) || IsConst(b, 0)) return zero_;
+      if (IsConst(a, 1)) return b;
+      if (IsConst(b, 1)) return a;
+      if (IsConst(a, -1)) return Neg(b);
+      if (IsConst(b, -1)) return Neg(a);
+      if (node(a).op == Op::kNeg && node(b).op == Op::kNeg) {
+        return Mul(ExprId(node(a).a), ExprId(node(b).a));
+      }
+      if (node(a).op == Op::kNeg) return Neg(Mul(ExprId(node(a).a), b));
+      if (node(b).op == Op::kNeg) return Neg(Mul(a, ExprId(node(b).a)));
+      break;
+    case Op::kDiv:
+      if (IsConst(a, 0)) return zero_;
+      if (IsConst(b, 1)) return a;
+      if (IsConst(b, -1)) return Neg(a);
+      if (node(a).op == Op::kNeg) return Neg(Div(ExprId(node(a).a), b));
+      break;
+    case Op::kPow:
+      if (IsConst(b, 1)) return a;
+      if (IsConst(b, 0)) return one_;
+      break;
+    case Op::kAnd:
+      if (IsConst(a)) return ConstValue(a) != 0 ? b : zero_;
+      if (IsConst(b)) return ConstValue(b) != 0 ? a : zero_;
+      break;
+    case Op::kOr:
+      if (IsConst(a)) return ConstValue(a) != 0 ? one_ : b;
+      if (IsConst(b)) return ConstValue(b) != 0 ? one_ : a;
+      break;
+    default:
+      break;
+  }
+  if (IsCommutative(op) && b < a) std::swap(a, b);
+  Node m;
+  m.op = op;
+  m.a = a.value();
+  m.b = b.value();
+  m.flags = IsRelation(op) ? flags : 0;
+  return Intern(m);
+}
+
+ExprId ExprPool::If(ExprId cond, ExprId then_value, ExprId else_value) {
+  if (IsConst(cond)) return ConstValue(cond) != 0 ? then_value : else_value;
+  if (then_value == else_value) return then_value;
+  Node m;
+  m.op = Op::kIf;
+  m.a = cond.value();
+  m.b = then_value.value();
+  m.c = else_value.value();
+  return Intern(m);
+}
+
+ExprId ExprPool::NoEvent(ExprId e) {
+  const Node n = node(e);
+  if (!(n.mask & kHasRelation)) return e;
+  switch (Arity(n.op)) {
+    case 1:
+      return Unary(n.op, NoEvent(ExprId(n.a)));
+    case 2:
+      return Binary(n.op, NoEvent(ExprId(n.a)), NoEvent(ExprId(n.b)),
+                    IsRelation(n.op) ? static_cast<uint8_t>(n.flags | kNoEvent) : 0);
+    case 3:
+      return If(NoEvent(ExprId(n.a)), NoEvent(ExprId(n.b)), NoEvent(ExprId(n.c)));
+    default:
+      return e;
+  }
+}
+
+}  // namespace momenta

@@ -1,0 +1,124 @@
+#pragma once
+/// The expression pool: every equation, parameter binding and derivative of a model is a node of
+/// one hash-consed DAG. Identical subexpressions are one node, so common subexpressions are shared
+/// by construction and equality of ids is structural equality. Constructors fold constants and
+/// apply the identities x+0, x*1, x*0, -(-x), x-x, so derived expressions (symbolic Jacobians,
+/// substitutions) stay small.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/ids.h"
+
+namespace momenta {
+
+enum class Op : uint8_t {
+  // Leaves.
+  kConst,    ///< value
+  kVar,      ///< a = VarId: the value of a variable
+  kDer,      ///< a = VarId: the time derivative of a variable
+  kPre,      ///< a = VarId: the left limit of a discrete variable at an event
+  kParam,    ///< a = ParamId
+  kTime,     ///< the independent variable
+  kInitial,  ///< true during initialisation only
+  kCj,       ///< IDA's coefficient cj in dF/dy + cj dF/dy' (Jacobians only)
+  // Arithmetic.
+  kAdd, kSub, kMul, kDiv, kPow, kNeg,
+  // Functions of one argument.
+  kSin, kCos, kTan, kAsin, kAcos, kAtan, kSinh, kCosh, kTanh, kExp, kLog, kLog10, kSqrt, kAbs,
+  kSign,
+  // Functions of two arguments.
+  kAtan2, kMin, kMax,
+  // Relations and logic; values are 1.0 (true) and 0.0 (false).
+  kLt, kLe, kGt, kGe, kEq, kNe, kAnd, kOr, kNot,
+  // if a then b else c.
+  kIf,
+};
+
+/// Bits of Node::flags.
+enum NodeFlag : uint8_t {
+  kNoEvent = 1,  ///< a relation inside noEvent(): it never becomes a zero-crossing function
+};
+
+/// Bits of the leaf-kind mask each node carries: which kinds of leaf its subtree holds.
+enum LeafMask : uint8_t {
+  kHasVar = 1,
+  kHasDer = 2,
+  kHasTime = 4,
+  kHasParam = 8,
+  kHasPre = 16,
+  kHasRelation = 32,
+  kHasInitial = 64,
+};
+
+struct Node {
+  Op op = Op::kConst;
+  uint8_t flags = 0;
+  uint8_t mask = 0;  ///< LeafMask bits of the subtree
+  uint32_t a = 0, b = 0, c = 0;
+  double value = 0;
+};
+
+int Arity(Op op);
+bool IsLeaf(Op op);
+bool IsRelation(Op op);
+bool IsBooleanOp(Op op);  ///< relations, and/or/not: the value is 0 or 1
+const char* OpName(Op op);
+
+/// Owner of all expression nodes of one model. Ids stay valid while the pool lives; the pool only
+/// grows.
+class ExprPool {
+ public:
+  ExprPool();
+
+  ExprId Const(double v);
+  ExprId Var(VarId v) { return Leaf(Op::kVar, v.value()); }
+  ExprId Der(VarId v) { return Leaf(Op::kDer, v.value()); }
+  ExprId Pre(VarId v) { return Leaf(Op::kPre, v.value()); }
+  ExprId Param(ParamId p) { return Leaf(Op::kParam, p.value()); }
+  ExprId Time() { return time_; }
+  ExprId Initial() { return Leaf(Op::kInitial, 0); }
+  ExprId Cj() { return Leaf(Op::kCj, 0); }
+  ExprId Zero() const { return zero_; }
+  ExprId One() const { return one_; }
+
+  ExprId Add(ExprId a, ExprId b);
+  ExprId Sub(ExprId a, ExprId b);
+  ExprId Mul(ExprId a, ExprId b);
+  ExprId Div(ExprId a, ExprId b);
+  ExprId Pow(ExprId a, ExprId b);
+  ExprId Neg(ExprId a);
+  /// A function of one argument (kSin … kSign) or the logical kNot.
+  ExprId Unary(Op op, ExprId a);
+  /// Any two-argument operation: arithmetic, atan2/min/max, relations, and/or.
+  ExprId Binary(Op op, ExprId a, ExprId b, uint8_t flags = 0);
+  ExprId If(ExprId cond, ExprId then_value, ExprId else_value);
+  /// The same node with the kNoEvent flag on every relation of its subtree.
+  ExprId NoEvent(ExprId e);
+
+  const Node& node(ExprId id) const { return nodes_[id.value()]; }
+  Op op(ExprId id) const { return nodes_[id.value()].op; }
+  size_t size() const { return nodes_.size(); }
+
+  bool IsConst(ExprId id) const { return op(id) == Op::kConst; }
+  bool IsConst(ExprId id, double v) const;
+  double ConstValue(ExprId id) const { return node(id).value; }
+  /// No variables, derivatives, pre-values, time or initial(): a function of parameters only.
+  bool IsParamOnly(ExprId id) const {
+    return (node(id).mask & (kHasVar | kHasDer | kHasTime | kHasPre | kHasInitial)) == 0;
+  }
+  uint8_t mask(ExprId id) const { return node(id).mask; }
+
+ private:
+  ExprId Leaf(Op op, uint32_t payload);
+  ExprId Intern(const Node& n);
+  void Grow();
+
+  std::vector<Node> nodes_;
+  std::vector<uint32_t> table_;  ///< open-addressing hash table of node ids (kInvalid = empty)
+  size_t table_used_ = 0;
+  ExprId zero_, one_, time_;
+};
+
+}  // namespace momenta

@@ -1,0 +1,498 @@
+#include "core/expr_algebra.h"
+
+#include <cmath>
+#include <sstream>
+#include <unordered_map>
+#include <unordered_set>
+
+#include "core/error.h"
+
+namespace momenta {
+
+void PostOrder(const ExprPool& pool, const std::vector<ExprId>& roots,
+               const std::function<void(ExprId)>& visit) {
+  std::vector<uint8_t> state(pool.size(), 0);  // 0 new, 1 children pushed, 2 done
+  std::vector<uint32_t> stack;
+  for (ExprId root : roots) {
+    stack.push_back(root.value());
+    while (!stack.empty()) {
+      uint32_t id = stack.back();
+      if (state[id] == 2) {
+        stack.pop_back();
+        continue;
+      }
+      const Node& n = pool.node(ExprId(id));
+      if (state[id] == 0) {
+        state[id] = 1;
+        int arity = Arity(n.op);
+        if (arity >= 3 && state[n.c] != 2) stack.push_back(n.c);
+        if (arity >= 2 && state[n.b] != 2) stack.push_back(n.b);
+        if (arity >= 1 && state[n.a] != 2) stack.push_back(n.a);
+        continue;
+      }
+      state[id] = 2;
+      stack.pop_back();
+      visit(ExprId(id));
+    }
+  }
+}
+
+std::vector<ExprId> CollectLeaves(const ExprPool& pool, ExprId e, uint8_t mask) {
+  std::vector<ExprId> out;
+  std::unordered_set<uint32_t> seen;
+  std::vector<uint32_t> stack{e.value()};
+  while (!stack.empty()) {
+    uint32_t id = stack.back();
+    stack.pop_back();
+    const Node& n = pool.node(ExprId(id));
+    if (!(n.mask & mask)) continue;
+    if (!seen.insert(id).second) continue;
+    switch (n.op) {
+      case Op::kVar:
+      case Op::kDer:
+      case Op::kPre:
+      case Op::kParam:
+        out.push_back(ExprId(id));
+        continue;
+      default:
+        break;
+    }
+    int arity = Arity(n.op);
+    if (arity >= 1) stack.push_back(n.a);
+    if (arity >= 2) stack.push_back(n.b);
+    if (arity >= 3) stack.push_back(n.c);
+  }
+  return out;
+}
+
+namespace {
+uint8_t MaskOfLeaf(Op op) {
+  switch (op) {
+    case Op::kVar: return kHasVar;
+    case Op::kDer: return kHasDer;
+    case Op::kPre: return kHasPre;
+    case Op::kParam: return kHasParam;
+    default: return 0;
+  }
+}
+}  // namespace
+
+bool ContainsLeaf(const ExprPool& pool, ExprId e, ExprId leaf) {
+  uint8_t mask = MaskOfLeaf(pool.op(leaf));
+  if (!(pool.mask(e) & mask)) return false;
+  std::unordered_set<uint32_t> seen;
+  std::vector<uint32_t> stack{e.value()};
+  while (!stack.empty()) {
+    uint32_t id = stack.back();
+    stack.pop_back();
+    if (id == leaf.value()) return true;
+    const Node& n = pool.node(ExprId(id));
+    if (!(n.mask & mask) || !seen.insert(id).second) continue;
+    int arity = Arity(n.op);
+    if (arity >= 1) stack.push_back(n.a);
+    if (arity >= 2) stack.push_back(n.b);
+    if (arity >= 3) stack.push_back(n.c);
+  }
+  return false;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Substitution
+
+void Substitution::Set(ExprId leaf, ExprId replacement) {
+  if (map_.size() <= leaf.value()) map_.resize(leaf.value() + 1);
+  if (!map_[leaf.value()].valid()) ++num_entries_;
+  map_[leaf.value()] = replacement;
+  ++gen_;  // invalidates the memo
+}
+
+bool Substitution::Has(ExprId leaf) const {
+  return leaf.value() < map_.size() && map_[leaf.value()].valid();
+}
+
+ExprId Substitution::Apply(ExprId root) {
+  ExprPool& pool = *pool_;
+  std::vector<uint32_t> stack{root.value()};
+  auto done = [&](uint32_t id) { return id < memo_gen_.size() && memo_gen_[id] == gen_; };
+  auto result = [&](uint32_t id) -> ExprId { return memo_[id]; };
+  auto store = [&](uint32_t id, ExprId r) {
+    if (memo_.size() <= id) {
+      memo_.resize(id + 1 + id / 2);
+      memo_gen_.resize(memo_.size(), 0);
+    }
+    memo_[id] = r;
+    memo_gen_[id] = gen_;
+  };
+  while (!stack.empty()) {
+    uint32_t id = stack.back();
+    if (done(id)) {
+      stack.pop_back();
+      continue;
+    }
+    const Node n = pool.node(ExprId(id));
+    if (IsLeaf(n.op)) {
+      if (id < map_.size() && map_[id].valid()) {
+        uint32_t rep = map_[id].value();
+        if (rep == id) {
+          store(id, ExprId(id));
+          stack.pop_back();
+        } else if (done(rep)) {
+          store(id, result(rep));
+          stack.pop_back();
+        } else {
+          stack.push_back(rep);
+        }
+      } else {
+        store(id, ExprId(id));
+        stack.pop_back();
+      }
+      continue;
+    }
+    // Leaves and parameter-only subtrees without mapped leaves are unchanged: skip them quickly.
+    int arity = Arity(n.op);
+    bool ready = true;
+    if (arity >= 1 && !done(n.a)) { stack.push_back(n.a); ready = false; }
+    if (arity >= 2 && !done(n.b)) { stack.push_back(n.b); ready = false; }
+    if (arity >= 3 && !done(n.c)) { stack.push_back(n.c); ready = false; }
+    if (!ready) continue;
+    stack.pop_back();
+    ExprId r;
+    if (arity == 1) {
+      ExprId a = result(n.a);
+      r = (a.value() == n.a) ? ExprId(id) : pool.Unary(n.op, a);
+    } else if (arity == 2) {
+      ExprId a = result(n.a), b = result(n.b);
+      r = (a.value() == n.a && b.value() == n.b) ? ExprId(id) : pool.Binary(n.op, a, b, n.flags);
+    } else {
+      ExprId a = result(n.a), b = result(n.b), c = result(n.c);
+      r = (a.value() == n.a && b.value() == n.b && c.value() == n.c) ? ExprId(id)
+                                                                      : pool.If(a, b, c);
+    }
+    store(id, r);
+  }
+  return result(root.value());
+}
+
+// ---------------------------------------------------------------------------------------------
+// Derivatives
+
+namespace {
+
+/// The derivative of node `id` given its children's values and derivatives.
+ExprId ChainRule(ExprPool& p, const Node& n, ExprId self, ExprId da, ExprId db, ExprId dc) {
+  ExprId a(n.a), b(n.b);
+  switch (n.op) {
+    case Op::kAdd: return p.Add(da, db);
+    case Op::kSub: return p.Sub(da, db);
+    case Op::kNeg: return p.Neg(da);
+    case Op::kMul: return p.Add(p.Mul(da, b), p.Mul(a, db));
+    case Op::kDiv:
+      // (a/b)' = a'/b - a b'/b^2
+      return p.Sub(p.Div(da, b), p.Div(p.Mul(a, db), p.Mul(b, b)));
+    case Op::kPow: {
+      ExprId result = p.Zero();
+      if (!p.IsConst(da, 0)) {
+        // b a^(b-1) a'
+        result = p.Mul(p.Mul(b, p.Pow(a, p.Sub(b, p.One()))), da);
+      }
+      if (!p.IsConst(db, 0)) {
+        result = p.Add(result, p.Mul(p.Mul(self, p.Unary(Op::kLog, a)), db));
+      }
+      return result;
+    }
+    case Op::kSin: return p.Mul(p.Unary(Op::kCos, a), da);
+    case Op::kCos: return p.Neg(p.Mul(p.Unary(Op::kSin, a), da));
+    case Op::kTan: {
+      ExprId c = p.Unary(Op::kCos, a);
+      return p.Div(da, p.Mul(c, c));
+    }
+    case Op::kAsin:
+      return p.Div(da, p.Unary(Op::kSqrt, p.Sub(p.One(), p.Mul(a, a))));
+    case Op::kAcos:
+      return p.Neg(p.Div(da, p.Unary(Op::kSqrt, p.Sub(p.One(), p.Mul(a, a)))));
+    case Op::kAtan: return p.Div(da, p.Add(p.One(), p.Mul(a, a)));
+    case Op::kSinh: return p.Mul(p.Unary(Op::kCosh, a), da);
+    case Op::kCosh: return p.Mul(p.Unary(Op::kSinh, a), da);
+    case Op::kTanh: {
+      ExprId c = p.Unary(Op::kCosh, a);
+      return p.Div(da, p.Mul(c, c));
+    }
+    case Op::kExp: return p.Mul(self, da);
+    case Op::kLog: return p.Div(da, a);
+    case Op::kLog10: return p.Div(da, p.Mul(a, p.Const(std::log(10.0))));
+    case Op::kSqrt: return p.Div(da, p.Mul(p.Const(2.0), self));
+    case Op::kAbs: return p.Mul(p.Unary(Op::kSign, a), da);
+    case Op::kSign: return p.Zero();
+    case Op::kAtan2:
+      // atan2(a, b)' = (b a' - a b') / (a^2 + b^2)
+      return p.Div(p.Sub(p.Mul(b, da), p.Mul(a, db)), p.Add(p.Mul(a, a), p.Mul(b, b)));
+    case Op::kMin:
+      return p.If(p.Binary(Op::kLt, a, b, kNoEvent), da, db);
+    case Op::kMax:
+      return p.If(p.Binary(Op::kGt, a, b, kNoEvent), da, db);
+    case Op::kIf:
+      return p.If(a, db, dc);
+    default:
+      // Relations and logic are piecewise constant.
+      return p.Zero();
+  }
+}
+
+/// Generic derivative: `leaf_rule` gives the derivative of each leaf; `relevant` says whether a
+/// subtree can have a nonzero derivative (by its leaf mask) so the rest is skipped.
+ExprId Derive(ExprPool* pool, ExprId root, const std::function<ExprId(const Node&, ExprId)>& leaf_rule,
+              uint8_t relevant_mask, bool* failed) {
+  ExprPool& p = *pool;
+  std::unordered_map<uint32_t, ExprId> memo;
+  std::vector<uint32_t> stack{root.value()};
+  while (!stack.empty()) {
+    uint32_t id = stack.back();
+    if (memo.count(id)) {
+      stack.pop_back();
+      continue;
+    }
+    const Node n = p.node(ExprId(id));
+    if (!(n.mask & relevant_mask)) {
+      memo.emplace(id, p.Zero());
+      stack.pop_back();
+      continue;
+    }
+    if (IsLeaf(n.op)) {
+      ExprId d = leaf_rule(n, ExprId(id));
+      if (!d.valid()) {
+        *failed = true;
+        d = p.Zero();
+      }
+      memo.emplace(id, d);
+      stack.pop_back();
+      continue;
+    }
+    int arity = Arity(n.op);
+    bool ready = true;
+    // The condition of an if has no derivative: only the branches are needed.
+    if (n.op != Op::kIf && arity >= 1 && !memo.count(n.a)) { stack.push_back(n.a); ready = false; }
+    if (arity >= 2 && !memo.count(n.b)) { stack.push_back(n.b); ready = false; }
+    if (arity >= 3 && !memo.count(n.c)) { stack.push_back(n.c); ready = false; }
+    if (!ready) continue;
+    stack.pop_back();
+    ExprId da = (n.op != Op::kIf && arity >= 1) ? memo.at(n.a) : p.Zero();
+    ExprId db = arity >= 2 ? memo.at(n.b) : p.Zero();
+    ExprId dc = arity >= 3 ? memo.at(n.c) : p.Zero();
+    memo.emplace(id, ChainRule(p, n, ExprId(id), da, db, dc));
+  }
+  return memo.at(root.value());
+}
+
+}  // namespace
+
+ExprId PartialDerivative(ExprPool* pool, ExprId e, ExprId leaf) {
+  bool failed = false;
+  uint8_t mask = MaskOfLeaf(pool->op(leaf));
+  return Derive(
+      pool, e,
+      [&](const Node&, ExprId id) { return id == leaf ? pool->One() : pool->Zero(); }, mask,
+      &failed);
+}
+
+ExprId TimeDerivative(ExprPool* pool, ExprId e) {
+  bool failed = false;
+  ExprId d = Derive(
+      pool, e,
+      [&](const Node& n, ExprId) -> ExprId {
+        switch (n.op) {
+          case Op::kVar: return pool->Der(VarId(n.a));
+          case Op::kTime: return pool->One();
+          case Op::kDer: return ExprId();  // second derivative
+          default: return pool->Zero();
+        }
+      },
+      kHasVar | kHasDer | kHasTime, &failed);
+  return failed ? ExprId() : d;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Affine forms and solving
+
+namespace {
+
+bool AffineRec(ExprPool* pool, ExprId e, double scale, size_t max_terms, AffineForm* out,
+               std::unordered_map<uint32_t, size_t>* index) {
+  ExprPool& p = *pool;
+  if (p.IsParamOnly(e)) {
+    out->offset = p.Add(out->offset, scale == 1.0 ? e : p.Mul(p.Const(scale), e));
+    return true;
+  }
+  const Node& n = p.node(e);
+  switch (n.op) {
+    case Op::kVar:
+    case Op::kDer: {
+      auto it = index->find(e.value());
+      if (it != index->end()) {
+        out->terms[it->second].second += scale;
+      } else {
+        if (out->terms.size() >= max_terms) return false;
+        index->emplace(e.value(), out->terms.size());
+        out->terms.emplace_back(e, scale);
+      }
+      return true;
+    }
+    case Op::kAdd:
+      return AffineRec(pool, ExprId(n.a), scale, max_terms, out, index) &&
+             AffineRec(pool, ExprId(n.b), scale, max_terms, out, index);
+    case Op::kSub:
+      return AffineRec(pool, ExprId(n.a), scale, max_terms, out, index) &&
+             AffineRec(pool, ExprId(n.b), -scale, max_terms, out, index);
+    case Op::kNeg:
+      return AffineRec(pool, ExprId(n.a), -scale, max_terms, out, index);
+    case Op::kMul:
+      if (p.IsConst(ExprId(n.a))) {
+        return AffineRec(pool, ExprId(n.b), scale * p.ConstValue(ExprId(n.a)), max_terms, out,
+                         index);
+      }
+      if (p.IsConst(ExprId(n.b))) {
+        return AffineRec(pool, ExprId(n.a), scale * p.ConstValue(ExprId(n.b)), max_terms, out,
+                         index);
+      }
+      return false;
+    case Op::kDiv:
+      if (p.IsConst(ExprId(n.b)) && p.ConstValue(ExprId(n.b)) != 0) {
+        return AffineRec(pool, ExprId(n.a), scale / p.ConstValue(ExprId(n.b)), max_terms, out,
+                         index);
+      }
+      return false;
+    default:
+      return false;
+  }
+}
+
+}  // namespace
+
+bool DecomposeAffine(ExprPool* pool, ExprId e, size_t max_terms, AffineForm* out) {
+  out->terms.clear();
+  out->offset = pool->Zero();
+  std::unordered_map<uint32_t, size_t> index;
+  if (!AffineRec(pool, e, 1.0, max_terms, out, &index)) return false;
+  // Terms that cancelled (x - x) are dropped.
+  std::vector<std::pair<ExprId, double>> kept;
+  for (auto& t : out->terms) {
+    if (t.second != 0.0) kept.push_back(t);
+  }
+  out->terms.swap(kept);
+  return true;
+}
+
+ExprId SolveFor(ExprPool* pool, ExprId residual, ExprId leaf, bool param_coefficient_ok,
+                ExprId* coefficient) {
+  ExprPool& p = *pool;
+  ExprId a = PartialDerivative(pool, residual, leaf);
+  if (p.IsConst(a)) {
+    if (p.ConstValue(a) == 0.0 || !std::isfinite(p.ConstValue(a))) return ExprId();
+  } else if (!(param_coefficient_ok && p.IsParamOnly(a))) {
+    return ExprId();
+  }
+  if (ContainsLeaf(p, a, leaf)) return ExprId();
+  Substitution zero(pool);
+  zero.Set(leaf, p.Zero());
+  ExprId b = zero.Apply(residual);
+  if (coefficient) *coefficient = a;
+  // a*leaf + b = 0  =>  leaf = -b/a
+  if (p.IsConst(a, 1.0)) return p.Neg(b);
+  if (p.IsConst(a, -1.0)) return b;
+  return p.Neg(p.Div(b, a));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Printing
+
+namespace {
+
+int Precedence(Op op) {
+  switch (op) {
+    case Op::kIf: return 1;
+    case Op::kOr: return 2;
+    case Op::kAnd: return 3;
+    case Op::kNot: return 4;
+    case Op::kLt: case Op::kLe: case Op::kGt: case Op::kGe: case Op::kEq: case Op::kNe:
+      return 5;
+    case Op::kAdd: case Op::kSub: return 6;
+    case Op::kMul: case Op::kDiv: return 7;
+    case Op::kNeg: return 8;
+    case Op::kPow: return 9;
+    default: return 10;
+  }
+}
+
+std::string FormatNumber(double v) {
+  std::ostringstream s;
+  s.precision(15);
+  s << v;
+  return s.str();
+}
+
+void Print(const ExprPool& pool, ExprId e, const ExprNamer& names, int depth, std::string* out) {
+  if (depth > 60) {
+    *out += "…";
+    return;
+  }
+  const Node& n = pool.node(e);
+  auto child = [&](uint32_t c, int min_prec) {
+    bool paren = Precedence(pool.op(ExprId(c))) < min_prec;
+    if (paren) *out += "(";
+    Print(pool, ExprId(c), names, depth + 1, out);
+    if (paren) *out += ")";
+  };
+  switch (n.op) {
+    case Op::kConst: *out += FormatNumber(n.value); return;
+    case Op::kVar: *out += names.var ? names.var(n.a) : "x" + std::to_string(n.a); return;
+    case Op::kDer:
+      *out += "der(" + (names.var ? names.var(n.a) : "x" + std::to_string(n.a)) + ")";
+      return;
+    case Op::kPre:
+      *out += "pre(" + (names.var ? names.var(n.a) : "x" + std::to_string(n.a)) + ")";
+      return;
+    case Op::kParam: *out += names.param ? names.param(n.a) : "p" + std::to_string(n.a); return;
+    case Op::kTime: *out += "time"; return;
+    case Op::kInitial: *out += "initial()"; return;
+    case Op::kNeg: *out += "-"; child(n.a, Precedence(Op::kNeg) + 1); return;
+    case Op::kNot: *out += "not "; child(n.a, Precedence(Op::kNot)); return;
+    case Op::kIf:
+      *out += "if ";
+      Print(pool, ExprId(n.a), names, depth + 1, out);
+      *out += " then ";
+      Print(pool, ExprId(n.b), names, depth + 1, out);
+      *out += " else ";
+      Print(pool, ExprId(n.c), names, depth + 1, out);
+      return;
+    default:
+      break;
+  }
+  int arity = Arity(n.op);
+  int prec = Precedence(n.op);
+  if (prec == 10) {  // function call
+    *out += OpName(n.op);
+    *out += "(";
+    Print(pool, ExprId(n.a), names, depth + 1, out);
+    if (arity == 2) {
+      *out += ", ";
+      Print(pool, ExprId(n.b), names, depth + 1, out);
+    }
+    *out += ")";
+    return;
+  }
+  bool right_assoc = n.op == Op::kPow;
+  child(n.a, right_assoc ? prec + 1 : prec);
+  *out += " ";
+  *out += OpName(n.op);
+  *out += " ";
+  child(n.b, right_assoc ? prec : prec + 1);
+}
+
+}  // namespace
+
+std::string ToString(const ExprPool& pool, ExprId e, const ExprNamer& names) {
+  std::string out;
+  Print(pool, e, names, 0, &out);
+  return out;
+}
+
+}  // namespace momenta

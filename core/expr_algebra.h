@@ -1,0 +1,78 @@
+#pragma once
+/// Symbolic algebra on the expression pool: substitution of leaves, partial and time derivatives
+/// (chain rule), leaf collection, affine decomposition and solving an equation for one leaf.
+/// Every traversal here is iterative (explicit stack), so a 100 000-deep expression — a chain of
+/// rods whose offsets add up — cannot overflow the call stack.
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "core/expr.h"
+
+namespace momenta {
+
+/// Visits the nodes of the DAGs below `roots` once each, children before parents, and calls
+/// `visit(id)` for each. `visited` is scratch space (indexed by node id) reused across calls.
+void PostOrder(const ExprPool& pool, const std::vector<ExprId>& roots,
+               const std::function<void(ExprId)>& visit);
+
+/// The distinct leaves of kinds in `mask` (kHasVar, kHasDer, kHasPre, kHasParam) below `e`.
+std::vector<ExprId> CollectLeaves(const ExprPool& pool, ExprId e, uint8_t mask);
+
+/// True when the leaf `leaf` occurs below `e`.
+bool ContainsLeaf(const ExprPool& pool, ExprId e, ExprId leaf);
+
+/// Replaces leaves by expressions. A replacement is itself rewritten (so chains x->y->z resolve),
+/// which requires the map to be acyclic. Results are memoised until the map changes.
+class Substitution {
+ public:
+  explicit Substitution(ExprPool* pool) : pool_(pool) {}
+  void Set(ExprId leaf, ExprId replacement);
+  bool Has(ExprId leaf) const;
+  ExprId Apply(ExprId e);
+  size_t size() const { return num_entries_; }
+
+ private:
+  ExprPool* pool_;
+  std::vector<ExprId> map_;        ///< by leaf node id; invalid = keep
+  std::vector<ExprId> memo_;       ///< by node id
+  std::vector<uint32_t> memo_gen_;
+  uint32_t gen_ = 1;
+  size_t num_entries_ = 0;
+};
+
+/// d e / d leaf, where leaf is a kVar, kDer or kParam node (other leaves are constants).
+ExprId PartialDerivative(ExprPool* pool, ExprId e, ExprId leaf);
+
+/// d e / d time by the chain rule: x -> der(x), time -> 1, parameters and pre() -> 0. Returns an
+/// invalid id when `e` already holds a der() (second derivatives are not supported).
+ExprId TimeDerivative(ExprPool* pool, ExprId e);
+
+/// e = sum(coef_k * leaf_k) + offset, with numeric coefficients and a parameter-only offset.
+struct AffineForm {
+  std::vector<std::pair<ExprId, double>> terms;  ///< leaf (kVar or kDer) and its coefficient
+  ExprId offset;
+};
+
+/// Decomposes `e` as an AffineForm; false when `e` is not affine in its variables with numeric
+/// coefficients, or has more than `max_terms` terms.
+bool DecomposeAffine(ExprPool* pool, ExprId e, size_t max_terms, AffineForm* out);
+
+/// Solves `residual = 0` for `leaf` when the residual is linear in it: residual = a*leaf + b with a
+/// free of `leaf`. With `param_coefficient_ok`, `a` may be a parameter expression (its value is
+/// then checked for zero at run time: see *coefficient); otherwise `a` must be a nonzero number.
+/// Returns an invalid id when the equation cannot be solved this way.
+ExprId SolveFor(ExprPool* pool, ExprId residual, ExprId leaf, bool param_coefficient_ok,
+                ExprId* coefficient);
+
+/// Names for printing leaves.
+struct ExprNamer {
+  std::function<std::string(uint32_t)> var;
+  std::function<std::string(uint32_t)> param;
+};
+
+/// Infix text of an expression (for `momenta check` and messages); deep trees are elided.
+std::string ToString(const ExprPool& pool, ExprId e, const ExprNamer& names);
+
+}  // namespace momenta

@@ -1,0 +1,98 @@
+#pragma once
+/// The flat system: every variable, parameter and equation of a model after instantiation and
+/// connection, in the user's names. The simplification and analysis passes take a FlatSystem and
+/// return a smaller one; the expression pool is shared between them.
+
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/component_type.h"
+#include "core/expr.h"
+#include "core/expr_algebra.h"
+#include "core/model_spec.h"
+
+namespace momenta {
+
+struct FlatVariable {
+  std::string name;  ///< full path, e.g. "A.flange_a.s"
+  ValueType type = ValueType::kReal;
+  ExprId start;      ///< parameter-only start value (invalid: 0)
+  bool fixed = false;
+  double nominal = 1.0;
+  int state_priority = 0;
+  bool is_flow = false;
+  bool is_input = false;  ///< an unconnected signal input would be one of these
+  InstanceId instance;    ///< owner; invalid for the model's own variables
+  SourceLoc loc;          ///< where start/fixed were given, else where declared
+  std::string unit;
+};
+
+struct FlatParameter {
+  std::string name;  ///< "mA" for a model parameter, "A.m" for a component's
+  ExprId binding;    ///< an expression of other parameters and constants
+  ValueType type = ValueType::kReal;
+  std::optional<double> min, max;
+  std::string unit, doc;
+  SourceLoc loc;       ///< where its value was set
+  InstanceId instance; ///< invalid for model parameters
+};
+
+enum class EquationOrigin { kComponent, kModel, kConnection, kUnconnectedFlow, kFixedStart, kInitial };
+
+struct FlatEquation {
+  ExprId residual;  ///< lhs - rhs
+  EquationOrigin origin = EquationOrigin::kComponent;
+  InstanceId instance;  ///< the component whose equation it is (kComponent)
+  std::string text;     ///< the equation as written, or a description
+  SourceLoc loc;
+};
+
+struct FlatInstance {
+  std::string path;  ///< "A", "R[3]"
+  const ComponentType* type = nullptr;
+  SourceLoc loc;     ///< the component entry in the model file
+};
+
+struct FlatOutput {
+  std::string text;
+  ExprId expr;
+  SourceLoc loc;
+};
+
+struct FlatSystem {
+  std::shared_ptr<ExprPool> pool;
+  std::string model_name, file;
+  std::vector<FlatVariable> variables;
+  std::vector<FlatParameter> parameters;
+  std::vector<ParamId> parameter_order;  ///< every binding's parameters come before it
+  std::vector<FlatEquation> equations;
+  std::vector<FlatEquation> initial_equations;  ///< from initial_equations: (fixed starts are on the variables)
+  std::vector<FlatInstance> instances;
+  std::vector<FlatOutput> outputs;
+  ExperimentSpec experiment;
+
+  ExprNamer Namer() const;
+  /// "component A (Mass) at model.yaml:12:3, equation 'm*a = flange_a.f + flange_b.f'".
+  std::string DescribeEquation(const FlatEquation& eq) const;
+  /// "A.s (Mass at model.yaml:12:3)".
+  std::string DescribeVariable(VarId v) const;
+};
+
+/// Parameter overrides from the command line: name -> value.
+using ParameterOverrides = std::map<std::string, double>;
+
+/// Instantiates every component of `spec` from `library` (plus the model's define: types),
+/// joins the connection sets and returns the flat system. Overrides of parameters that shape the
+/// structure (count:, connection indices) are applied here; every override is also checked to name
+/// a real parameter. Throws ModelError naming the file, line and the user's component.
+FlatSystem Flatten(const ModelSpec& spec, const Library& library,
+                   const ParameterOverrides& overrides);
+
+/// Evaluates every parameter (bindings in order, overrides replacing bindings) and checks the
+/// declared ranges and finiteness. Throws ModelError naming the parameter and where it was set.
+std::vector<double> EvaluateParameters(const FlatSystem& flat, const ParameterOverrides& overrides);
+
+}  // namespace momenta

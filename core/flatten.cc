@@ -1,0 +1,1122 @@
+// Flattening: component instances -> variables, parameters and equations; connections -> the
+// equations of each connection set (potentials equal, flows sum to zero, an unconnected flow is
+// zero, a signal input equals its one output).
+//
+// Each component type is prepared once (its local names laid out and its equations resolved into
+// templates of local indices); each instance then only copies templates into the expression pool
+// with its own offsets, so flattening stays linear in the number of components.
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <sstream>
+#include <unordered_map>
+
+#include "core/expr_eval.h"
+#include "core/flat_system.h"
+
+namespace momenta {
+
+namespace {
+
+// ---------------------------------------------------------------------------------------------
+// Type layouts and equation templates
+
+/// A node of an equation template: an expression over a component's local names.
+struct TNode {
+  enum Kind : uint8_t { kOp, kConst, kLocalVar, kLocalParam, kPre, kDerOf, kNoEvent, kTime, kInitial };
+  Kind kind = kConst;
+  Op op = Op::kConst;
+  int32_t a = -1, b = -1, c = -1;  ///< children (template node indices)
+  double value = 0;
+  uint32_t local = 0;
+};
+
+struct Template {
+  std::vector<TNode> nodes;
+  int32_t root = -1;
+};
+
+struct LocalVar {
+  std::string name;
+  const VariableDecl* decl = nullptr;  ///< declaration (for signal connectors: optional)
+  bool is_flow = false;
+  bool is_input = false;
+  ValueType type = ValueType::kReal;
+  std::string unit;
+};
+
+struct ConnectorSlot {
+  const ConnectorDecl* decl;
+  const ConnectorType* type;
+  uint32_t first_local_var;  ///< potentials then flows, or the one signal variable
+};
+
+struct TypeLayout {
+  const ComponentType* type = nullptr;
+  std::vector<LocalVar> vars;
+  std::unordered_map<std::string, uint32_t> var_index;
+  std::unordered_map<std::string, uint32_t> param_index;
+  std::vector<ConnectorSlot> connectors;
+  std::unordered_map<std::string, uint32_t> connector_index;
+  std::vector<Template> equations, initial_equations, param_defaults, starts;
+  std::vector<std::string> LocalNames() const {
+    std::vector<std::string> names;
+    for (const auto& v : vars) names.push_back(v.name);
+    for (const auto& p : type->parameters) names.push_back(p.name);
+    return names;
+  }
+};
+
+struct InstanceData {
+  const TypeLayout* layout;
+  VarId first_var;
+  ParamId first_param;
+  uint32_t first_slot;
+};
+
+struct ComponentArray {
+  size_t spec_index;
+  uint32_t first_instance;
+  uint32_t count;
+  bool is_array;
+};
+
+class Flattener {
+ public:
+  Flattener(const ModelSpec& spec, const Library& library, const ParameterOverrides& overrides)
+      : spec_(spec), library_(library), overrides_(overrides) {
+    flat_.pool = std::make_shared<ExprPool>();
+    flat_.model_name = spec.name;
+    flat_.file = spec.file;
+    flat_.experiment = spec.experiment;
+    for (const auto& d : spec.defines) {
+      if (library.FindComponent(d.name)) {
+        throw ModelError(d.loc, "define: " + d.name +
+                                    " has the name of a library component; choose another name");
+      }
+      defines_.AddComponent(d);
+    }
+  }
+
+  FlatSystem Run() {
+    ModelParameters();
+    ModelVariables();
+    Components();
+    Connections();
+    ModelEquations();
+    Outputs();
+    OrderParameters();
+    CheckOverrides();
+    return std::move(flat_);
+  }
+
+ private:
+  ExprPool& pool() { return *flat_.pool; }
+
+  // -------------------------------------------------------------------------------------------
+  // Model parameters and structural evaluation
+
+  void ModelParameters() {
+    for (const auto& p : spec_.parameters) {
+      if (model_param_.count(p.name)) throw ModelError(p.loc, "parameter " + p.name + " is declared twice");
+      FlatParameter fp;
+      fp.name = p.name;
+      fp.type = p.type;
+      fp.min = p.min;
+      fp.max = p.max;
+      fp.unit = p.unit;
+      fp.doc = p.doc;
+      fp.loc = p.loc;
+      model_param_[p.name] = ParamId(flat_.parameters.size());
+      flat_.parameters.push_back(fp);
+    }
+    for (size_t k = 0; k < spec_.parameters.size(); ++k) {
+      const auto& p = spec_.parameters[k];
+      flat_.parameters[k].binding = ModelExpr(*p.value, p.value_text, p.loc, nullptr, false);
+    }
+  }
+
+  /// The numeric value of a model-scope expression at build time (count:, indices, ranges).
+  double StructuralValue(const Ast& a, const std::string& text, const SourceLoc& loc,
+                         const std::pair<std::string, double>* loop) {
+    ExprId e = ModelExpr(a, text, loc, loop, false);
+    if (!pool().IsParamOnly(e)) throw ModelError(loc, "'" + text + "' must be a constant expression of parameters");
+    // Evaluate the model parameters it needs (recursively, with overrides).
+    std::vector<ExprId> params = CollectLeaves(pool(), e, kHasParam);
+    std::vector<double> values(flat_.parameters.size(), 0.0);
+    for (ExprId pe : params) {
+      uint32_t id = pool().node(pe).a;
+      values[id] = ModelParamValue(ParamId(id), 0);
+    }
+    LeafValues lv;
+    lv.params = values.data();
+    return Evaluate(pool(), e, lv);
+  }
+
+  double ModelParamValue(ParamId id, int depth) {
+    const FlatParameter& p = flat_.parameters[id.value()];
+    auto ov = overrides_.find(p.name);
+    if (ov != overrides_.end()) return ov->second;
+    if (depth > 100) throw ModelError(p.loc, "the parameters' bindings form a cycle through " + p.name);
+    std::vector<ExprId> params = CollectLeaves(pool(), p.binding, kHasParam);
+    std::vector<double> values(flat_.parameters.size(), 0.0);
+    for (ExprId pe : params) {
+      uint32_t q = pool().node(pe).a;
+      values[q] = ModelParamValue(ParamId(q), depth + 1);
+    }
+    LeafValues lv;
+    lv.params = values.data();
+    return Evaluate(pool(), p.binding, lv);
+  }
+
+  int64_t StructuralInteger(const Ast& a, const std::string& text, const SourceLoc& loc,
+                            const std::pair<std::string, double>* loop, const std::string& what) {
+    double v = StructuralValue(a, text, loc, loop);
+    if (!std::isfinite(v) || v != std::floor(v)) {
+      throw ModelError(loc, what + " must be a whole number, found " + std::to_string(v));
+    }
+    return static_cast<int64_t>(v);
+  }
+
+  // -------------------------------------------------------------------------------------------
+  // Model-scope names: model parameters, model variables, instance paths, a loop index.
+
+  const ComponentType* FindType(const std::string& name) const {
+    if (const ComponentType* t = defines_.FindComponent(name)) return t;
+    return library_.FindComponent(name);
+  }
+
+  /// Resolves `path` (a kName) in the model scope to a leaf expression.
+  ExprId ModelName(const Ast& a, const SourceLoc& base, const std::pair<std::string, double>* loop,
+                   bool allow_variables, const std::string& text) {
+    SourceLoc loc = base.Shifted(a.column);
+    const auto& first = a.path[0];
+    if (a.path.size() == 1 && !first.index) {
+      if (loop && first.name == loop->first) return pool().Const(loop->second);
+      auto mp = model_param_.find(first.name);
+      if (mp != model_param_.end()) return pool().Param(mp->second);
+      auto mv = model_var_.find(first.name);
+      if (mv != model_var_.end()) {
+        if (!allow_variables) {
+          throw ModelError(loc, "'" + first.name + "' is a variable; only parameters may be used in '" + text + "'");
+        }
+        return pool().Var(mv->second);
+      }
+      if (first.name == "time") {
+        if (!allow_variables) throw ModelError(loc, "time cannot be used in '" + text + "'");
+        return pool().Time();
+      }
+      if (first.name == "pi") return pool().Const(M_PI);
+    }
+    // An instance path: first segment is a component (or an element of an array).
+    auto arr = arrays_.find(first.name);
+    if (arr == arrays_.end()) {
+      std::vector<std::string> names;
+      for (const auto& p : spec_.parameters) names.push_back(p.name);
+      for (const auto& c : spec_.components) names.push_back(c.name);
+      for (const auto& v : spec_.variables) names.push_back(v.name);
+      auto close = ClosestNames(first.name, names);
+      throw ModelError(loc, "unknown name '" + a.PathText() + "' in '" + text + "'" +
+                                (close.empty() ? "" : " (did you mean " + JoinNames(close) + "?)") +
+                                " (valid names: " + JoinNames(names) + ")");
+    }
+    uint32_t inst = ElementOf(arr->second, first, loc, loop, text);
+    const InstanceData& data = instance_data_[inst];
+    std::string local;
+    for (size_t k = 1; k < a.path.size(); ++k) {
+      if (a.path[k].index) throw ModelError(loc, "only components can be indexed, in '" + a.PathText() + "'");
+      if (k > 1) local += ".";
+      local += a.path[k].name;
+    }
+    if (local.empty()) throw ModelError(loc, "'" + a.PathText() + "' names a component, not one of its variables");
+    auto v = data.layout->var_index.find(local);
+    if (v != data.layout->var_index.end()) {
+      if (!allow_variables) {
+        throw ModelError(loc, "'" + a.PathText() + "' is a variable; only parameters may be used in '" + text + "'");
+      }
+      return pool().Var(VarId(data.first_var.value() + v->second));
+    }
+    auto p = data.layout->param_index.find(local);
+    if (p != data.layout->param_index.end()) {
+      return pool().Param(ParamId(data.first_param.value() + p->second));
+    }
+    auto names = data.layout->LocalNames();
+    throw ModelError(loc, flat_.instances[inst].path + " (" + data.layout->type->name +
+                              ") has no variable or parameter '" + local + "' (valid names: " +
+                              JoinNames(names) + ")");
+  }
+
+  uint32_t ElementOf(const ComponentArray& arr, const NameSegment& seg, const SourceLoc& loc,
+                     const std::pair<std::string, double>* loop, const std::string& text) {
+    if (!arr.is_array) {
+      if (seg.index) throw ModelError(loc, seg.name + " is not an array (it has no count:), in '" + text + "'");
+      return arr.first_instance;
+    }
+    if (!seg.index) {
+      throw ModelError(loc, seg.name + " is an array of " + std::to_string(arr.count) +
+                                " components; name one element, e.g. " + seg.name + "[1]");
+    }
+    int64_t k = StructuralInteger(*seg.index, AstToString(*seg.index), loc, loop, "an index");
+    if (k < 1 || k > static_cast<int64_t>(arr.count)) {
+      throw ModelError(loc, seg.name + "[" + std::to_string(k) + "] is out of range 1.." +
+                                std::to_string(arr.count) + " in '" + text + "'");
+    }
+    return arr.first_instance + static_cast<uint32_t>(k - 1);
+  }
+
+  /// Builds an expression of the model scope.
+  ExprId ModelExpr(const Ast& a, const std::string& text, const SourceLoc& loc,
+                   const std::pair<std::string, double>* loop, bool allow_variables) {
+    return BuildExpr(a, text, loc, [&](const Ast& name) {
+      return ModelName(name, loc, loop, allow_variables, text);
+    }, allow_variables);
+  }
+
+  /// Expression building shared by the model scope; `name` resolves a kName node.
+  ExprId BuildExpr(const Ast& a, const std::string& text, const SourceLoc& loc,
+                   const std::function<ExprId(const Ast&)>& name, bool allow_variables) {
+    ExprPool& p = pool();
+    auto sub = [&](size_t k) { return BuildExpr(*a.args[k], text, loc, name, allow_variables); };
+    switch (a.kind) {
+      case Ast::Kind::kNumber:
+      case Ast::Kind::kBool:
+        return p.Const(a.number);
+      case Ast::Kind::kName:
+        return name(a);
+      case Ast::Kind::kUnary:
+        return a.op == "not" ? p.Unary(Op::kNot, sub(0)) : p.Neg(sub(0));
+      case Ast::Kind::kBinary:
+        return p.Binary(BinaryOp(a.op), sub(0), sub(1));
+      case Ast::Kind::kIf:
+        return p.If(sub(0), sub(1), sub(2));
+      case Ast::Kind::kCall: {
+        Op op;
+        if (FunctionOp(a.op, &op)) {
+          return Arity(op) == 1 ? p.Unary(op, sub(0)) : p.Binary(op, sub(0), sub(1));
+        }
+        if (a.op == "noEvent") return p.NoEvent(sub(0));
+        if (!allow_variables) {
+          throw ModelError(loc.Shifted(a.column), a.op + "() cannot be used in '" + text + "'");
+        }
+        if (a.op == "der") {
+          ExprId d = TimeDerivative(&p, sub(0));
+          if (!d.valid()) throw ModelError(loc.Shifted(a.column), "second derivatives are not supported in '" + text + "'; introduce a variable for the first derivative");
+          return d;
+        }
+        if (a.op == "initial") return p.Initial();
+        ExprId x = sub(0);
+        if (p.op(x) != Op::kVar) {
+          throw ModelError(loc.Shifted(a.column), a.op + "() takes a variable, in '" + text + "'");
+        }
+        ExprId pre = p.Pre(VarId(p.node(x).a));
+        if (a.op == "pre") return pre;
+        if (a.op == "edge") return p.Binary(Op::kAnd, x, p.Unary(Op::kNot, pre));
+        if (a.op == "change") return p.Binary(Op::kNe, x, pre);
+        throw ModelError(loc.Shifted(a.column), a.op + "() is not allowed in '" + text + "'");
+      }
+    }
+    return p.Zero();
+  }
+
+  static Op BinaryOp(const std::string& s) {
+    static const std::unordered_map<std::string, Op> kOps = {
+        {"+", Op::kAdd}, {"-", Op::kSub}, {"*", Op::kMul}, {"/", Op::kDiv}, {"^", Op::kPow},
+        {"<", Op::kLt},  {"<=", Op::kLe}, {">", Op::kGt},  {">=", Op::kGe}, {"==", Op::kEq},
+        {"<>", Op::kNe}, {"and", Op::kAnd}, {"or", Op::kOr}};
+    return kOps.at(s);
+  }
+
+  static bool FunctionOp(const std::string& s, Op* op) {
+    static const std::unordered_map<std::string, Op> kFns = {
+        {"sin", Op::kSin},   {"cos", Op::kCos},   {"tan", Op::kTan},     {"asin", Op::kAsin},
+        {"acos", Op::kAcos}, {"atan", Op::kAtan}, {"sinh", Op::kSinh},   {"cosh", Op::kCosh},
+        {"tanh", Op::kTanh}, {"exp", Op::kExp},   {"log", Op::kLog},     {"log10", Op::kLog10},
+        {"sqrt", Op::kSqrt}, {"abs", Op::kAbs},   {"sign", Op::kSign},   {"atan2", Op::kAtan2},
+        {"min", Op::kMin},   {"max", Op::kMax}};
+    auto it = kFns.find(s);
+    if (it == kFns.end()) return false;
+    *op = it->second;
+    return true;
+  }
+
+  // -------------------------------------------------------------------------------------------
+  // Component types: layouts and templates
+
+  const TypeLayout& Layout(const ComponentType* type) {
+    auto it = layouts_.find(type);
+    if (it != layouts_.end()) return *it->second;
+    auto layout = std::make_unique<TypeLayout>();
+    TypeLayout& L = *layout;
+    L.type = type;
+    // Connector variables first, then declared variables.
+    std::unordered_map<std::string, const VariableDecl*> declared;
+    for (const auto& v : type->variables) {
+      if (declared.count(v.name)) throw ModelError(v.loc, type->name + "." + v.name + " is declared twice");
+      declared[v.name] = &v;
+    }
+    for (const auto& c : type->connectors) {
+      const ConnectorType* ct = library_.FindConnector(c.type);
+      if (!ct) {
+        throw ModelError(c.loc, "unknown connector type '" + c.type + "' for " + type->name + "." +
+                                    c.name + " (valid connector types: " +
+                                    JoinNames(library_.ConnectorNames()) + ")");
+      }
+      if (L.connector_index.count(c.name)) throw ModelError(c.loc, type->name + "." + c.name + " is declared twice");
+      L.connector_index[c.name] = static_cast<uint32_t>(L.connectors.size());
+      L.connectors.push_back({&c, ct, static_cast<uint32_t>(L.vars.size())});
+      if (ct->is_signal) {
+        LocalVar lv;
+        lv.name = c.name;
+        lv.type = ct->signal_type;
+        lv.is_input = ct->is_input;
+        auto d = declared.find(c.name);
+        if (d != declared.end()) {
+          lv.decl = d->second;
+          lv.unit = d->second->unit;
+          declared.erase(d);
+        }
+        L.vars.push_back(lv);
+      } else {
+        for (const auto& pv : ct->potentials) {
+          L.vars.push_back({c.name + "." + pv.name, nullptr, false, false, ValueType::kReal, pv.unit});
+        }
+        for (const auto& fv : ct->flows) {
+          L.vars.push_back({c.name + "." + fv.name, nullptr, true, false, ValueType::kReal, fv.unit});
+        }
+      }
+    }
+    for (const auto& v : type->variables) {
+      if (!declared.count(v.name)) continue;  // attributes of a signal connector
+      if (L.connector_index.count(v.name)) throw ModelError(v.loc, type->name + "." + v.name + " is both a connector and a variable");
+      L.vars.push_back({v.name, &v, false, false, v.type, v.unit});
+    }
+    for (uint32_t k = 0; k < L.vars.size(); ++k) L.var_index[L.vars[k].name] = k;
+    for (uint32_t k = 0; k < type->parameters.size(); ++k) {
+      const auto& p = type->parameters[k];
+      if (L.param_index.count(p.name) || L.var_index.count(p.name)) {
+        throw ModelError(p.loc, type->name + "." + p.name + " is declared twice");
+      }
+      L.param_index[p.name] = k;
+    }
+    // Templates.
+    for (const auto& p : type->parameters) {
+      L.param_defaults.push_back(MakeTemplate(L, *p.value, p.value_text, p.loc, true));
+    }
+    for (const auto& v : L.vars) {
+      L.starts.push_back(v.decl && v.decl->start
+                             ? MakeTemplate(L, *v.decl->start, AstToString(*v.decl->start), v.decl->loc, true)
+                             : Template());
+    }
+    for (const auto& e : type->equations) {
+      L.equations.push_back(EquationTemplate(L, e));
+    }
+    for (const auto& e : type->initial_equations) {
+      L.initial_equations.push_back(EquationTemplate(L, e));
+    }
+    const TypeLayout& ref = *layout;
+    layouts_[type] = std::move(layout);
+    return ref;
+  }
+
+  Template EquationTemplate(const TypeLayout& L, const EquationDecl& e) {
+    Template t;
+    int32_t lhs = AddTemplate(L, *e.ast.lhs, e.text, e.loc, false, &t);
+    int32_t rhs = AddTemplate(L, *e.ast.rhs, e.text, e.loc, false, &t);
+    TNode n;
+    n.kind = TNode::kOp;
+    n.op = Op::kSub;
+    n.a = lhs;
+    n.b = rhs;
+    t.nodes.push_back(n);
+    t.root = static_cast<int32_t>(t.nodes.size() - 1);
+    return t;
+  }
+
+  Template MakeTemplate(const TypeLayout& L, const Ast& a, const std::string& text,
+                        const SourceLoc& loc, bool params_only) {
+    Template t;
+    t.root = AddTemplate(L, a, text, loc, params_only, &t);
+    return t;
+  }
+
+  int32_t AddTemplate(const TypeLayout& L, const Ast& a, const std::string& text,
+                      const SourceLoc& loc, bool params_only, Template* t) {
+    TNode n;
+    auto push = [&](TNode node) {
+      t->nodes.push_back(node);
+      return static_cast<int32_t>(t->nodes.size() - 1);
+    };
+    auto child = [&](size_t k) { return AddTemplate(L, *a.args[k], text, loc, params_only, t); };
+    const std::string& owner = L.type->name;
+    switch (a.kind) {
+      case Ast::Kind::kNumber:
+      case Ast::Kind::kBool:
+        n.kind = TNode::kConst;
+        n.value = a.number;
+        return push(n);
+      case Ast::Kind::kName: {
+        std::string local;
+        for (size_t k = 0; k < a.path.size(); ++k) {
+          if (a.path[k].index) {
+            throw ModelError(loc.Shifted(a.column), "subscripts are not allowed inside a component's equations, in '" + text + "'");
+          }
+          if (k) local += ".";
+          local += a.path[k].name;
+        }
+        auto v = L.var_index.find(local);
+        if (v != L.var_index.end()) {
+          if (params_only) {
+            throw ModelError(loc.Shifted(a.column), "'" + local + "' is a variable of " + owner +
+                                                        "; a parameter's value or a start value may only use parameters, in '" + text + "'");
+          }
+          n.kind = TNode::kLocalVar;
+          n.local = v->second;
+          return push(n);
+        }
+        auto p = L.param_index.find(local);
+        if (p != L.param_index.end()) {
+          n.kind = TNode::kLocalParam;
+          n.local = p->second;
+          return push(n);
+        }
+        if (local == "time" && !params_only) {
+          n.kind = TNode::kTime;
+          return push(n);
+        }
+        if (local == "pi") {
+          n.kind = TNode::kConst;
+          n.value = M_PI;
+          return push(n);
+        }
+        auto names = L.LocalNames();
+        auto close = ClosestNames(local, names);
+        throw ModelError(loc.Shifted(a.column),
+                         "unknown name '" + local + "' in '" + text + "' of " + owner +
+                             (close.empty() ? "" : " (did you mean " + JoinNames(close) + "?)") +
+                             " (valid names: " + JoinNames(names) + ", time, pi)");
+      }
+      case Ast::Kind::kUnary:
+        n.kind = TNode::kOp;
+        n.op = a.op == "not" ? Op::kNot : Op::kNeg;
+        n.a = child(0);
+        return push(n);
+      case Ast::Kind::kBinary:
+        n.kind = TNode::kOp;
+        n.op = BinaryOp(a.op);
+        n.a = child(0);
+        n.b = child(1);
+        return push(n);
+      case Ast::Kind::kIf:
+        n.kind = TNode::kOp;
+        n.op = Op::kIf;
+        n.a = child(0);
+        n.b = child(1);
+        n.c = child(2);
+        return push(n);
+      case Ast::Kind::kCall: {
+        Op op;
+        if (FunctionOp(a.op, &op)) {
+          n.kind = TNode::kOp;
+          n.op = op;
+          n.a = child(0);
+          if (Arity(op) == 2) n.b = child(1);
+          return push(n);
+        }
+        SourceLoc at = loc.Shifted(a.column);
+        if (params_only) throw ModelError(at, a.op + "() cannot be used in a parameter's value, in '" + text + "'");
+        if (a.op == "noEvent") {
+          n.kind = TNode::kNoEvent;
+          n.a = child(0);
+          return push(n);
+        }
+        if (a.op == "der") {
+          n.kind = TNode::kDerOf;
+          n.a = child(0);
+          return push(n);
+        }
+        if (a.op == "initial") {
+          n.kind = TNode::kInitial;
+          return push(n);
+        }
+        if (a.op == "reinit") throw ModelError(at, "reinit() belongs in a when-clause, in '" + text + "'");
+        int32_t x = child(0);
+        if (t->nodes[x].kind != TNode::kLocalVar) {
+          throw ModelError(at, a.op + "() takes a variable, in '" + text + "'");
+        }
+        TNode pre;
+        pre.kind = TNode::kPre;
+        pre.local = t->nodes[x].local;
+        int32_t pre_id = push(pre);
+        if (a.op == "pre") return pre_id;
+        TNode r;
+        r.kind = TNode::kOp;
+        if (a.op == "edge") {
+          TNode notp;
+          notp.kind = TNode::kOp;
+          notp.op = Op::kNot;
+          notp.a = pre_id;
+          int32_t not_id = push(notp);
+          r.op = Op::kAnd;
+          r.a = x;
+          r.b = not_id;
+        } else {  // change
+          r.op = Op::kNe;
+          r.a = x;
+          r.b = pre_id;
+        }
+        return push(r);
+      }
+    }
+    return -1;
+  }
+
+  /// Copies a template into the pool for one instance.
+  ExprId Instantiate(const Template& t, VarId first_var, ParamId first_param, const std::string& path,
+                     const std::string& text, const SourceLoc& loc) {
+    ExprPool& p = pool();
+    scratch_.resize(t.nodes.size());
+    for (size_t k = 0; k < t.nodes.size(); ++k) {
+      const TNode& n = t.nodes[k];
+      ExprId r;
+      switch (n.kind) {
+        case TNode::kConst: r = p.Const(n.value); break;
+        case TNode::kLocalVar: r = p.Var(VarId(first_var.value() + n.local)); break;
+        case TNode::kLocalParam: r = p.Param(ParamId(first_param.value() + n.local)); break;
+        case TNode::kPre: r = p.Pre(VarId(first_var.value() + n.local)); break;
+        case TNode::kTime: r = p.Time(); break;
+        case TNode::kInitial: r = p.Initial(); break;
+        case TNode::kNoEvent: r = p.NoEvent(scratch_[n.a]); break;
+        case TNode::kDerOf:
+          r = TimeDerivative(&p, scratch_[n.a]);
+          if (!r.valid()) {
+            throw ModelError(loc, "second derivatives are not supported, in '" + text + "' of " + path);
+          }
+          break;
+        case TNode::kOp: {
+          int arity = Arity(n.op);
+          if (arity == 1) {
+            r = p.Unary(n.op, scratch_[n.a]);
+          } else if (arity == 2) {
+            r = p.Binary(n.op, scratch_[n.a], scratch_[n.b]);
+          } else {
+            r = p.If(scratch_[n.a], scratch_[n.b], scratch_[n.c]);
+          }
+          break;
+        }
+      }
+      scratch_[k] = r;
+    }
+    return scratch_[t.root];
+  }
+
+  // -------------------------------------------------------------------------------------------
+  // Model variables and components
+
+  void ModelVariables() {
+    for (const auto& v : spec_.variables) {
+      if (model_param_.count(v.name) || model_var_.count(v.name)) {
+        throw ModelError(v.loc, v.name + " is declared twice");
+      }
+      FlatVariable fv;
+      fv.name = v.name;
+      fv.type = v.type;
+      fv.fixed = v.fixed;
+      fv.nominal = v.nominal;
+      fv.state_priority = v.state_priority;
+      fv.loc = v.loc;
+      fv.unit = v.unit;
+      fv.start = v.start ? ModelExpr(*v.start, AstToString(*v.start), v.loc, nullptr, false) : ExprId();
+      model_var_[v.name] = VarId(flat_.variables.size());
+      flat_.variables.push_back(fv);
+    }
+  }
+
+  void Components() {
+    for (size_t s = 0; s < spec_.components.size(); ++s) {
+      const ComponentSpec& c = spec_.components[s];
+      if (arrays_.count(c.name) || model_param_.count(c.name) || model_var_.count(c.name)) {
+        throw ModelError(c.loc, "the name " + c.name + " is used twice");
+      }
+      const ComponentType* type = FindType(c.type);
+      if (!type) {
+        std::vector<std::string> names = library_.ComponentNames();
+        for (const auto& d : spec_.defines) names.push_back(d.name);
+        auto close = ClosestNames(c.type, names);
+        throw ModelError(c.type_loc, "unknown component type '" + c.type + "' for " + c.name +
+                                         (close.empty() ? "" : " (did you mean " + JoinNames(close) + "?)") +
+                                         " (valid types: " + JoinNames(names, 80) + ")");
+      }
+      const TypeLayout& L = Layout(type);
+      ComponentArray arr{s, static_cast<uint32_t>(flat_.instances.size()), 1, c.count != nullptr};
+      if (c.count) {
+        int64_t n = StructuralInteger(*c.count, AstToString(*c.count), c.loc, nullptr, "count of " + c.name);
+        if (n < 1 || n > 50000000) {
+          throw ModelError(c.loc, "count of " + c.name + " must be between 1 and 50000000, found " + std::to_string(n));
+        }
+        arr.count = static_cast<uint32_t>(n);
+      }
+      // Which modifiers set parameters and which set start values.
+      std::vector<const Modifier*> param_mod(type->parameters.size(), nullptr);
+      std::vector<const Modifier*> var_mod(L.vars.size(), nullptr);
+      for (const auto& m : c.modifiers) {
+        auto p = L.param_index.find(m.key);
+        auto v = L.var_index.find(m.key);
+        if (p != L.param_index.end()) {
+          if (!m.value) throw ModelError(m.loc, c.name + "." + m.key + " is a parameter: give it a value, e.g. " + m.key + ": 2");
+          param_mod[p->second] = &m;
+        } else if (v != L.var_index.end()) {
+          if (m.value) {
+            throw ModelError(m.loc, c.name + "." + m.key + " is a variable: give its start value as " + m.key +
+                                        ": {start: " + m.value_text + ", fixed: true}");
+          }
+          var_mod[v->second] = &m;
+        } else {
+          std::vector<std::string> names;
+          for (const auto& p2 : type->parameters) names.push_back(p2.name);
+          for (const auto& v2 : L.vars) names.push_back(v2.name);
+          auto close = ClosestNames(m.key, names);
+          throw ModelError(m.loc, "unknown key '" + m.key + "' for " + c.name + " (" + type->name + ")" +
+                                      (close.empty() ? "" : " (did you mean " + JoinNames(close) + "?)") +
+                                      " (valid parameters and variables: " + JoinNames(names) +
+                                      "; reserved keys: type, count, doc)");
+        }
+      }
+      for (uint32_t k = 0; k < arr.count; ++k) {
+        std::string path = arr.is_array ? c.name + "[" + std::to_string(k + 1) + "]" : c.name;
+        std::pair<std::string, double> index{"i", static_cast<double>(k + 1)};
+        AddInstance(c, L, path, param_mod, var_mod, arr.is_array ? &index : nullptr);
+      }
+      arrays_[c.name] = arr;
+    }
+  }
+
+  void AddInstance(const ComponentSpec& c, const TypeLayout& L, const std::string& path,
+                   const std::vector<const Modifier*>& param_mod,
+                   const std::vector<const Modifier*>& var_mod,
+                   const std::pair<std::string, double>* index) {
+    const ComponentType* type = L.type;
+    InstanceId inst(flat_.instances.size());
+    flat_.instances.push_back({path, type, c.loc});
+    InstanceData data{&L, VarId(flat_.variables.size()), ParamId(flat_.parameters.size()),
+                      static_cast<uint32_t>(slot_instance_.size())};
+    instance_data_.push_back(data);
+    for (size_t k = 0; k < L.connectors.size(); ++k) slot_instance_.push_back(inst.value());
+    // Parameters.
+    for (size_t k = 0; k < type->parameters.size(); ++k) {
+      const ParameterDecl& d = type->parameters[k];
+      FlatParameter fp;
+      fp.name = path + "." + d.name;
+      fp.type = d.type;
+      fp.min = d.min;
+      fp.max = d.max;
+      fp.unit = d.unit;
+      fp.doc = d.doc;
+      fp.instance = inst;
+      if (const Modifier* m = param_mod[k]) {
+        fp.binding = ModelExpr(*m->value, m->value_text, m->loc, index, false);
+        fp.loc = m->loc;
+      } else {
+        fp.binding = Instantiate(L.param_defaults[k], data.first_var, data.first_param, path, d.value_text, d.loc);
+        fp.loc = c.loc;
+      }
+      flat_.parameters.push_back(std::move(fp));
+    }
+    // Variables.
+    for (size_t k = 0; k < L.vars.size(); ++k) {
+      const LocalVar& lv = L.vars[k];
+      FlatVariable fv;
+      fv.name = path + "." + lv.name;
+      fv.type = lv.type;
+      fv.is_flow = lv.is_flow;
+      fv.is_input = lv.is_input;
+      fv.instance = inst;
+      fv.unit = lv.unit;
+      fv.loc = c.loc;
+      if (lv.decl) {
+        fv.fixed = lv.decl->fixed;
+        fv.nominal = lv.decl->nominal;
+        fv.state_priority = lv.decl->state_priority;
+        if (L.starts[k].root >= 0) {
+          fv.start = Instantiate(L.starts[k], data.first_var, data.first_param, path, "", lv.decl->loc);
+        }
+      }
+      if (const Modifier* m = var_mod[k]) {
+        if (m->start) fv.start = ModelExpr(*m->start, AstToString(*m->start), m->loc, index, false);
+        if (m->fixed) fv.fixed = *m->fixed;
+        fv.loc = m->loc;
+      }
+      flat_.variables.push_back(std::move(fv));
+    }
+    // Equations.
+    for (size_t k = 0; k < L.equations.size(); ++k) {
+      const EquationDecl& d = type->equations[k];
+      FlatEquation eq;
+      eq.residual = Instantiate(L.equations[k], data.first_var, data.first_param, path, d.text, c.loc);
+      eq.origin = EquationOrigin::kComponent;
+      eq.instance = inst;
+      eq.text = d.text;
+      eq.loc = d.loc;
+      flat_.equations.push_back(std::move(eq));
+    }
+    for (size_t k = 0; k < L.initial_equations.size(); ++k) {
+      const EquationDecl& d = type->initial_equations[k];
+      FlatEquation eq;
+      eq.residual = Instantiate(L.initial_equations[k], data.first_var, data.first_param, path, d.text, c.loc);
+      eq.origin = EquationOrigin::kInitial;
+      eq.instance = inst;
+      eq.text = d.text;
+      eq.loc = d.loc;
+      flat_.initial_equations.push_back(std::move(eq));
+    }
+  }
+
+  // -------------------------------------------------------------------------------------------
+  // Connections
+
+  struct EndRef {
+    uint32_t instance;
+    uint32_t connector;
+    std::string text;
+    SourceLoc loc;
+  };
+
+  EndRef ResolveEnd(const Ast& a, const std::string& text, const SourceLoc& loc,
+                    const std::pair<std::string, double>* loop) {
+    if (a.path.size() != 2) {
+      throw ModelError(loc, "a connection end names a component and one of its connectors, e.g. A.flange_a; found '" + text + "'");
+    }
+    auto arr = arrays_.find(a.path[0].name);
+    if (arr == arrays_.end()) {
+      std::vector<std::string> names;
+      for (const auto& c : spec_.components) names.push_back(c.name);
+      auto close = ClosestNames(a.path[0].name, names);
+      throw ModelError(loc, "unknown component '" + a.path[0].name + "' in connection end '" + text + "'" +
+                                (close.empty() ? "" : " (did you mean " + JoinNames(close) + "?)") +
+                                " (valid components: " + JoinNames(names) + ")");
+    }
+    uint32_t inst = ElementOf(arr->second, a.path[0], loc, loop, text);
+    const TypeLayout& L = *instance_data_[inst].layout;
+    if (a.path[1].index) throw ModelError(loc, "connectors cannot be indexed, in '" + text + "'");
+    auto c = L.connector_index.find(a.path[1].name);
+    if (c == L.connector_index.end()) {
+      std::vector<std::string> names;
+      for (const auto& s : L.connectors) names.push_back(s.decl->name);
+      throw ModelError(loc, flat_.instances[inst].path + " (" + L.type->name + ") has no connector '" +
+                                a.path[1].name + "' (valid connectors: " +
+                                (names.empty() ? std::string("none") : JoinNames(names)) + ")");
+    }
+    std::string shown = flat_.instances[inst].path + "." + a.path[1].name;
+    return {inst, c->second, shown, loc};
+  }
+
+  uint32_t Find(uint32_t x) {
+    while (parent_[x] != x) {
+      parent_[x] = parent_[parent_[x]];
+      x = parent_[x];
+    }
+    return x;
+  }
+
+  void Connections() {
+    parent_.resize(slot_instance_.size());
+    for (uint32_t k = 0; k < parent_.size(); ++k) parent_[k] = k;
+    std::vector<SourceLoc> slot_loc(slot_instance_.size());
+    std::vector<std::string> slot_text(slot_instance_.size());
+    auto join = [&](const EndRef& x, const EndRef& y) {
+      const ConnectorSlot& cx = instance_data_[x.instance].layout->connectors[x.connector];
+      const ConnectorSlot& cy = instance_data_[y.instance].layout->connectors[y.connector];
+      bool compatible = cx.type == cy.type ||
+                        (cx.type->is_signal && cy.type->is_signal && cx.type->signal_type == cy.type->signal_type);
+      if (!compatible) {
+        throw ModelError(x.loc, "cannot connect " + x.text + " (" + cx.type->name + ") to " + y.text +
+                                    " (" + cy.type->name + "): connectors of different kinds");
+      }
+      uint32_t sx = instance_data_[x.instance].first_slot + x.connector;
+      uint32_t sy = instance_data_[y.instance].first_slot + y.connector;
+      if (sx == sy) throw ModelError(x.loc, "connection of " + x.text + " to itself");
+      for (auto [s, e] : {std::pair{sx, &x}, std::pair{sy, &y}}) {
+        if (!slot_loc[s].known()) {
+          slot_loc[s] = e->loc;
+          slot_text[s] = e->text;
+        }
+      }
+      parent_[Find(sx)] = Find(sy);
+    };
+    for (const auto& c : spec_.connections) {
+      if (c.loop_var.empty()) {
+        join(ResolveEnd(*c.a, c.a_text, c.a_loc, nullptr), ResolveEnd(*c.b, c.b_text, c.b_loc, nullptr));
+        continue;
+      }
+      int64_t from = StructuralInteger(*c.loop_from, AstToString(*c.loop_from), c.loc, nullptr, "a loop bound");
+      int64_t to = StructuralInteger(*c.loop_to, AstToString(*c.loop_to), c.loc, nullptr, "a loop bound");
+      for (int64_t k = from; k <= to; ++k) {
+        std::pair<std::string, double> loop{c.loop_var, static_cast<double>(k)};
+        join(ResolveEnd(*c.a, c.a_text, c.a_loc, &loop), ResolveEnd(*c.b, c.b_text, c.b_loc, &loop));
+      }
+    }
+    // Group slots into connection sets.
+    std::vector<std::vector<uint32_t>> sets;
+    std::vector<int32_t> set_of_root(parent_.size(), -1);
+    for (uint32_t s = 0; s < parent_.size(); ++s) {
+      uint32_t r = Find(s);
+      if (set_of_root[r] < 0) {
+        set_of_root[r] = static_cast<int32_t>(sets.size());
+        sets.emplace_back();
+      }
+      sets[set_of_root[r]].push_back(s);
+    }
+    ExprPool& p = pool();
+    for (const auto& set : sets) {
+      const uint32_t s0 = set[0];
+      const InstanceData& d0 = instance_data_[slot_instance_[s0]];
+      const ConnectorSlot& c0 = d0.layout->connectors[s0 - d0.first_slot];
+      auto var_of = [&](uint32_t slot, uint32_t k) {
+        const InstanceData& d = instance_data_[slot_instance_[slot]];
+        const ConnectorSlot& cs = d.layout->connectors[slot - d.first_slot];
+        return VarId(d.first_var.value() + cs.first_local_var + k);
+      };
+      auto name_of = [&](uint32_t slot) {
+        const InstanceData& d = instance_data_[slot_instance_[slot]];
+        return flat_.instances[slot_instance_[slot]].path + "." +
+               d.layout->connectors[slot - d.first_slot].decl->name;
+      };
+      if (set.size() == 1) {
+        // An unconnected physical connector: its flows are zero.
+        if (c0.type->is_signal) continue;
+        for (size_t k = 0; k < c0.type->flows.size(); ++k) {
+          VarId f = var_of(s0, static_cast<uint32_t>(c0.type->potentials.size() + k));
+          FlatEquation eq;
+          eq.residual = p.Var(f);
+          eq.origin = EquationOrigin::kUnconnectedFlow;
+          eq.instance = InstanceId(slot_instance_[s0]);
+          eq.text = name_of(s0) + "." + c0.type->flows[k].name + " = 0 (unconnected)";
+          eq.loc = flat_.instances[slot_instance_[s0]].loc;
+          flat_.equations.push_back(std::move(eq));
+        }
+        continue;
+      }
+      std::string members;
+      for (uint32_t s : set) members += (members.empty() ? "" : ", ") + name_of(s);
+      SourceLoc loc;
+      for (uint32_t s : set) {
+        if (slot_loc[s].known()) {
+          loc = slot_loc[s];
+          break;
+        }
+      }
+      auto add = [&](ExprId residual, const std::string& text) {
+        FlatEquation eq;
+        eq.residual = residual;
+        eq.origin = EquationOrigin::kConnection;
+        eq.text = text;
+        eq.loc = loc;
+        flat_.equations.push_back(std::move(eq));
+      };
+      if (c0.type->is_signal) {
+        // Exactly one output drives the set; every input equals it.
+        std::vector<uint32_t> outputs;
+        for (uint32_t s : set) {
+          const InstanceData& d = instance_data_[slot_instance_[s]];
+          if (!d.layout->connectors[s - d.first_slot].type->is_input) outputs.push_back(s);
+        }
+        if (outputs.empty()) {
+          throw ModelError(loc, "the signals " + members + " are joined but no output drives them; connect an output (e.g. a Constant block's y)");
+        }
+        if (outputs.size() > 1) {
+          throw ModelError(loc, "the outputs " + name_of(outputs[0]) + " and " + name_of(outputs[1]) +
+                                    " are connected to each other; a signal has exactly one output");
+        }
+        for (uint32_t s : set) {
+          if (s == outputs[0]) continue;
+          add(p.Sub(p.Var(var_of(s, 0)), p.Var(var_of(outputs[0], 0))),
+              name_of(s) + " = " + name_of(outputs[0]) + " (connection)");
+        }
+        continue;
+      }
+      for (size_t k = 0; k < c0.type->potentials.size(); ++k) {
+        for (size_t j = 1; j < set.size(); ++j) {
+          add(p.Sub(p.Var(var_of(set[j], static_cast<uint32_t>(k))), p.Var(var_of(s0, static_cast<uint32_t>(k)))),
+              name_of(set[j]) + "." + c0.type->potentials[k].name + " = " + name_of(s0) + "." +
+                  c0.type->potentials[k].name + " (connection)");
+        }
+      }
+      for (size_t k = 0; k < c0.type->flows.size(); ++k) {
+        uint32_t local = static_cast<uint32_t>(c0.type->potentials.size() + k);
+        ExprId sum = p.Var(var_of(s0, local));
+        for (size_t j = 1; j < set.size(); ++j) sum = p.Add(sum, p.Var(var_of(set[j], local)));
+        add(sum, "sum of " + c0.type->flows[k].name + " over {" + members + "} = 0 (connection)");
+      }
+    }
+  }
+
+  // -------------------------------------------------------------------------------------------
+  // Model equations, outputs, parameter order
+
+  void ModelEquations() {
+    auto add = [&](const EquationDecl& d, EquationOrigin origin, std::vector<FlatEquation>* out) {
+      FlatEquation eq;
+      ExprId l = ModelExpr(*d.ast.lhs, d.text, d.loc, nullptr, true);
+      ExprId r = ModelExpr(*d.ast.rhs, d.text, d.loc, nullptr, true);
+      eq.residual = pool().Sub(l, r);
+      eq.origin = origin;
+      eq.text = d.text;
+      eq.loc = d.loc;
+      out->push_back(std::move(eq));
+    };
+    for (const auto& d : spec_.equations) add(d, EquationOrigin::kModel, &flat_.equations);
+    for (const auto& d : spec_.initial_equations) add(d, EquationOrigin::kInitial, &flat_.initial_equations);
+  }
+
+  void Outputs() {
+    std::unordered_map<std::string, SourceLoc> seen;
+    for (const auto& o : spec_.outputs) {
+      if (seen.count(o.text)) throw ModelError(o.loc, "output '" + o.text + "' is listed twice");
+      seen[o.text] = o.loc;
+      ExprId e = ModelExpr(*o.expr, o.text, o.loc, nullptr, true);
+      flat_.outputs.push_back({o.text, e, o.loc});
+    }
+  }
+
+  void OrderParameters() {
+    // Depth-first topological order of the bindings, with cycle detection.
+    const size_t n = flat_.parameters.size();
+    std::vector<uint8_t> state(n, 0);
+    std::vector<std::pair<uint32_t, std::vector<ExprId>>> stack;
+    for (uint32_t s = 0; s < n; ++s) {
+      if (state[s]) continue;
+      stack.push_back({s, CollectLeaves(pool(), flat_.parameters[s].binding, kHasParam)});
+      state[s] = 1;
+      while (!stack.empty()) {
+        auto& [id, deps] = stack.back();
+        if (deps.empty()) {
+          state[id] = 2;
+          flat_.parameter_order.push_back(ParamId(id));
+          stack.pop_back();
+          continue;
+        }
+        uint32_t q = pool().node(deps.back()).a;
+        deps.pop_back();
+        if (state[q] == 1) {
+          throw ModelError(flat_.parameters[q].loc, "the parameters' bindings form a cycle through " + flat_.parameters[q].name);
+        }
+        if (state[q] == 0) {
+          state[q] = 1;
+          stack.push_back({q, CollectLeaves(pool(), flat_.parameters[q].binding, kHasParam)});
+        }
+      }
+    }
+  }
+
+  void CheckOverrides() {
+    std::unordered_map<std::string, size_t> names;
+    for (size_t k = 0; k < flat_.parameters.size(); ++k) names[flat_.parameters[k].name] = k;
+    for (const auto& [name, value] : overrides_) {
+      if (names.count(name)) continue;
+      std::vector<std::string> model_names;
+      for (const auto& p : spec_.parameters) model_names.push_back(p.name);
+      std::vector<std::string> all;
+      for (const auto& p : flat_.parameters) all.push_back(p.name);
+      auto close = ClosestNames(name, all);
+      throw ModelError(spec_.file + ": -p " + name + ": no parameter of that name in " + spec_.name +
+                       (close.empty() ? "" : " (did you mean " + JoinNames(close) + "?)") +
+                       " (model parameters: " + (model_names.empty() ? "none" : JoinNames(model_names)) +
+                       "; component parameters are named like A.m)");
+    }
+  }
+
+  const ModelSpec& spec_;
+  const Library& library_;
+  const ParameterOverrides& overrides_;
+  Library defines_;
+  FlatSystem flat_;
+  std::unordered_map<std::string, ParamId> model_param_;
+  std::unordered_map<std::string, VarId> model_var_;
+  std::unordered_map<std::string, ComponentArray> arrays_;
+  std::unordered_map<const ComponentType*, std::unique_ptr<TypeLayout>> layouts_;
+  std::vector<InstanceData> instance_data_;
+  std::vector<uint32_t> slot_instance_;  ///< connector slot -> instance
+  std::vector<uint32_t> parent_;         ///< union-find over connector slots
+  std::vector<ExprId> scratch_;
+};
+
+}  // namespace
+
+FlatSystem Flatten(const ModelSpec& spec, const Library& library, const ParameterOverrides& overrides) {
+  return Flattener(spec, library, overrides).Run();
+}
+
+std::vector<double> EvaluateParameters(const FlatSystem& flat, const ParameterOverrides& overrides) {
+  const ExprPool& pool = *flat.pool;
+  std::vector<double> values(flat.parameters.size(), 0.0);
+  std::vector<const double*> override_of(flat.parameters.size(), nullptr);
+  if (!overrides.empty()) {
+    std::unordered_map<std::string, size_t> names;
+    for (size_t k = 0; k < flat.parameters.size(); ++k) names[flat.parameters[k].name] = k;
+    for (const auto& [name, value] : overrides) {
+      auto it = names.find(name);
+      if (it == names.end()) throw ModelError(flat.file + ": -p " + name + ": no parameter of that name");
+      override_of[it->second] = &value;
+    }
+  }
+  LeafValues lv;
+  lv.params = values.data();
+  for (ParamId id : flat.parameter_order) {
+    const FlatParameter& p = flat.parameters[id.value()];
+    double v = override_of[id.value()] ? *override_of[id.value()]
+               : pool.IsConst(p.binding) ? pool.ConstValue(p.binding)
+                                         : Evaluate(pool, p.binding, lv);
+    std::string where = override_of[id.value()] ? flat.file + ": -p " + p.name : "";
+    auto fail = [&](const std::string& msg) {
+      if (!where.empty()) throw ModelError(where + ": " + msg);
+      throw ModelError(p.loc, msg);
+    };
+    std::string what = p.name;
+    if (p.instance.valid()) {
+      const FlatInstance& inst = flat.instances[p.instance.value()];
+      what += " (" + inst.type->name + "." + p.name.substr(inst.path.size() + 1) +
+              (p.doc.empty() ? "" : ": " + p.doc) + (p.unit.empty() ? "" : " [" + p.unit + "]") + ")";
+    }
+    if (!std::isfinite(v)) fail(what + " is " + std::to_string(v) + "; a parameter must be a finite number");
+    auto num = [](double x) {
+      std::ostringstream s;
+      s << x;
+      return s.str();
+    };
+    if (p.min && v < *p.min) fail(what + " = " + num(v) + " is below its minimum " + num(*p.min));
+    if (p.max && v > *p.max) fail(what + " = " + num(v) + " is above its maximum " + num(*p.max));
+    values[id.value()] = v;
+  }
+  return values;
+}
+
+ExprNamer FlatSystem::Namer() const {
+  ExprNamer n;
+  n.var = [this](uint32_t v) { return variables[v].name; };
+  n.param = [this](uint32_t p) { return parameters[p].name; };
+  return n;
+}
+
+std::string FlatSystem::DescribeEquation(const FlatEquation& eq) const {
+  std::string s;
+  if (eq.instance.valid() && eq.origin != EquationOrigin::kUnconnectedFlow) {
+    const FlatInstance& inst = instances[eq.instance.value()];
+    s = inst.path + " (" + inst.type->name + ", " + inst.loc.ToString() + "): '" + eq.text + "'";
+  } else {
+    s = "'" + eq.text + "'";
+    if (eq.loc.known()) s += " (" + eq.loc.ToString() + ")";
+  }
+  return s;
+}
+
+std::string FlatSystem::DescribeVariable(VarId v) const {
+  const FlatVariable& var = variables[v.value()];
+  std::string s = var.name;
+  if (var.instance.valid()) {
+    const FlatInstance& inst = instances[var.instance.value()];
+    s += " (" + inst.type->name + ", " + inst.loc.ToString() + ")";
+  }
+  return s;
+}
+
+}  // namespace momenta

@@ -1,0 +1,202 @@
+#include "core/graph.h"
+
+#include <algorithm>
+
+namespace momenta {
+
+void BipartiteGraph::AddRow(const std::vector<uint32_t>& row_cols) {
+  cols.insert(cols.end(), row_cols.begin(), row_cols.end());
+  row_start.push_back(static_cast<uint32_t>(cols.size()));
+}
+
+Matching MaximumMatching(const BipartiteGraph& g) {
+  const uint32_t nr = g.num_rows();
+  Matching m;
+  m.row_to_col.assign(nr, -1);
+  m.col_to_row.assign(g.num_cols, -1);
+  // Cheap assignment: the first free column of each row.
+  for (uint32_t r = 0; r < nr; ++r) {
+    for (uint32_t k = g.row_start[r]; k < g.row_start[r + 1]; ++k) {
+      uint32_t c = g.cols[k];
+      if (m.col_to_row[c] < 0) {
+        m.col_to_row[c] = static_cast<int32_t>(r);
+        m.row_to_col[r] = static_cast<int32_t>(c);
+        ++m.size;
+        break;
+      }
+    }
+  }
+  // Augmenting paths by depth-first search from each unmatched row.
+  struct Frame {
+    uint32_t row, next;
+    int32_t via_col;  ///< the column whose matched row this frame is
+  };
+  std::vector<uint32_t> visited(g.num_cols, 0);
+  std::vector<uint32_t> lookahead(g.row_start.begin(), g.row_start.end() - 1);
+  uint32_t stamp = 0;
+  std::vector<Frame> stack;
+  for (uint32_t r0 = 0; r0 < nr; ++r0) {
+    if (m.row_to_col[r0] >= 0) continue;
+    ++stamp;
+    stack.clear();
+    stack.push_back({r0, g.row_start[r0], -1});
+    int32_t found = -1;
+    while (!stack.empty() && found < 0) {
+      Frame& f = stack.back();
+      // Look ahead for a free column first.
+      uint32_t& la = lookahead[f.row];
+      for (; la < g.row_start[f.row + 1]; ++la) {
+        uint32_t c = g.cols[la];
+        if (m.col_to_row[c] < 0) {
+          found = static_cast<int32_t>(c);
+          break;
+        }
+      }
+      if (found >= 0) break;
+      bool pushed = false;
+      while (f.next < g.row_start[f.row + 1]) {
+        uint32_t c = g.cols[f.next++];
+        if (visited[c] == stamp) continue;
+        visited[c] = stamp;
+        stack.push_back({static_cast<uint32_t>(m.col_to_row[c]), 0, static_cast<int32_t>(c)});
+        stack.back().next = g.row_start[stack.back().row];
+        pushed = true;
+        break;
+      }
+      if (!pushed) stack.pop_back();
+    }
+    if (found < 0) continue;
+    // Augment: the top row takes the free column, each row below takes the column freed above it.
+    int32_t c = found;
+    for (size_t k = stack.size(); k-- > 0;) {
+      uint32_t row = stack[k].row;
+      int32_t freed = stack[k].via_col;
+      m.row_to_col[row] = c;
+      m.col_to_row[c] = static_cast<int32_t>(row);
+      c = freed;
+    }
+    ++m.size;
+  }
+  return m;
+}
+
+void OverDeterminedPart(const BipartiteGraph& g, const Matching& m, std::vector<uint32_t>* rows,
+                        std::vector<uint32_t>* cols) {
+  std::vector<bool> row_seen(g.num_rows(), false), col_seen(g.num_cols, false);
+  std::vector<uint32_t> queue;
+  for (uint32_t r = 0; r < g.num_rows(); ++r) {
+    if (m.row_to_col[r] < 0) {
+      row_seen[r] = true;
+      queue.push_back(r);
+    }
+  }
+  while (!queue.empty()) {
+    uint32_t r = queue.back();
+    queue.pop_back();
+    rows->push_back(r);
+    for (uint32_t k = g.row_start[r]; k < g.row_start[r + 1]; ++k) {
+      uint32_t c = g.cols[k];
+      if (col_seen[c]) continue;
+      col_seen[c] = true;
+      cols->push_back(c);
+      int32_t r2 = m.col_to_row[c];
+      if (r2 >= 0 && !row_seen[r2]) {
+        row_seen[r2] = true;
+        queue.push_back(static_cast<uint32_t>(r2));
+      }
+    }
+  }
+  std::sort(rows->begin(), rows->end());
+  std::sort(cols->begin(), cols->end());
+}
+
+void UnderDeterminedPart(const BipartiteGraph& g, const Matching& m, std::vector<uint32_t>* rows,
+                         std::vector<uint32_t>* cols) {
+  // Column -> rows incidence.
+  std::vector<uint32_t> start(g.num_cols + 1, 0);
+  for (uint32_t c : g.cols) ++start[c + 1];
+  for (uint32_t c = 0; c < g.num_cols; ++c) start[c + 1] += start[c];
+  std::vector<uint32_t> fill(start.begin(), start.end() - 1), by_col(g.cols.size());
+  for (uint32_t r = 0; r < g.num_rows(); ++r) {
+    for (uint32_t k = g.row_start[r]; k < g.row_start[r + 1]; ++k) by_col[fill[g.cols[k]]++] = r;
+  }
+  std::vector<bool> row_seen(g.num_rows(), false), col_seen(g.num_cols, false);
+  std::vector<uint32_t> queue;
+  for (uint32_t c = 0; c < g.num_cols; ++c) {
+    if (m.col_to_row[c] < 0) {
+      col_seen[c] = true;
+      queue.push_back(c);
+    }
+  }
+  while (!queue.empty()) {
+    uint32_t c = queue.back();
+    queue.pop_back();
+    cols->push_back(c);
+    for (uint32_t k = start[c]; k < start[c + 1]; ++k) {
+      uint32_t r = by_col[k];
+      if (row_seen[r]) continue;
+      row_seen[r] = true;
+      rows->push_back(r);
+      int32_t c2 = m.row_to_col[r];
+      if (c2 >= 0 && !col_seen[c2]) {
+        col_seen[c2] = true;
+        queue.push_back(static_cast<uint32_t>(c2));
+      }
+    }
+  }
+  std::sort(rows->begin(), rows->end());
+  std::sort(cols->begin(), cols->end());
+}
+
+std::vector<std::vector<uint32_t>> StronglyConnectedComponents(uint32_t n,
+                                                               const std::vector<uint32_t>& start,
+                                                               const std::vector<uint32_t>& adj) {
+  std::vector<std::vector<uint32_t>> out;
+  std::vector<int32_t> index(n, -1), low(n, 0);
+  std::vector<bool> on_stack(n, false);
+  std::vector<uint32_t> stack;
+  struct Frame {
+    uint32_t node, next;
+  };
+  std::vector<Frame> call;
+  int32_t counter = 0;
+  for (uint32_t s = 0; s < n; ++s) {
+    if (index[s] >= 0) continue;
+    call.push_back({s, start[s]});
+    index[s] = low[s] = counter++;
+    stack.push_back(s);
+    on_stack[s] = true;
+    while (!call.empty()) {
+      Frame& f = call.back();
+      if (f.next < start[f.node + 1]) {
+        uint32_t w = adj[f.next++];
+        if (index[w] < 0) {
+          index[w] = low[w] = counter++;
+          stack.push_back(w);
+          on_stack[w] = true;
+          call.push_back({w, start[w]});
+        } else if (on_stack[w]) {
+          low[f.node] = std::min(low[f.node], index[w]);
+        }
+        continue;
+      }
+      uint32_t v = f.node;
+      if (low[v] == index[v]) {
+        std::vector<uint32_t> comp;
+        uint32_t w;
+        do {
+          w = stack.back();
+          stack.pop_back();
+          on_stack[w] = false;
+          comp.push_back(w);
+        } while (w != v);
+        out.push_back(std::move(comp));
+      }
+      call.pop_back();
+      if (!call.empty()) low[call.back().node] = std::min(low[call.back().node], low[v]);
+    }
+  }
+  return out;
+}
+
+}  // namespace momenta

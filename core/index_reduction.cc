@@ -1,0 +1,111 @@
+#include "core/index_reduction.h"
+
+#include <algorithm>
+#include <tuple>
+#include <unordered_map>
+
+namespace momenta {
+
+namespace {
+
+/// Step 1: der(s) -> expression of v, from a defining equation v = c*der(s) + offset.
+void DerivativeAliases(EquationSystem* sys, IndexStats* stats) {
+  ExprPool& p = *sys->pool;
+  // How many equations hold each der(s).
+  std::unordered_map<uint32_t, uint32_t> uses;
+  std::vector<std::vector<ExprId>> ders(sys->equations.size());
+  for (size_t k = 0; k < sys->equations.size(); ++k) {
+    if (!(p.mask(sys->equations[k].residual) & kHasDer)) continue;
+    ders[k] = CollectLeaves(p, sys->equations[k].residual, kHasDer);
+    for (ExprId d : ders[k]) ++uses[d.value()];
+  }
+  Substitution rewrite(&p);
+  std::vector<bool> defining(sys->equations.size(), false);
+  AffineForm form;
+  for (size_t k = 0; k < sys->equations.size(); ++k) {
+    if (ders[k].size() != 1 || uses[ders[k][0].value()] < 2) continue;
+    ExprId der = ders[k][0];
+    if (rewrite.Has(der)) continue;
+    ExprId r = sys->equations[k].residual;
+    if (p.mask(r) & (kHasPre | kHasTime | kHasInitial)) continue;
+    if (!DecomposeAffine(&p, r, 2, &form) || form.terms.size() != 2) continue;
+    // One term is der(s), the other a variable.
+    auto [t_der, t_var] = p.op(form.terms[0].first) == Op::kDer ? std::pair{form.terms[0], form.terms[1]}
+                                                                 : std::pair{form.terms[1], form.terms[0]};
+    if (p.op(t_der.first) != Op::kDer || p.op(t_var.first) != Op::kVar) continue;
+    // c_d*der(s) + c_v*v + off = 0  =>  der(s) = -(c_v*v + off)/c_d
+    ExprId value = p.Neg(p.Div(p.Add(p.Mul(p.Const(t_var.second), t_var.first), form.offset),
+                               p.Const(t_der.second)));
+    rewrite.Set(der, value);
+    defining[k] = true;
+    ++stats->derivative_aliases;
+  }
+  if (rewrite.size() == 0) return;
+  for (size_t k = 0; k < sys->equations.size(); ++k) {
+    if (!defining[k]) sys->equations[k].residual = rewrite.Apply(sys->equations[k].residual);
+  }
+  for (auto& e : sys->initial) e.residual = rewrite.Apply(e.residual);
+  for (auto& o : sys->outputs) o = rewrite.Apply(o);
+}
+
+/// Step 2: constraints among differentiated variables.
+void ConstrainedStates(EquationSystem* sys, IndexStats* stats) {
+  ExprPool& p = *sys->pool;
+  const FlatSystem& flat = *sys->flat;
+  std::vector<bool> diff = DifferentiatedVariables(*sys);
+  Substitution& s = *sys->eliminated;
+  std::vector<SystemEquation> kept;
+  bool changed = false;
+  for (SystemEquation eq : sys->equations) {
+    ExprId r = changed ? s.Apply(eq.residual) : eq.residual;
+    eq.residual = r;
+    const uint8_t m = p.mask(r);
+    if ((m & (kHasDer | kHasPre | kHasInitial)) || !(m & kHasVar)) {
+      kept.push_back(eq);
+      continue;
+    }
+    std::vector<ExprId> vars = CollectLeaves(p, r, kHasVar);
+    bool all_states = std::all_of(vars.begin(), vars.end(), [&](ExprId v) { return diff[p.node(v).a]; });
+    if (!all_states) {
+      kept.push_back(eq);
+      continue;
+    }
+    // Eliminate the variable that least wants to be a state: avoid < default < prefer, then the
+    // one declared last (relative quantities come after the bodies they relate).
+    std::sort(vars.begin(), vars.end(), [&](ExprId a, ExprId b) {
+      uint32_t va = p.node(a).a, vb = p.node(b).a;
+      return std::make_tuple(flat.variables[va].state_priority, -static_cast<int64_t>(va)) <
+             std::make_tuple(flat.variables[vb].state_priority, -static_cast<int64_t>(vb));
+    });
+    bool eliminated = false;
+    for (ExprId x : vars) {
+      ExprId coefficient;
+      ExprId value = SolveFor(&p, r, x, true, &coefficient);
+      if (!value.valid()) continue;
+      ExprId dvalue = TimeDerivative(&p, value);
+      if (!dvalue.valid()) continue;
+      uint32_t v = p.node(x).a;
+      s.Set(x, value);
+      s.Set(p.Der(VarId(v)), dvalue);
+      s.Set(p.Pre(VarId(v)), value);  // pre() of a continuous variable is its value
+      if (!p.IsConst(coefficient)) sys->guards.push_back({coefficient, eq.origin, VarId(v)});
+      sys->role[v] = VarRole::kConstrained;
+      ++stats->constrained_states;
+      eliminated = changed = true;
+      break;
+    }
+    if (!eliminated) kept.push_back(eq);
+  }
+  sys->equations.swap(kept);
+  if (changed) sys->ApplyEliminations();
+}
+
+}  // namespace
+
+EquationSystem ReduceIndex(EquationSystem sys, IndexStats* stats) {
+  DerivativeAliases(&sys, stats);
+  ConstrainedStates(&sys, stats);
+  return sys;
+}
+
+}  // namespace momenta

@@ -1,0 +1,29 @@
+#pragma once
+/// Structural index reduction for the constraints that acausal connection produces most often.
+///
+/// 1. Derivative aliases. When der(s) occurs in several equations and one of them reads
+///    v = c*der(s) (+ offset), der(s) is replaced by that expression of v in the others. A speed
+///    sensor on a mass then yields sensor.v = mass.v, an alias, instead of a second equation for
+///    der(s).
+/// 2. Constrained states. An equation without derivatives whose variables are all differentiated
+///    somewhere (e.g. s_rel = flange_b.s - flange_a.s between two masses) is an index-2 constraint.
+///    It is solved for one of its variables x (linear, with a numeric or parameter coefficient),
+///    and x and der(x) are replaced everywhere by the solution and its time derivative — the
+///    dummy-derivative method for constraints that are linear in the chosen variable. A variable
+///    with `state: avoid` (or without `state: prefer`) is chosen first.
+///
+/// What remains of index > 1 (nonlinear position constraints, closed kinematic loops) is reported
+/// by the structural analysis; Pantelides' algorithm is the planned successor.
+
+#include "core/equation_system.h"
+
+namespace momenta {
+
+struct IndexStats {
+  size_t derivative_aliases = 0;
+  size_t constrained_states = 0;
+};
+
+EquationSystem ReduceIndex(EquationSystem sys, IndexStats* stats);
+
+}  // namespace momenta

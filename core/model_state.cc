@@ -1,0 +1,86 @@
+#include "core/model_state.h"
+
+#include <cmath>
+#include <cstring>
+#include <sstream>
+
+namespace momenta {
+
+ModelState::ModelState(std::shared_ptr<const CompiledModel> model) : model_(std::move(model)) {
+  regs_.assign(model_->layout.size, 0.0);
+  for (const auto& [reg, value] : model_->constants) regs_[reg] = value;
+}
+
+void ModelState::SetParameters(const ParameterOverrides& overrides) {
+  const CompiledModel& m = *model_;
+  params_ = EvaluateParameters(*m.flat, overrides);
+  std::memcpy(regs_.data() + m.layout.param_base, params_.data(), params_.size() * sizeof(double));
+  m.parameters.Run(regs_.data(), nullptr);
+  // Divisors of eliminated variables' formulas must not vanish.
+  if (!m.guards.empty()) {
+    std::vector<double> values(m.guards.size());
+    m.guard_values.Run(regs_.data(), values.data());
+    for (size_t k = 0; k < values.size(); ++k) {
+      if (values[k] == 0.0 || !std::isfinite(values[k])) {
+        const DivisorGuard& g = m.guards[k];
+        std::ostringstream msg;
+        msg << m.flat->file << ": with these parameter values, " << m.guard_text[k] << " = "
+            << values[k] << ", so the equation "
+            << m.flat->DescribeEquation(m.flat->equations[g.equation])
+            << " cannot be solved for " << m.flat->variables[g.variable.value()].name
+            << "; give the parameters nonzero values";
+        throw ModelError(msg.str());
+      }
+    }
+  }
+}
+
+void ModelState::Load(double t, const double* y, const double* yp) {
+  const RegisterLayout& L = model_->layout;
+  regs_[RegisterLayout::kTime] = t;
+  const size_t n = L.num_unknowns;
+  std::memcpy(regs_.data() + L.y_base, y, n * sizeof(double));
+  if (yp) std::memcpy(regs_.data() + L.yp_base, yp, n * sizeof(double));
+}
+
+void ModelState::Residual(double t, const double* y, const double* yp, double* out) {
+  Load(t, y, yp);
+  model_->residual.Run(regs_.data(), out);
+}
+
+void ModelState::Jacobian(double t, double cj, const double* y, const double* yp, double* values) {
+  Load(t, y, yp);
+  regs_[RegisterLayout::kCj] = cj;
+  model_->jacobian.Run(regs_.data(), values);
+}
+
+void ModelState::Outputs(double t, const double* y, const double* yp, double* out) {
+  Load(t, y, yp);
+  model_->outputs.Run(regs_.data(), out);
+}
+
+void ModelState::StartValues(double* y) { model_->start_values.Run(regs_.data(), y); }
+
+void ModelState::LoadZ(double t, const double* z) {
+  const RegisterLayout& L = model_->layout;
+  regs_[RegisterLayout::kTime] = t;
+  regs_[RegisterLayout::kInitial] = 1.0;
+  const size_t n = L.num_unknowns;
+  std::memcpy(regs_.data() + L.y_base, z, n * sizeof(double));
+  std::fill(regs_.begin() + L.yp_base, regs_.begin() + L.yp_base + n, 0.0);
+  for (size_t s = 0; s < model_->state_y.size(); ++s) regs_[L.yp_base + model_->state_y[s]] = z[n + s];
+}
+
+void ModelState::InitResidual(double t, const double* z, double* out) {
+  LoadZ(t, z);
+  model_->init_residual.Run(regs_.data(), out);
+  regs_[RegisterLayout::kInitial] = 0.0;
+}
+
+void ModelState::InitJacobian(double t, const double* z, double* values) {
+  LoadZ(t, z);
+  model_->init_jacobian.Run(regs_.data(), values);
+  regs_[RegisterLayout::kInitial] = 0.0;
+}
+
+}  // namespace momenta

@@ -1,0 +1,414 @@
+#include "core/parser.h"
+
+#include <cctype>
+#include <cstdlib>
+#include <map>
+#include <sstream>
+
+namespace momenta {
+
+namespace {
+
+const std::map<std::string, int>& Functions() {
+  static const std::map<std::string, int> kFunctions = {
+      {"sin", 1},  {"cos", 1},   {"tan", 1},   {"asin", 1},  {"acos", 1},    {"atan", 1},
+      {"atan2", 2}, {"sinh", 1}, {"cosh", 1},  {"tanh", 1},  {"exp", 1},     {"log", 1},
+      {"log10", 1}, {"sqrt", 1}, {"abs", 1},   {"sign", 1},  {"min", 2},     {"max", 2},
+      {"der", 1},  {"pre", 1},   {"edge", 1},  {"change", 1}, {"initial", 0}, {"noEvent", 1},
+      {"reinit", 2},
+  };
+  return kFunctions;
+}
+
+enum class Tok { kEnd, kNumber, kIdent, kOp, kLParen, kRParen, kLBracket, kRBracket, kComma, kDot };
+
+struct Token {
+  Tok kind = Tok::kEnd;
+  std::string text;
+  double number = 0;
+  int column = 0;
+};
+
+class Lexer {
+ public:
+  Lexer(const std::string& text, const SourceLoc& loc) : text_(text), loc_(loc) {}
+
+  std::vector<Token> Run() {
+    std::vector<Token> out;
+    size_t i = 0;
+    while (true) {
+      while (i < text_.size() && std::isspace(static_cast<unsigned char>(text_[i]))) ++i;
+      Token t;
+      t.column = static_cast<int>(i);
+      if (i >= text_.size()) {
+        out.push_back(t);
+        return out;
+      }
+      char c = text_[i];
+      if (std::isdigit(static_cast<unsigned char>(c)) ||
+          (c == '.' && i + 1 < text_.size() && std::isdigit(static_cast<unsigned char>(text_[i + 1])))) {
+        const char* start = text_.c_str() + i;
+        char* end = nullptr;
+        t.number = std::strtod(start, &end);
+        size_t len = static_cast<size_t>(end - start);
+        t.kind = Tok::kNumber;
+        t.text = text_.substr(i, len);
+        i += len;
+        if (i < text_.size() && (std::isalpha(static_cast<unsigned char>(text_[i])) || text_[i] == '_')) {
+          throw ModelError(loc_.Shifted(static_cast<int>(i)),
+                           "malformed number '" + t.text + text_[i] + "'");
+        }
+      } else if (std::isalpha(static_cast<unsigned char>(c)) || c == '_') {
+        size_t j = i;
+        while (j < text_.size() &&
+               (std::isalnum(static_cast<unsigned char>(text_[j])) || text_[j] == '_')) {
+          ++j;
+        }
+        t.kind = Tok::kIdent;
+        t.text = text_.substr(i, j - i);
+        i = j;
+      } else {
+        static const char* kTwo[] = {"<=", ">=", "==", "<>", "!="};
+        std::string two = text_.substr(i, 2);
+        bool matched = false;
+        for (const char* op : kTwo) {
+          if (two == op) {
+            t.kind = Tok::kOp;
+            t.text = two == "!=" ? "<>" : two;
+            i += 2;
+            matched = true;
+            break;
+          }
+        }
+        if (!matched) {
+          ++i;
+          t.text = std::string(1, c);
+          switch (c) {
+            case '(': t.kind = Tok::kLParen; break;
+            case ')': t.kind = Tok::kRParen; break;
+            case '[': t.kind = Tok::kLBracket; break;
+            case ']': t.kind = Tok::kRBracket; break;
+            case ',': t.kind = Tok::kComma; break;
+            case '.': t.kind = Tok::kDot; break;
+            case '+': case '-': case '*': case '/': case '^': case '<': case '>': case '=':
+              t.kind = Tok::kOp;
+              break;
+            default:
+              throw ModelError(loc_.Shifted(t.column),
+                               std::string("unexpected character '") + c + "'");
+          }
+        }
+      }
+      out.push_back(t);
+    }
+  }
+
+ private:
+  const std::string& text_;
+  const SourceLoc& loc_;
+};
+
+class Parser {
+ public:
+  Parser(const std::string& text, const SourceLoc& loc)
+      : text_(text), loc_(loc), tokens_(Lexer(text, loc).Run()) {}
+
+  AstPtr Expression() { return If(); }
+
+  AstEquation Equation() {
+    AstEquation eq;
+    eq.lhs = Expression();
+    if (!(Peek().kind == Tok::kOp && Peek().text == "=")) {
+      Fail("expected '=' between the two sides of the equation");
+    }
+    Next();
+    eq.rhs = Expression();
+    ExpectEnd();
+    return eq;
+  }
+
+  AstPtr Name() {
+    AstPtr n = Primary();
+    if (n->kind != Ast::Kind::kName) Fail("expected a name such as A.flange_a");
+    ExpectEnd();
+    return n;
+  }
+
+  void ExpectEnd() {
+    if (Peek().kind != Tok::kEnd) Fail("unexpected '" + Peek().text + "'");
+  }
+
+ private:
+  const Token& Peek() const { return tokens_[pos_]; }
+  const Token& Next() { return tokens_[pos_ < tokens_.size() - 1 ? pos_++ : pos_]; }
+  bool IsKeyword(const char* k) const { return Peek().kind == Tok::kIdent && Peek().text == k; }
+  bool IsOp(const char* op) const { return Peek().kind == Tok::kOp && Peek().text == op; }
+
+  [[noreturn]] void Fail(const std::string& what) const {
+    std::string found = Peek().kind == Tok::kEnd ? "end of text" : "'" + Peek().text + "'";
+    std::string msg = what;
+    if (what.find("unexpected") == std::string::npos) msg += ", found " + found;
+    throw ModelError(loc_.Shifted(Peek().column), msg + " in '" + text_ + "'");
+  }
+
+  static AstPtr Make(Ast::Kind kind, int column, std::string op, std::vector<AstPtr> args) {
+    auto a = std::make_shared<Ast>();
+    a->kind = kind;
+    a->column = column;
+    a->op = std::move(op);
+    a->args = std::move(args);
+    return a;
+  }
+
+  AstPtr If() {
+    if (!IsKeyword("if")) return Or();
+    int col = Next().column;
+    AstPtr cond = Expression();
+    if (!IsKeyword("then")) Fail("expected 'then'");
+    Next();
+    AstPtr a = Expression();
+    AstPtr b;
+    if (IsKeyword("elseif")) {
+      // elseif chains nest as else-if.
+      tokens_[pos_].text = "if";
+      b = If();
+      return Make(Ast::Kind::kIf, col, "if", {cond, a, b});
+    }
+    if (!IsKeyword("else")) Fail("expected 'else' (an if-expression needs both branches)");
+    Next();
+    b = Expression();
+    return Make(Ast::Kind::kIf, col, "if", {cond, a, b});
+  }
+
+  AstPtr Or() {
+    AstPtr l = And();
+    while (IsKeyword("or")) {
+      int col = Next().column;
+      l = Make(Ast::Kind::kBinary, col, "or", {l, And()});
+    }
+    return l;
+  }
+
+  AstPtr And() {
+    AstPtr l = Not();
+    while (IsKeyword("and")) {
+      int col = Next().column;
+      l = Make(Ast::Kind::kBinary, col, "and", {l, Not()});
+    }
+    return l;
+  }
+
+  AstPtr Not() {
+    if (IsKeyword("not")) {
+      int col = Next().column;
+      return Make(Ast::Kind::kUnary, col, "not", {Not()});
+    }
+    return Relation();
+  }
+
+  AstPtr Relation() {
+    AstPtr l = Sum();
+    if (Peek().kind == Tok::kOp &&
+        (Peek().text == "<" || Peek().text == "<=" || Peek().text == ">" || Peek().text == ">=" ||
+         Peek().text == "==" || Peek().text == "<>")) {
+      const Token& t = Next();
+      l = Make(Ast::Kind::kBinary, t.column, t.text, {l, Sum()});
+    }
+    return l;
+  }
+
+  AstPtr Sum() {
+    AstPtr l = Product();
+    while (IsOp("+") || IsOp("-")) {
+      const Token& t = Next();
+      l = Make(Ast::Kind::kBinary, t.column, t.text, {l, Product()});
+    }
+    return l;
+  }
+
+  AstPtr Product() {
+    AstPtr l = Unary();
+    while (IsOp("*") || IsOp("/")) {
+      const Token& t = Next();
+      l = Make(Ast::Kind::kBinary, t.column, t.text, {l, Unary()});
+    }
+    return l;
+  }
+
+  AstPtr Unary() {
+    if (IsOp("-") || IsOp("+")) {
+      const Token& t = Next();
+      AstPtr operand = Unary();
+      if (t.text == "+") return operand;
+      return Make(Ast::Kind::kUnary, t.column, "-", {operand});
+    }
+    return Power();
+  }
+
+  AstPtr Power() {
+    AstPtr base = Primary();
+    if (IsOp("^")) {
+      const Token& t = Next();
+      // Right-associative; the exponent may carry a sign: x^-2.
+      AstPtr exponent = Unary();
+      return Make(Ast::Kind::kBinary, t.column, "^", {base, exponent});
+    }
+    return base;
+  }
+
+  AstPtr Primary() {
+    const Token& t = Peek();
+    if (t.kind == Tok::kNumber) {
+      Next();
+      auto a = std::make_shared<Ast>();
+      a->kind = Ast::Kind::kNumber;
+      a->number = t.number;
+      a->column = t.column;
+      return a;
+    }
+    if (t.kind == Tok::kLParen) {
+      Next();
+      AstPtr inner = Expression();
+      if (Peek().kind != Tok::kRParen) Fail("expected ')'");
+      Next();
+      return inner;
+    }
+    if (t.kind != Tok::kIdent) Fail("expected a number, a name or '('");
+    if (t.text == "true" || t.text == "false") {
+      Next();
+      auto a = std::make_shared<Ast>();
+      a->kind = Ast::Kind::kBool;
+      a->number = t.text == "true" ? 1 : 0;
+      a->column = t.column;
+      return a;
+    }
+    static const char* kReserved[] = {"then", "else", "elseif", "and", "or", "not", "if"};
+    for (const char* r : kReserved) {
+      if (t.text == r) Fail("expected an operand");
+    }
+    // A function call.
+    if (tokens_[pos_ + 1].kind == Tok::kLParen) {
+      Token name = Next();
+      Next();
+      int arity = 0;
+      if (!IsKnownFunction(name.text, &arity)) {
+        throw ModelError(loc_.Shifted(name.column),
+                         "unknown function '" + name.text + "' in '" + text_ +
+                             "' (valid functions: " + KnownFunctionList() + ")");
+      }
+      std::vector<AstPtr> args;
+      if (Peek().kind != Tok::kRParen) {
+        args.push_back(Expression());
+        while (Peek().kind == Tok::kComma) {
+          Next();
+          args.push_back(Expression());
+        }
+      }
+      if (Peek().kind != Tok::kRParen) Fail("expected ')' or ','");
+      Next();
+      if (static_cast<int>(args.size()) != arity) {
+        throw ModelError(loc_.Shifted(name.column),
+                         name.text + "() takes " + std::to_string(arity) + " argument" +
+                             (arity == 1 ? "" : "s") + ", found " + std::to_string(args.size()) +
+                             " in '" + text_ + "'");
+      }
+      return Make(Ast::Kind::kCall, name.column, name.text, std::move(args));
+    }
+    // A dotted name with optional subscripts.
+    auto a = std::make_shared<Ast>();
+    a->kind = Ast::Kind::kName;
+    a->column = t.column;
+    while (true) {
+      if (Peek().kind != Tok::kIdent) Fail("expected a name after '.'");
+      NameSegment seg;
+      seg.name = Next().text;
+      if (Peek().kind == Tok::kLBracket) {
+        Next();
+        seg.index = Expression();
+        if (Peek().kind != Tok::kRBracket) Fail("expected ']'");
+        Next();
+      }
+      a->path.push_back(std::move(seg));
+      if (Peek().kind != Tok::kDot) break;
+      Next();
+    }
+    return a;
+  }
+
+  const std::string& text_;
+  const SourceLoc& loc_;
+  std::vector<Token> tokens_;
+  size_t pos_ = 0;
+};
+
+}  // namespace
+
+bool IsKnownFunction(const std::string& name, int* arity) {
+  auto it = Functions().find(name);
+  if (it == Functions().end()) return false;
+  if (arity) *arity = it->second;
+  return true;
+}
+
+std::string KnownFunctionList() {
+  std::string s;
+  for (const auto& [name, arity] : Functions()) {
+    if (name == "reinit") continue;
+    if (!s.empty()) s += ", ";
+    s += name;
+  }
+  return s;
+}
+
+AstPtr ParseExpression(const std::string& text, const SourceLoc& loc) {
+  Parser p(text, loc);
+  AstPtr e = p.Expression();
+  p.ExpectEnd();
+  return e;
+}
+
+AstEquation ParseEquation(const std::string& text, const SourceLoc& loc) {
+  return Parser(text, loc).Equation();
+}
+
+AstPtr ParseName(const std::string& text, const SourceLoc& loc) { return Parser(text, loc).Name(); }
+
+std::string Ast::PathText() const {
+  std::string s;
+  for (size_t i = 0; i < path.size(); ++i) {
+    if (i) s += ".";
+    s += path[i].name;
+    if (path[i].index) s += "[" + AstToString(*path[i].index) + "]";
+  }
+  return s;
+}
+
+std::string AstToString(const Ast& a) {
+  switch (a.kind) {
+    case Ast::Kind::kNumber: {
+      std::ostringstream s;
+      s << a.number;
+      return s.str();
+    }
+    case Ast::Kind::kBool: return a.number != 0 ? "true" : "false";
+    case Ast::Kind::kName: return a.PathText();
+    case Ast::Kind::kCall: {
+      std::string s = a.op + "(";
+      for (size_t i = 0; i < a.args.size(); ++i) {
+        if (i) s += ", ";
+        s += AstToString(*a.args[i]);
+      }
+      return s + ")";
+    }
+    case Ast::Kind::kUnary:
+      return a.op == "not" ? "not " + AstToString(*a.args[0]) : "-" + AstToString(*a.args[0]);
+    case Ast::Kind::kBinary:
+      return "(" + AstToString(*a.args[0]) + " " + a.op + " " + AstToString(*a.args[1]) + ")";
+    case Ast::Kind::kIf:
+      return "if " + AstToString(*a.args[0]) + " then " + AstToString(*a.args[1]) + " else " +
+             AstToString(*a.args[2]);
+  }
+  return "";
+}
+
+}  // namespace momenta

@@ -1,0 +1,261 @@
+#include "core/program.h"
+
+#include <algorithm>
+#include <cmath>
+#include <unordered_map>
+
+#include "core/error.h"
+#include "core/expr_eval.h"
+
+namespace momenta {
+
+void Program::Run(double* r, double* out) const {
+  for (const Instruction& in : code_) {
+    double v;
+    switch (static_cast<Op>(in.op)) {
+      case Op::kAdd: v = r[in.a] + r[in.b]; break;
+      case Op::kSub: v = r[in.a] - r[in.b]; break;
+      case Op::kMul: v = r[in.a] * r[in.b]; break;
+      case Op::kDiv: v = r[in.a] / r[in.b]; break;
+      case Op::kNeg: v = -r[in.a]; break;
+      case Op::kPow: v = PowValue(r[in.a], r[in.b]); break;
+      case Op::kIf: v = r[in.a] != 0 ? r[in.b] : r[in.c]; break;
+      case Op::kSin: v = std::sin(r[in.a]); break;
+      case Op::kCos: v = std::cos(r[in.a]); break;
+      case Op::kExp: v = std::exp(r[in.a]); break;
+      case Op::kSqrt: v = std::sqrt(r[in.a]); break;
+      case Op::kAtan2:
+      case Op::kMin:
+      case Op::kMax:
+      case Op::kLt:
+      case Op::kLe:
+      case Op::kGt:
+      case Op::kGe:
+      case Op::kEq:
+      case Op::kNe:
+      case Op::kAnd:
+      case Op::kOr:
+        v = ApplyBinary(static_cast<Op>(in.op), r[in.a], r[in.b]);
+        break;
+      default:
+        if (in.op == kStore) {
+          out[in.dst] = r[in.a];
+          continue;
+        }
+        v = ApplyUnary(static_cast<Op>(in.op), r[in.a]);
+        break;
+    }
+    r[in.dst] = v;
+  }
+}
+
+ProgramCompiler::ProgramCompiler(const ExprPool& pool, uint32_t num_params,
+                                 std::vector<int32_t> unknown_index)
+    : pool_(pool), unknown_index_(std::move(unknown_index)) {
+  uint32_t n = 0;
+  for (int32_t i : unknown_index_) n = std::max<uint32_t>(n, static_cast<uint32_t>(i + 1));
+  layout_.num_params = num_params;
+  layout_.num_unknowns = n;
+  layout_.param_base = 3;
+  layout_.y_base = layout_.param_base + num_params;
+  layout_.yp_base = layout_.y_base + n;
+  layout_.pre_base = layout_.yp_base + n;
+  next_global_ = layout_.pre_base + n;
+}
+
+uint32_t ProgramCompiler::Global() { return next_global_++; }
+
+uint32_t ProgramCompiler::LeafRegister(ExprId e) {
+  const Node& n = pool_.node(e);
+  switch (n.op) {
+    case Op::kTime: return RegisterLayout::kTime;
+    case Op::kInitial: return RegisterLayout::kInitial;
+    case Op::kCj: return RegisterLayout::kCj;
+    case Op::kParam: return layout_.param_base + n.a;
+    case Op::kVar:
+    case Op::kDer:
+    case Op::kPre: {
+      int32_t i = n.a < unknown_index_.size() ? unknown_index_[n.a] : -1;
+      MOMENTA_CHECK_MSG(i >= 0, "a compiled expression refers to an eliminated variable");
+      uint32_t base = n.op == Op::kVar ? layout_.y_base : n.op == Op::kDer ? layout_.yp_base : layout_.pre_base;
+      return base + static_cast<uint32_t>(i);
+    }
+    default:
+      MOMENTA_CHECK(false);
+  }
+  return 0;
+}
+
+uint32_t ProgramCompiler::ParamOnlyRegister(ExprId e) {
+  if (global_of_.size() <= e.value()) global_of_.resize(pool_.size(), 0);
+  if (global_of_[e.value()]) return global_of_[e.value()];
+  if (pool_.IsConst(e)) {
+    uint32_t r = Global();
+    constants_.emplace_back(r, pool_.ConstValue(e));
+    global_of_[e.value()] = r;
+    return r;
+  }
+  EmitParamOnly(e);
+  return global_of_[e.value()];
+}
+
+/// Parameter-only subexpressions go to the parameter program, each into its own register.
+void ProgramCompiler::EmitParamOnly(ExprId root) {
+  std::vector<uint32_t> stack{root.value()};
+  while (!stack.empty()) {
+    uint32_t id = stack.back();
+    if (global_of_.size() <= id) global_of_.resize(pool_.size(), 0);
+    if (global_of_[id]) {
+      stack.pop_back();
+      continue;
+    }
+    const Node& n = pool_.node(ExprId(id));
+    if (n.op == Op::kConst) {
+      ParamOnlyRegister(ExprId(id));
+      stack.pop_back();
+      continue;
+    }
+    if (IsLeaf(n.op)) {
+      global_of_[id] = LeafRegister(ExprId(id));
+      stack.pop_back();
+      continue;
+    }
+    int arity = Arity(n.op);
+    bool ready = true;
+    auto need = [&](uint32_t c) {
+      if (pool_.IsConst(ExprId(c))) {
+        ParamOnlyRegister(ExprId(c));
+        return;
+      }
+      if (global_of_.size() <= c || !global_of_[c]) {
+        stack.push_back(c);
+        ready = false;
+      }
+    };
+    if (arity >= 1) need(n.a);
+    if (arity >= 2) need(n.b);
+    if (arity >= 3) need(n.c);
+    if (!ready) continue;
+    stack.pop_back();
+    uint32_t dst = Global();
+    params_.code().push_back({static_cast<uint8_t>(n.op), dst, arity >= 1 ? global_of_[n.a] : 0,
+                              arity >= 2 ? global_of_[n.b] : 0, arity >= 3 ? global_of_[n.c] : 0});
+    global_of_[id] = dst;
+  }
+}
+
+Program ProgramCompiler::Compile(const std::vector<ExprId>& roots) {
+  Program prog;
+  // 1. The nodes this program computes, children first, and how often each is read.
+  std::vector<uint32_t> order;
+  std::unordered_map<uint32_t, uint32_t> uses;  // node -> remaining readers
+  std::unordered_map<uint32_t, uint32_t> reg;   // node -> temporary register
+  auto computed = [&](uint32_t id) {
+    const Node& n = pool_.node(ExprId(id));
+    return !IsLeaf(n.op) && n.op != Op::kConst && !pool_.IsParamOnly(ExprId(id));
+  };
+  {
+    std::unordered_map<uint32_t, uint8_t> state;
+    std::vector<uint32_t> stack;
+    for (ExprId root : roots) {
+      if (computed(root.value())) ++uses[root.value()];
+      stack.push_back(root.value());
+      while (!stack.empty()) {
+        uint32_t id = stack.back();
+        uint8_t& s = state[id];
+        if (s == 2 || !computed(id)) {
+          stack.pop_back();
+          continue;
+        }
+        const Node& n = pool_.node(ExprId(id));
+        int arity = Arity(n.op);
+        if (s == 0) {
+          s = 1;
+          uint32_t kids[3] = {n.a, n.b, n.c};
+          for (int k = arity - 1; k >= 0; --k) {
+            if (computed(kids[k])) {
+              ++uses[kids[k]];
+              if (state[kids[k]] == 0) stack.push_back(kids[k]);
+            }
+          }
+          continue;
+        }
+        s = 2;
+        stack.pop_back();
+        order.push_back(id);
+      }
+    }
+  }
+  // 2. Emit with register reuse.
+  std::vector<uint32_t> free_regs;
+  uint32_t num_temps = 0;
+  auto operand = [&](uint32_t child) -> uint32_t {
+    if (computed(child)) return kTempFlag | reg.at(child);
+    const Node& n = pool_.node(ExprId(child));
+    if (n.op != Op::kConst && IsLeaf(n.op)) return LeafRegister(ExprId(child));
+    return ParamOnlyRegister(ExprId(child));
+  };
+  auto release = [&](uint32_t child) {
+    if (!computed(child)) return;
+    if (--uses[child] == 0) free_regs.push_back(reg.at(child));
+  };
+  // Roots are stored as soon as they are computed, so their registers free up early.
+  std::unordered_map<uint32_t, std::vector<uint32_t>> root_slots;
+  for (size_t k = 0; k < roots.size(); ++k) {
+    if (computed(roots[k].value())) root_slots[roots[k].value()].push_back(static_cast<uint32_t>(k));
+  }
+  for (uint32_t id : order) {
+    const Node& n = pool_.node(ExprId(id));
+    int arity = Arity(n.op);
+    Instruction in{static_cast<uint8_t>(n.op), 0, 0, 0, 0};
+    if (arity >= 1) in.a = operand(n.a);
+    if (arity >= 2) in.b = operand(n.b);
+    if (arity >= 3) in.c = operand(n.c);
+    if (arity >= 1) release(n.a);
+    if (arity >= 2) release(n.b);
+    if (arity >= 3) release(n.c);
+    uint32_t dst;
+    if (!free_regs.empty()) {
+      dst = free_regs.back();
+      free_regs.pop_back();
+    } else {
+      dst = num_temps++;
+    }
+    reg[id] = dst;
+    in.dst = kTempFlag | dst;
+    prog.code().push_back(in);
+    auto slots = root_slots.find(id);
+    if (slots != root_slots.end()) {
+      for (uint32_t k : slots->second) {
+        prog.code().push_back({kStore, k, kTempFlag | dst, 0, 0});
+        release(id);
+      }
+    }
+  }
+  // Roots that are leaves or parameter-only read their global register.
+  for (size_t k = 0; k < roots.size(); ++k) {
+    uint32_t id = roots[k].value();
+    if (computed(id)) continue;
+    prog.code().push_back({kStore, static_cast<uint32_t>(k), operand(id), 0, 0});
+  }
+  max_temps_ = std::max(max_temps_, num_temps);
+  return prog;
+}
+
+void ProgramCompiler::Finish(std::vector<Program*> programs) {
+  layout_.temp_base = next_global_;
+  layout_.size = next_global_ + max_temps_ + 1;
+  auto place = [&](uint32_t& r) {
+    if (r & kTempFlag) r = layout_.temp_base + (r & ~kTempFlag);
+  };
+  for (Program* p : programs) {
+    for (Instruction& in : p->code()) {
+      if (in.op != kStore) place(in.dst);
+      place(in.a);
+      place(in.b);
+      place(in.c);
+    }
+  }
+}
+
+}  // namespace momenta

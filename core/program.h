@@ -1,0 +1,79 @@
+#pragma once
+/// Compiled evaluation: a straight-line register program, run without walking expression trees.
+/// One register file holds time, cj, constants, parameters, parameter-only subexpressions
+/// (computed once per parameter set: parameter folding), y, y', pre-values and temporaries; each
+/// compiled function (residual, Jacobian, outputs, initialisation) is a sequence of instructions
+/// that read registers and store results into an output array. Temporaries are reused as soon as
+/// their last reader has run, so a program's working set stays small however large the model.
+
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "core/expr.h"
+
+namespace momenta {
+
+struct Instruction {
+  uint8_t op;  ///< an Op, or kStore
+  uint32_t dst, a, b, c;
+};
+
+/// out[dst] = regs[a]
+constexpr uint8_t kStore = 255;
+
+class Program {
+ public:
+  void Run(double* regs, double* out) const;
+  size_t size() const { return code_.size(); }
+  std::vector<Instruction>& code() { return code_; }
+  const std::vector<Instruction>& code() const { return code_; }
+
+ private:
+  std::vector<Instruction> code_;
+};
+
+/// Registers every compiled function of a model shares.
+struct RegisterLayout {
+  static constexpr uint32_t kTime = 0, kCj = 1, kInitial = 2;
+  uint32_t param_base = 0, y_base = 0, yp_base = 0, pre_base = 0;
+  uint32_t temp_base = 0, size = 0;
+  uint32_t num_params = 0, num_unknowns = 0;
+};
+
+/// Turns expression DAGs into Programs. Leaves map to fixed registers: kVar(v) -> y, kDer(v) ->
+/// y', kPre(v) -> pre, through `unknown_index` (flat variable -> position in y, or -1).
+class ProgramCompiler {
+ public:
+  ProgramCompiler(const ExprPool& pool, uint32_t num_params, std::vector<int32_t> unknown_index);
+
+  /// A program that stores roots[k] into out[k].
+  Program Compile(const std::vector<ExprId>& roots);
+  /// Finalises the layout (after every Compile): temporaries go after the global registers.
+  void Finish(std::vector<Program*> programs);
+
+  const RegisterLayout& layout() const { return layout_; }
+  Program& parameter_program() { return params_; }
+  /// (register, value) of every constant.
+  const std::vector<std::pair<uint32_t, double>>& constants() const { return constants_; }
+
+ private:
+  uint32_t Global();
+  uint32_t LeafRegister(ExprId e);
+  uint32_t ParamOnlyRegister(ExprId e);
+  void EmitParamOnly(ExprId root);
+
+  const ExprPool& pool_;
+  std::vector<int32_t> unknown_index_;
+  RegisterLayout layout_;
+  uint32_t next_global_;
+  std::vector<uint32_t> global_of_;  ///< by node id: register of a constant or parameter-only node
+  std::vector<std::pair<uint32_t, double>> constants_;
+  Program params_;
+  uint32_t max_temps_ = 0;
+};
+
+/// The flag marking a temporary register before Finish() places them.
+constexpr uint32_t kTempFlag = 0x80000000u;
+
+}  // namespace momenta

@@ -1,0 +1,92 @@
+// A variable is needed when an output uses it, or when a needed equation uses it; an equation is
+// needed when it determines a needed variable (for a state x, the equation matched to der(x)).
+// An initial equation is kept when it touches a needed variable, and then all its variables are
+// needed too. The closure is a breadth-first walk over the matching.
+
+#include "core/pruning.h"
+
+namespace momenta {
+
+EquationSystem Prune(EquationSystem sys, Structure* st, PruneStats* stats) {
+  const ExprPool& p = *sys.pool;
+  const size_t nv = sys.role.size();
+  std::vector<bool> need_var(nv, false), need_eq(sys.equations.size(), false),
+      need_init(sys.initial.size(), false);
+  std::vector<uint32_t> queue;
+  auto mark_leaves = [&](ExprId e) {
+    for (ExprId leaf : CollectLeaves(p, e, kHasVar | kHasDer | kHasPre)) {
+      uint32_t v = p.node(leaf).a;
+      if (sys.role[v] == VarRole::kUnknown && !need_var[v]) {
+        need_var[v] = true;
+        queue.push_back(v);
+      }
+    }
+  };
+  for (ExprId o : sys.outputs) mark_leaves(o);
+  while (true) {
+    while (!queue.empty()) {
+      uint32_t v = queue.back();
+      queue.pop_back();
+      int32_t e = st->equation_of_var[v];
+      if (e >= 0 && !need_eq[e]) {
+        need_eq[e] = true;
+        mark_leaves(sys.equations[e].residual);
+      }
+    }
+    // Initial equations that touch what is kept.
+    bool added = false;
+    for (size_t k = 0; k < sys.initial.size(); ++k) {
+      if (need_init[k]) continue;
+      bool touches = false;
+      for (ExprId leaf : CollectLeaves(p, sys.initial[k].residual, kHasVar | kHasDer | kHasPre)) {
+        touches = touches || need_var[p.node(leaf).a];
+      }
+      if (touches) {
+        need_init[k] = true;
+        mark_leaves(sys.initial[k].residual);
+        added = true;
+      }
+    }
+    if (!added && queue.empty()) break;
+  }
+  // Drop the rest and renumber the matching.
+  std::vector<SystemEquation> eqs;
+  std::vector<int32_t> var_of_eq;
+  for (size_t k = 0; k < sys.equations.size(); ++k) {
+    if (!need_eq[k]) {
+      ++stats->equations;
+      continue;
+    }
+    var_of_eq.push_back(st->var_of_equation[k]);
+    eqs.push_back(sys.equations[k]);
+  }
+  sys.equations.swap(eqs);
+  st->var_of_equation.swap(var_of_eq);
+  std::fill(st->equation_of_var.begin(), st->equation_of_var.end(), -1);
+  for (size_t k = 0; k < sys.equations.size(); ++k) {
+    st->equation_of_var[st->var_of_equation[k]] = static_cast<int32_t>(k);
+  }
+  std::vector<SystemEquation> init;
+  for (size_t k = 0; k < sys.initial.size(); ++k) {
+    if (need_init[k]) {
+      init.push_back(sys.initial[k]);
+    } else {
+      ++stats->initial_equations;
+    }
+  }
+  sys.initial.swap(init);
+  st->num_states = 0;
+  for (uint32_t v = 0; v < nv; ++v) {
+    if (sys.role[v] != VarRole::kUnknown) continue;
+    if (!need_var[v]) {
+      sys.role[v] = VarRole::kPruned;
+      st->is_state[v] = false;
+      ++stats->variables;
+    } else {
+      st->num_states += st->is_state[v];
+    }
+  }
+  return sys;
+}
+
+}  // namespace momenta

@@ -1,0 +1,508 @@
+// Reading model and library files with yaml-cpp. Every error names the file, line and column
+// (yaml-cpp marks are 0-based; we add 1), the user's path, what was expected, and the valid keys.
+
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "core/model_spec.h"
+#include "core/parser.h"
+
+namespace momenta {
+
+namespace {
+
+class Reader {
+ public:
+  explicit Reader(std::string file) : file_(std::move(file)) {}
+
+  SourceLoc Loc(const YAML::Node& n) const {
+    SourceLoc l;
+    l.file = file_;
+    YAML::Mark m = n.Mark();
+    if (m.line >= 0) {
+      l.line = m.line + 1;
+      l.column = m.column + 1;
+    }
+    return l;
+  }
+
+  /// Where the text of a scalar starts (after the opening quote of a quoted scalar).
+  SourceLoc TextLoc(const YAML::Node& n) const {
+    SourceLoc l = Loc(n);
+    if (n.Tag() == "!") l.column += 1;
+    return l;
+  }
+
+  [[noreturn]] void Fail(const YAML::Node& n, const std::string& msg) const {
+    throw ModelError(Loc(n), msg);
+  }
+
+  void ExpectMap(const YAML::Node& n, const std::string& what) const {
+    if (!n.IsMap()) Fail(n, what + " must be a mapping of keys to values");
+  }
+
+  void CheckKeys(const YAML::Node& n, const std::string& what,
+                 const std::vector<std::string>& allowed) const {
+    for (auto it = n.begin(); it != n.end(); ++it) {
+      std::string key = it->first.as<std::string>();
+      bool ok = false;
+      for (const auto& a : allowed) ok = ok || a == key;
+      if (!ok) {
+        Fail(it->first, "unknown key '" + key + "' in " + what + " (valid keys: " +
+                            JoinNames(allowed) + ")");
+      }
+    }
+  }
+
+  std::string Scalar(const YAML::Node& n, const std::string& what) const {
+    if (!n.IsScalar()) Fail(n, what + " must be a single value, not a list or mapping");
+    return n.Scalar();
+  }
+
+  double Number(const YAML::Node& n, const std::string& what) const {
+    std::string s = Scalar(n, what);
+    CheckFinite(n, s, what);
+    try {
+      size_t used = 0;
+      double v = std::stod(s, &used);
+      if (used != s.size()) throw std::invalid_argument(s);
+      return v;
+    } catch (const std::exception&) {
+      Fail(n, what + " must be a number, found '" + s + "'");
+    }
+  }
+
+  void CheckFinite(const YAML::Node& n, const std::string& s, const std::string& what) const {
+    static const std::set<std::string> kNonFinite = {".nan", ".NaN", ".NAN", ".inf", "-.inf",
+                                                     ".Inf", "-.Inf", "nan", "NaN", "inf",
+                                                     "-inf", "Inf", "-Inf"};
+    if (kNonFinite.count(s)) Fail(n, what + " must be a finite number, found '" + s + "'");
+  }
+
+  bool Bool(const YAML::Node& n, const std::string& what) const {
+    std::string s = Scalar(n, what);
+    if (s == "true") return true;
+    if (s == "false") return false;
+    Fail(n, what + " must be true or false, found '" + s + "'");
+  }
+
+  AstPtr Expression(const YAML::Node& n, const std::string& what) const {
+    std::string s = Scalar(n, what);
+    CheckFinite(n, s, what);
+    if (s.empty()) Fail(n, what + " is empty");
+    return ParseExpression(s, TextLoc(n));
+  }
+
+  std::optional<double> OptionalNumber(const YAML::Node& map, const char* key,
+                                       const std::string& what) const {
+    if (!map[key]) return std::nullopt;
+    return Number(map[key], what + "." + key);
+  }
+
+  ValueType Type(const YAML::Node& n, const std::string& what) const {
+    std::string s = Scalar(n, what);
+    if (s == "Real") return ValueType::kReal;
+    if (s == "Integer") return ValueType::kInteger;
+    if (s == "Boolean") return ValueType::kBoolean;
+    Fail(n, "unknown type '" + s + "' for " + what + " (valid types: Real, Integer, Boolean)");
+  }
+
+  ParameterDecl Parameter(const std::string& name, const YAML::Node& n,
+                          const std::string& owner) const {
+    ParameterDecl p;
+    p.name = name;
+    p.loc = Loc(n);
+    std::string what = owner + "." + name;
+    if (n.IsMap()) {
+      CheckKeys(n, "parameter " + what, {"value", "unit", "doc", "min", "max", "type"});
+      if (!n["value"]) Fail(n, "parameter " + what + " needs a value");
+      p.value = Expression(n["value"], "value of " + what);
+      p.value_text = n["value"].Scalar();
+      p.loc = TextLoc(n["value"]);
+      if (n["unit"]) p.unit = Scalar(n["unit"], what + ".unit");
+      if (n["doc"]) p.doc = Scalar(n["doc"], what + ".doc");
+      p.min = OptionalNumber(n, "min", what);
+      p.max = OptionalNumber(n, "max", what);
+      if (n["type"]) p.type = Type(n["type"], what);
+    } else {
+      p.value = Expression(n, "value of " + what);
+      p.value_text = n.Scalar();
+      p.loc = TextLoc(n);
+    }
+    if (p.value->kind == Ast::Kind::kBool && !(n.IsMap() && n["type"])) {
+      p.type = ValueType::kBoolean;
+    }
+    return p;
+  }
+
+  VariableDecl Variable(const std::string& name, const YAML::Node& n,
+                        const std::string& owner) const {
+    VariableDecl v;
+    v.name = name;
+    v.loc = Loc(n);
+    std::string what = owner + "." + name;
+    if (n.IsNull()) return v;
+    ExpectMap(n, "variable " + what);
+    CheckKeys(n, "variable " + what,
+              {"unit", "doc", "start", "fixed", "nominal", "min", "max", "state", "type"});
+    if (n["unit"]) v.unit = Scalar(n["unit"], what + ".unit");
+    if (n["doc"]) v.doc = Scalar(n["doc"], what + ".doc");
+    if (n["start"]) v.start = Expression(n["start"], "start of " + what);
+    if (n["fixed"]) v.fixed = Bool(n["fixed"], what + ".fixed");
+    if (n["nominal"]) {
+      v.nominal = Number(n["nominal"], what + ".nominal");
+      if (!(v.nominal > 0)) Fail(n["nominal"], what + ".nominal must be positive");
+    }
+    v.min = OptionalNumber(n, "min", what);
+    v.max = OptionalNumber(n, "max", what);
+    if (n["type"]) v.type = Type(n["type"], what);
+    if (n["state"]) {
+      std::string s = Scalar(n["state"], what + ".state");
+      if (s == "prefer") {
+        v.state_priority = 1;
+      } else if (s == "avoid") {
+        v.state_priority = -1;
+      } else if (s != "default") {
+        Fail(n["state"], "unknown state choice '" + s + "' for " + what +
+                             " (valid choices: prefer, avoid, default)");
+      }
+    }
+    return v;
+  }
+
+  std::vector<EquationDecl> Equations(const YAML::Node& n, const std::string& what) const {
+    std::vector<EquationDecl> out;
+    if (n.IsNull()) return out;
+    if (!n.IsSequence()) Fail(n, what + " must be a list of equations such as '- v = der(s)'");
+    for (const auto& e : n) {
+      EquationDecl d;
+      d.text = Scalar(e, "an equation of " + what);
+      d.loc = TextLoc(e);
+      d.ast = ParseEquation(d.text, d.loc);
+      out.push_back(std::move(d));
+    }
+    return out;
+  }
+
+  ConnectorType Connector(const std::string& name, const YAML::Node& n) const {
+    ConnectorType c;
+    c.name = name;
+    c.loc = Loc(n);
+    CheckKeys(n, "connector type " + name,
+              {"kind", "doc", "potential", "flow", "causality", "type"});
+    if (n["doc"]) c.doc = Scalar(n["doc"], name + ".doc");
+    if (n["causality"]) {
+      std::string s = Scalar(n["causality"], name + ".causality");
+      if (s != "input" && s != "output") {
+        Fail(n["causality"], "causality of " + name + " must be input or output, found '" + s + "'");
+      }
+      c.is_signal = true;
+      c.is_input = s == "input";
+      c.signal_type = n["type"] ? Type(n["type"], name) : ValueType::kReal;
+      if (n["potential"] || n["flow"]) {
+        Fail(n, "signal connector " + name + " cannot have potential or flow variables");
+      }
+      return c;
+    }
+    auto vars = [&](const char* key, std::vector<ConnectorVariable>* out) {
+      if (!n[key]) return;
+      ExpectMap(n[key], std::string(key) + " of " + name);
+      for (auto it = n[key].begin(); it != n[key].end(); ++it) {
+        ConnectorVariable v;
+        v.name = it->first.as<std::string>();
+        if (it->second.IsMap()) {
+          CheckKeys(it->second, name + "." + v.name, {"unit", "doc"});
+          if (it->second["unit"]) v.unit = it->second["unit"].Scalar();
+          if (it->second["doc"]) v.doc = it->second["doc"].Scalar();
+        }
+        out->push_back(v);
+      }
+    };
+    vars("potential", &c.potentials);
+    vars("flow", &c.flows);
+    if (c.potentials.size() != c.flows.size()) {
+      Fail(n, "connector type " + name + " must have as many flow as potential variables");
+    }
+    return c;
+  }
+
+  ComponentType Component(const std::string& name, const YAML::Node& n, bool user) const {
+    ComponentType t;
+    t.name = name;
+    t.loc = Loc(n);
+    t.user_defined = user;
+    ExpectMap(n, "component type " + name);
+    CheckKeys(n, "component type " + name,
+              {"kind", "doc", "parameters", "connectors", "variables", "equations",
+               "initial_equations"});
+    if (n["doc"]) t.doc = Scalar(n["doc"], name + ".doc");
+    if (n["parameters"] && !n["parameters"].IsNull()) {
+      ExpectMap(n["parameters"], "parameters of " + name);
+      for (auto it = n["parameters"].begin(); it != n["parameters"].end(); ++it) {
+        t.parameters.push_back(Parameter(it->first.as<std::string>(), it->second, name));
+      }
+    }
+    if (n["connectors"] && !n["connectors"].IsNull()) {
+      ExpectMap(n["connectors"], "connectors of " + name);
+      for (auto it = n["connectors"].begin(); it != n["connectors"].end(); ++it) {
+        ConnectorDecl c;
+        c.name = it->first.as<std::string>();
+        c.loc = Loc(it->second);
+        if (it->second.IsMap()) {
+          CheckKeys(it->second, "connector " + name + "." + c.name, {"type", "doc"});
+          if (!it->second["type"]) Fail(it->second, "connector " + name + "." + c.name + " needs a type");
+          c.type = Scalar(it->second["type"], "type");
+          if (it->second["doc"]) c.doc = it->second["doc"].Scalar();
+        } else {
+          c.type = Scalar(it->second, "type of connector " + name + "." + c.name);
+        }
+        t.connectors.push_back(c);
+      }
+    }
+    if (n["variables"] && !n["variables"].IsNull()) {
+      ExpectMap(n["variables"], "variables of " + name);
+      for (auto it = n["variables"].begin(); it != n["variables"].end(); ++it) {
+        t.variables.push_back(Variable(it->first.as<std::string>(), it->second, name));
+      }
+    }
+    if (n["equations"]) t.equations = Equations(n["equations"], "equations of " + name);
+    if (n["initial_equations"]) {
+      t.initial_equations = Equations(n["initial_equations"], "initial equations of " + name);
+    }
+    return t;
+  }
+
+  void LibraryEntries(const YAML::Node& root, Library* lib, std::vector<ComponentType>* defines,
+                      bool user) const {
+    ExpectMap(root, user ? "define" : "a library file");
+    for (auto it = root.begin(); it != root.end(); ++it) {
+      std::string name = it->first.as<std::string>();
+      const YAML::Node& n = it->second;
+      ExpectMap(n, "type " + name);
+      std::string kind = n["kind"] ? Scalar(n["kind"], name + ".kind") : "component";
+      if (kind == "connector") {
+        if (user) Fail(n["kind"], "define: holds component types only; connector types come from the library");
+        lib->AddConnector(Connector(name, n));
+      } else if (kind == "component") {
+        ComponentType t = Component(name, n, user);
+        if (defines) {
+          defines->push_back(std::move(t));
+        } else {
+          lib->AddComponent(std::move(t));
+        }
+      } else {
+        Fail(n["kind"], "unknown kind '" + kind + "' of " + name + " (valid kinds: component, connector)");
+      }
+    }
+  }
+
+  ComponentSpec ComponentEntry(const std::string& name, const YAML::Node& n) const {
+    ComponentSpec c;
+    c.name = name;
+    c.loc = Loc(n);
+    ExpectMap(n, "component " + name);
+    if (!n["type"]) Fail(n, "component " + name + " needs a type, e.g. {type: Mass}");
+    c.type = Scalar(n["type"], "type of " + name);
+    c.type_loc = Loc(n["type"]);
+    for (auto it = n.begin(); it != n.end(); ++it) {
+      std::string key = it->first.as<std::string>();
+      if (key == "type") continue;
+      if (key == "doc") {
+        c.doc = Scalar(it->second, name + ".doc");
+        continue;
+      }
+      if (key == "count") {
+        c.count = Expression(it->second, "count of " + name);
+        continue;
+      }
+      Modifier m;
+      m.key = key;
+      m.loc = Loc(it->first);
+      if (it->second.IsMap()) {
+        CheckKeys(it->second, name + "." + key, {"start", "fixed"});
+        if (it->second["start"]) m.start = Expression(it->second["start"], "start of " + name + "." + key);
+        if (it->second["fixed"]) m.fixed = Bool(it->second["fixed"], name + "." + key + ".fixed");
+      } else {
+        m.value = Expression(it->second, name + "." + key);
+        m.value_text = it->second.Scalar();
+        m.loc = TextLoc(it->second);
+      }
+      c.modifiers.push_back(std::move(m));
+    }
+    return c;
+  }
+
+  AstPtr End(const YAML::Node& n, std::string* text, SourceLoc* loc) const {
+    *text = Scalar(n, "a connection end");
+    *loc = TextLoc(n);
+    return ParseName(*text, *loc);
+  }
+
+  ConnectionSpec Connection(const YAML::Node& n) const {
+    ConnectionSpec c;
+    c.loc = Loc(n);
+    if (n.IsMap()) {
+      CheckKeys(n, "a connection", {"for", "connect"});
+      if (!n["connect"]) Fail(n, "a connection mapping needs 'connect: [a, b]'");
+      if (n["for"]) {
+        // for: i in 1:n-1
+        std::string spec = Scalar(n["for"], "for");
+        SourceLoc loc = TextLoc(n["for"]);
+        size_t in = spec.find(" in ");
+        size_t colon = spec.find(':', in == std::string::npos ? 0 : in);
+        if (in == std::string::npos || colon == std::string::npos) {
+          Fail(n["for"], "'for' must read like 'i in 1:n-1', found '" + spec + "'");
+        }
+        c.loop_var = spec.substr(0, in);
+        while (!c.loop_var.empty() && c.loop_var.back() == ' ') c.loop_var.pop_back();
+        while (!c.loop_var.empty() && c.loop_var.front() == ' ') c.loop_var.erase(0, 1);
+        c.loop_from = ParseExpression(spec.substr(in + 4, colon - in - 4),
+                                      loc.Shifted(static_cast<int>(in + 4)));
+        c.loop_to = ParseExpression(spec.substr(colon + 1), loc.Shifted(static_cast<int>(colon + 1)));
+      }
+    }
+    // (yaml-cpp's Node::operator= writes through to the node, so the pair is bound once.)
+    const YAML::Node pair = n.IsMap() ? n["connect"] : n;
+    if (!pair.IsSequence() || pair.size() != 2) {
+      Fail(pair, "a connection is a list of two connectors, e.g. [A.flange_b, B.flange_a]");
+    }
+    c.a = End(pair[0], &c.a_text, &c.a_loc);
+    c.b = End(pair[1], &c.b_text, &c.b_loc);
+    return c;
+  }
+
+  ModelSpec Model(const YAML::Node& root) const {
+    ModelSpec m;
+    m.file = file_;
+    m.loc = Loc(root);
+    if (!root.IsMap()) {
+      throw ModelError(Loc(root), "a model file must be a mapping with keys such as model, components, connections");
+    }
+    CheckKeys(root, "the model",
+              {"model", "doc", "parameters", "define", "components", "connections", "variables",
+               "equations", "initial_equations", "experiment", "outputs"});
+    if (!root["model"]) Fail(root, "the model needs a name: 'model: MyModel'");
+    m.name = Scalar(root["model"], "model");
+    if (root["doc"]) m.doc = Scalar(root["doc"], "doc");
+    if (root["parameters"] && !root["parameters"].IsNull()) {
+      ExpectMap(root["parameters"], "parameters");
+      for (auto it = root["parameters"].begin(); it != root["parameters"].end(); ++it) {
+        m.parameters.push_back(Parameter(it->first.as<std::string>(), it->second, m.name));
+      }
+    }
+    if (root["define"] && !root["define"].IsNull()) {
+      Library scratch;
+      LibraryEntries(root["define"], &scratch, &m.defines, true);
+    }
+    if (root["components"] && !root["components"].IsNull()) {
+      ExpectMap(root["components"], "components");
+      for (auto it = root["components"].begin(); it != root["components"].end(); ++it) {
+        m.components.push_back(ComponentEntry(it->first.as<std::string>(), it->second));
+      }
+    }
+    if (root["connections"] && !root["connections"].IsNull()) {
+      if (!root["connections"].IsSequence()) Fail(root["connections"], "connections must be a list");
+      for (const auto& c : root["connections"]) m.connections.push_back(Connection(c));
+    }
+    if (root["variables"] && !root["variables"].IsNull()) {
+      ExpectMap(root["variables"], "variables");
+      for (auto it = root["variables"].begin(); it != root["variables"].end(); ++it) {
+        m.variables.push_back(Variable(it->first.as<std::string>(), it->second, m.name));
+      }
+    }
+    if (root["equations"]) m.equations = Equations(root["equations"], "the model's equations");
+    if (root["initial_equations"]) {
+      m.initial_equations = Equations(root["initial_equations"], "the model's initial equations");
+    }
+    if (root["experiment"]) {
+      const YAML::Node& e = root["experiment"];
+      ExpectMap(e, "experiment");
+      CheckKeys(e, "experiment", {"start", "stop", "tolerance", "interval", "linear_solver"});
+      m.experiment.loc = Loc(e);
+      if (e["start"]) m.experiment.start = Number(e["start"], "experiment.start");
+      if (e["stop"]) m.experiment.stop = Number(e["stop"], "experiment.stop");
+      if (e["tolerance"]) m.experiment.tolerance = Number(e["tolerance"], "experiment.tolerance");
+      if (e["interval"]) m.experiment.interval = Number(e["interval"], "experiment.interval");
+      if (e["linear_solver"]) {
+        m.experiment.linear_solver = Scalar(e["linear_solver"], "experiment.linear_solver");
+        const std::string& s = m.experiment.linear_solver;
+        if (s != "auto" && s != "dense" && s != "klu") {
+          Fail(e["linear_solver"], "unknown linear_solver '" + s + "' (valid: auto, dense, klu)");
+        }
+      }
+      if (!(m.experiment.stop > m.experiment.start)) {
+        Fail(e, "experiment.stop must be after experiment.start");
+      }
+      if (!(m.experiment.tolerance > 0 && m.experiment.tolerance < 1)) {
+        Fail(e, "experiment.tolerance must lie between 0 and 1");
+      }
+      if (m.experiment.interval < 0) Fail(e, "experiment.interval must be positive");
+    }
+    if (root["outputs"] && !root["outputs"].IsNull()) {
+      if (!root["outputs"].IsSequence()) Fail(root["outputs"], "outputs must be a list of paths such as A.v");
+      for (const auto& o : root["outputs"]) {
+        OutputSpec out;
+        out.text = Scalar(o, "an output");
+        out.loc = TextLoc(o);
+        out.expr = ParseExpression(out.text, out.loc);
+        m.outputs.push_back(std::move(out));
+      }
+    }
+    return m;
+  }
+
+ private:
+  std::string file_;
+};
+
+YAML::Node ParseYaml(const std::string& text, const std::string& file) {
+  try {
+    return YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    SourceLoc loc;
+    loc.file = file;
+    if (e.mark.line >= 0) {
+      loc.line = e.mark.line + 1;
+      loc.column = e.mark.column + 1;
+    }
+    throw ModelError(loc, "YAML syntax error: " + e.msg);
+  }
+}
+
+}  // namespace
+
+ModelSpec LoadModelString(const std::string& yaml, const std::string& file_name) {
+  Reader reader(file_name);
+  YAML::Node root = ParseYaml(yaml, file_name);
+  try {
+    return reader.Model(root);
+  } catch (const YAML::Exception& e) {
+    SourceLoc loc;
+    loc.file = file_name;
+    if (e.mark.line >= 0) {
+      loc.line = e.mark.line + 1;
+      loc.column = e.mark.column + 1;
+    }
+    throw ModelError(loc, "malformed model: " + e.msg);
+  }
+}
+
+ModelSpec LoadModelFile(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw ModelError(path + ": cannot open the model file");
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  return LoadModelString(buffer.str(), path);
+}
+
+void LoadLibraryString(const std::string& yaml, const std::string& file_name, Library* library) {
+  Reader reader(file_name);
+  YAML::Node root = ParseYaml(yaml, file_name);
+  reader.LibraryEntries(root, library, nullptr, false);
+}
+
+}  // namespace momenta

@@ -1,0 +1,127 @@
+#include "solver/initializer.h"
+
+#include <kinsol/kinsol.h>
+
+#include <cmath>
+#include <sstream>
+
+#include "solver/jacobian_fill.h"
+#include "solver/sundials_support.h"
+
+namespace momenta {
+
+namespace {
+
+struct KinsolData {
+  ModelState* state;
+  double t0;
+  std::vector<double> values;
+  std::string error;
+  std::string last_message;
+};
+
+int InitResidual(N_Vector z, N_Vector f, void* user) {
+  auto* d = static_cast<KinsolData*>(user);
+  try {
+    d->state->InitResidual(d->t0, N_VGetArrayPointer(z), N_VGetArrayPointer(f));
+  } catch (const std::exception& e) {
+    d->error = e.what();
+    return -1;
+  }
+  const sunindextype n = N_VGetLength(f);
+  const double* fv = N_VGetArrayPointer(f);
+  for (sunindextype k = 0; k < n; ++k) {
+    if (!std::isfinite(fv[k])) return 1;  // recoverable: the line search backs off
+  }
+  return 0;
+}
+
+int InitJacobian(N_Vector z, N_Vector, SUNMatrix J, void* user, N_Vector, N_Vector) {
+  auto* d = static_cast<KinsolData*>(user);
+  try {
+    const SparsePattern& pattern = d->state->model().init_pattern;
+    d->values.resize(pattern.nnz());
+    d->state->InitJacobian(d->t0, N_VGetArrayPointer(z), d->values.data());
+    FillMatrix(pattern, d->values, J);
+  } catch (const std::exception& e) {
+    d->error = e.what();
+    return -1;
+  }
+  return 0;
+}
+
+void KinsolMessage(int, const char*, const char*, char* msg, void* user) {
+  static_cast<KinsolData*>(user)->last_message = msg;
+}
+
+struct KinsolDeleter {
+  void operator()(void* mem) const { KINFree(&mem); }
+};
+
+}  // namespace
+
+InitialValues SolveInitialization(ModelState* state, double t0, bool sparse) {
+  const CompiledModel& m = state->model();
+  const size_t n = m.num_unknowns(), ns = m.num_states(), nz = n + ns;
+  InitialValues out;
+  out.y.assign(n, 0.0);
+  out.yp.assign(n, 0.0);
+  state->StartValues(out.y.data());
+  if (nz == 0) return out;
+
+  ContextPtr ctx = MakeContext();
+  VectorPtr z = MakeVector(static_cast<sunindextype>(nz), ctx.get());
+  VectorPtr scale = MakeVector(static_cast<sunindextype>(nz), ctx.get());
+  N_VConst(1.0, scale.get());
+  double* zv = N_VGetArrayPointer(z.get());
+  for (size_t k = 0; k < n; ++k) zv[k] = out.y[k];
+
+  KinsolData data{state, t0, {}, {}, {}};
+  std::unique_ptr<void, KinsolDeleter> kin(KINCreate(ctx.get()));
+  CheckNotNull(kin.get(), "KINCreate");
+  CheckFlag(KINInit(kin.get(), InitResidual, z.get()), "KINInit");
+  CheckFlag(KINSetUserData(kin.get(), &data), "KINSetUserData");
+  CheckFlag(KINSetErrHandlerFn(kin.get(), KinsolMessage, &data), "KINSetErrHandlerFn");
+  LinearSystem ls = MakeLinearSystem(z.get(), static_cast<sunindextype>(nz),
+                                     static_cast<sunindextype>(m.init_pattern.nnz()), sparse, ctx.get());
+  CheckFlag(KINSetLinearSolver(kin.get(), ls.solver.get(), ls.matrix.get()), "KINSetLinearSolver");
+  CheckFlag(KINSetJacFn(kin.get(), InitJacobian), "KINSetJacFn");
+  CheckFlag(KINSetMaxSetupCalls(kin.get(), 1), "KINSetMaxSetupCalls");
+  CheckFlag(KINSetNumMaxIters(kin.get(), 200), "KINSetNumMaxIters");
+  CheckFlag(KINSetFuncNormTol(kin.get(), 1e-12), "KINSetFuncNormTol");
+  CheckFlag(KINSetScaledStepTol(kin.get(), 1e-14), "KINSetScaledStepTol");
+  // KINSOL bounds a Newton step by 1000*|z0| (at least 1): from an all-zero guess that clips the
+  // first step of even a linear system. Initial values may be far from the guesses, so lift it.
+  CheckFlag(KINSetMaxNewtonStep(kin.get(), 1e12), "KINSetMaxNewtonStep");
+
+  int flag = KINSol(kin.get(), z.get(), KIN_LINESEARCH, scale.get(), scale.get());
+  long iters = 0;
+  KINGetNumNonlinSolvIters(kin.get(), &iters);
+  out.iterations = iters;
+  if (!data.error.empty()) throw SolverError("initialisation at t = " + std::to_string(t0) + ": " + data.error);
+
+  // Residuals at the solution: accept KINSOL's step-tolerance stop when they are small.
+  std::vector<double> f(nz);
+  state->InitResidual(t0, zv, f.data());
+  size_t worst = 0;
+  for (size_t k = 0; k < nz; ++k) {
+    if (!(std::fabs(f[k]) <= std::fabs(f[worst]))) worst = k;
+  }
+  out.max_residual = std::fabs(f[worst]);
+  double scale_of_z = 1.0;
+  for (size_t k = 0; k < nz; ++k) scale_of_z = std::max(scale_of_z, std::fabs(zv[k]));
+  if (flag < 0 || !(out.max_residual <= 1e-8 * scale_of_z)) {
+    std::ostringstream msg;
+    msg << "initialisation failed";
+    if (flag < 0) msg << " (KINSOL: " << (data.last_message.empty() ? "flag " + std::to_string(flag) : data.last_message) << ")";
+    msg << ": the largest remaining residual, " << f[worst] << ", is in "
+        << (worst < n ? m.residual_origin[worst] : m.initial_origin[worst - n])
+        << ". Check the fixed start values and the parameters, or give better start values.";
+    throw SolverError(msg.str());
+  }
+  for (size_t k = 0; k < n; ++k) out.y[k] = zv[k];
+  for (size_t s = 0; s < ns; ++s) out.yp[m.state_y[s]] = zv[n + s];
+  return out;
+}
+
+}  // namespace momenta

@@ -1,0 +1,23 @@
+#pragma once
+/// Consistent initial values for IDA: Newton's method (KINSOL, with line search and an exact
+/// sparse Jacobian every iteration) on the initialisation system [F(t0, y, y') = 0; G = 0], whose
+/// unknowns are y and the states' y' and whose G holds the fixed start values and initial
+/// equations. Start values of the other variables are the first guess.
+
+#include <string>
+#include <vector>
+
+#include "core/model_state.h"
+
+namespace momenta {
+
+struct InitialValues {
+  std::vector<double> y, yp;
+  long iterations = 0;
+  double max_residual = 0;
+};
+
+/// Throws SolverError naming the equation with the largest residual when Newton fails.
+InitialValues SolveInitialization(ModelState* state, double t0, bool sparse);
+
+}  // namespace momenta

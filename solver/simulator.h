@@ -1,0 +1,44 @@
+#pragma once
+/// Integration of a compiled model with SUNDIALS IDA (BDF, variable order 1-5), from consistent
+/// initial values, with output at a fixed interval. The linear solver is dense LU for small
+/// systems and KLU (sparse LU) for large ones unless chosen.
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "core/model_state.h"
+
+namespace momenta {
+
+struct SimulationOptions {
+  double start = 0, stop = 1;
+  double interval = 0;      ///< 0: (stop - start)/500
+  double rtol = 1e-6;
+  double atol = -1;         ///< < 0: rtol; each variable's is atol*nominal
+  std::string linear_solver = "auto";  ///< auto, dense or klu
+};
+
+/// Systems with at most this many unknowns use dense LU under "auto".
+constexpr size_t kDenseLimit = 40;
+
+struct SolverStats {
+  std::string linear_solver;
+  long steps = 0, residual_evals = 0, jacobian_evals = 0, error_test_failures = 0,
+       nonlinear_failures = 0, init_iterations = 0;
+  double init_seconds = 0, integrate_seconds = 0;
+  double final_time = 0;
+};
+
+/// Called for every output row: time and the outputs in CompiledModel::output_names order.
+using RowCallback = std::function<void(double t, const std::vector<double>& outputs)>;
+
+/// Runs the simulation. Rows reach `row` as they are computed, so a failure keeps what came
+/// before it; the failure is then thrown as SolverError ("at t = …: …") after `stats` is filled.
+void Simulate(ModelState* state, const SimulationOptions& options, const RowCallback& row,
+              SolverStats* stats);
+
+/// The options a model's experiment section asks for.
+SimulationOptions OptionsFromExperiment(const ExperimentSpec& e);
+
+}  // namespace momenta
