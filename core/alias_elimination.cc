@@ -125,10 +125,12 @@ EquationSystem EliminateAliases(EquationSystem sys, AliasStats* stats) {
   for (uint32_t v = 0; v < n; ++v) {
     Link l = forest.Find(v);
     if (l.parent == v) continue;
+    // der(x) and pre(x) are rewritten only where some equation holds them.
+    ExprId der = p.FindLeaf(Op::kDer, v), pre = p.FindLeaf(Op::kPre, v);
     if (l.parent == kConstantRoot) {
       s.Set(p.Var(VarId(v)), l.offset);
-      s.Set(p.Der(VarId(v)), p.Zero());
-      s.Set(p.Pre(VarId(v)), l.offset);
+      if (der.valid()) s.Set(der, p.Zero());
+      if (pre.valid()) s.Set(pre, l.offset);
       sys.role[v] = VarRole::kConstant;
       ++stats->constants;
       continue;
@@ -136,8 +138,8 @@ EquationSystem EliminateAliases(EquationSystem sys, AliasStats* stats) {
     ExprId root = p.Var(VarId(l.parent));
     ExprId sign = p.Const(l.sign);
     s.Set(p.Var(VarId(v)), p.Add(p.Mul(sign, root), l.offset));
-    s.Set(p.Der(VarId(v)), p.Mul(sign, p.Der(VarId(l.parent))));
-    s.Set(p.Pre(VarId(v)), p.Add(p.Mul(sign, p.Pre(VarId(l.parent))), l.offset));
+    if (der.valid()) s.Set(der, p.Mul(sign, p.Der(VarId(l.parent))));
+    if (pre.valid()) s.Set(pre, p.Add(p.Mul(sign, p.Pre(VarId(l.parent))), l.offset));
     sys.role[v] = VarRole::kAlias;
     ++stats->aliases;
     const FlatVariable& fv = flat.variables[v];

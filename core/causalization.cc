@@ -41,7 +41,8 @@ EquationSystem Causalize(EquationSystem sys, Structure* st, CausalStats* stats) 
     ExprId value = SolveFor(&p, r, p.Var(VarId(v)), true, &coefficient);
     if (!value.valid()) continue;
     s.Set(p.Var(VarId(v)), value);
-    s.Set(p.Pre(VarId(v)), value);
+    ExprId pre = p.FindLeaf(Op::kPre, v);
+    if (pre.valid()) s.Set(pre, value);
     if (!p.IsConst(coefficient)) {
       sys.guards.push_back({coefficient, sys.equations[k].origin, VarId(v)});
     }

@@ -135,8 +135,11 @@ bool IsCommutative(Op op) {
 
 ExprPool::ExprPool() {
   table_.assign(1024, kEmpty);
-  zero_ = Const(0.0);
+  Node z;
+  z.op = Op::kConst;
+  zero_ = Intern(z);
   one_ = Const(1.0);
+  minus_one_ = Const(-1.0);
   time_ = Leaf(Op::kTime, 0);
 }
 
@@ -189,6 +192,19 @@ ExprId ExprPool::Intern(const Node& n) {
   return ExprId(id);
 }
 
+ExprId ExprPool::FindLeaf(Op op, uint32_t payload) const {
+  Node n;
+  n.op = op;
+  n.a = payload;
+  const size_t mask = table_.size() - 1;
+  size_t slot = HashNode(n) & mask;
+  while (table_[slot] != kEmpty) {
+    if (SameNode(nodes_[table_[slot]], n)) return ExprId(table_[slot]);
+    slot = (slot + 1) & mask;
+  }
+  return ExprId();
+}
+
 ExprId ExprPool::Leaf(Op op, uint32_t payload) {
   Node n;
   n.op = op;
@@ -197,6 +213,10 @@ ExprId ExprPool::Leaf(Op op, uint32_t payload) {
 }
 
 ExprId ExprPool::Const(double v) {
+  // The constants every pass makes most: no table lookup.
+  if (v == 0.0) return zero_;
+  if (v == 1.0 && one_.valid()) return one_;
+  if (v == -1.0 && minus_one_.valid()) return minus_one_;
   Node n;
   n.op = Op::kConst;
   n.value = (v == 0.0) ? 0.0 : v;  // one zero, not two

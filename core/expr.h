@@ -97,6 +97,10 @@ class ExprPool {
   /// The same node with the kNoEvent flag on every relation of its subtree.
   ExprId NoEvent(ExprId e);
 
+  /// The leaf (kVar, kDer, kPre, kParam) if some expression already holds it; invalid otherwise.
+  /// Lets passes skip rewriting leaves that occur nowhere, without creating them.
+  ExprId FindLeaf(Op op, uint32_t payload) const;
+
   const Node& node(ExprId id) const { return nodes_[id.value()]; }
   Op op(ExprId id) const { return nodes_[id.value()].op; }
   size_t size() const { return nodes_.size(); }
@@ -118,7 +122,7 @@ class ExprPool {
   std::vector<Node> nodes_;
   std::vector<uint32_t> table_;  ///< open-addressing hash table of node ids (kInvalid = empty)
   size_t table_used_ = 0;
-  ExprId zero_, one_, time_;
+  ExprId zero_, one_, minus_one_, time_;
 };
 
 }  // namespace momenta

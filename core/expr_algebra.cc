@@ -1,5 +1,6 @@
 #include "core/expr_algebra.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <unordered_map>
@@ -9,44 +10,46 @@
 
 namespace momenta {
 
-void PostOrder(const ExprPool& pool, const std::vector<ExprId>& roots,
-               const std::function<void(ExprId)>& visit) {
-  std::vector<uint8_t> state(pool.size(), 0);  // 0 new, 1 children pushed, 2 done
-  std::vector<uint32_t> stack;
-  for (ExprId root : roots) {
-    stack.push_back(root.value());
-    while (!stack.empty()) {
-      uint32_t id = stack.back();
-      if (state[id] == 2) {
-        stack.pop_back();
-        continue;
-      }
-      const Node& n = pool.node(ExprId(id));
-      if (state[id] == 0) {
-        state[id] = 1;
-        int arity = Arity(n.op);
-        if (arity >= 3 && state[n.c] != 2) stack.push_back(n.c);
-        if (arity >= 2 && state[n.b] != 2) stack.push_back(n.b);
-        if (arity >= 1 && state[n.a] != 2) stack.push_back(n.a);
-        continue;
-      }
-      state[id] = 2;
-      stack.pop_back();
-      visit(ExprId(id));
-    }
+namespace {
+/// Empties a scratch hash container; one that grew large is replaced, since clear() costs time
+/// in proportion to its bucket count and would tax every later small call.
+template <class Container>
+void ResetScratch(Container* c) {
+  if (c->bucket_count() > 1024) {
+    Container().swap(*c);
+  } else if (!c->empty()) {
+    c->clear();
   }
 }
+}  // namespace
 
 std::vector<ExprId> CollectLeaves(const ExprPool& pool, ExprId e, uint8_t mask) {
+  // Most expressions are small: a linear scan of what was seen beats a hash set until it grows.
+  // Scratch reused across calls (these run once per equation in every pass).
+  thread_local std::vector<uint32_t> seen_small, stack;
+  thread_local std::unordered_set<uint32_t> seen_large;
+  seen_small.clear();
+  ResetScratch(&seen_large);
+  stack.clear();
   std::vector<ExprId> out;
-  std::unordered_set<uint32_t> seen;
-  std::vector<uint32_t> stack{e.value()};
+  auto first_visit = [&](uint32_t id) {
+    if (seen_large.empty()) {
+      for (uint32_t s : seen_small) {
+        if (s == id) return false;
+      }
+      seen_small.push_back(id);
+      if (seen_small.size() > 48) seen_large.insert(seen_small.begin(), seen_small.end());
+      return true;
+    }
+    return seen_large.insert(id).second;
+  };
+  stack.push_back(e.value());
   while (!stack.empty()) {
     uint32_t id = stack.back();
     stack.pop_back();
     const Node& n = pool.node(ExprId(id));
     if (!(n.mask & mask)) continue;
-    if (!seen.insert(id).second) continue;
+    if (!first_visit(id)) continue;
     switch (n.op) {
       case Op::kVar:
       case Op::kDer:
@@ -173,6 +176,45 @@ ExprId Substitution::Apply(ExprId root) {
   return result(root.value());
 }
 
+ExprId ReplaceLeaf(ExprPool* pool, ExprId root, ExprId leaf, ExprId value) {
+  ExprPool& p = *pool;
+  const uint8_t mask = MaskOfLeaf(p.op(leaf));
+  thread_local std::unordered_map<uint32_t, ExprId> memo;
+  thread_local std::vector<uint32_t> stack;
+  ResetScratch(&memo);
+  stack.assign(1, root.value());
+  while (!stack.empty()) {
+    uint32_t id = stack.back();
+    if (memo.count(id)) {
+      stack.pop_back();
+      continue;
+    }
+    const Node n = p.node(ExprId(id));
+    if (id == leaf.value() || !(n.mask & mask) || IsLeaf(n.op)) {
+      memo.emplace(id, id == leaf.value() ? value : ExprId(id));
+      stack.pop_back();
+      continue;
+    }
+    int arity = Arity(n.op);
+    bool ready = true;
+    if (arity >= 1 && !memo.count(n.a)) { stack.push_back(n.a); ready = false; }
+    if (arity >= 2 && !memo.count(n.b)) { stack.push_back(n.b); ready = false; }
+    if (arity >= 3 && !memo.count(n.c)) { stack.push_back(n.c); ready = false; }
+    if (!ready) continue;
+    stack.pop_back();
+    ExprId r;
+    if (arity == 1) {
+      r = p.Unary(n.op, memo.at(n.a));
+    } else if (arity == 2) {
+      r = p.Binary(n.op, memo.at(n.a), memo.at(n.b), n.flags);
+    } else {
+      r = p.If(memo.at(n.a), memo.at(n.b), memo.at(n.c));
+    }
+    memo.emplace(id, r);
+  }
+  return memo.at(root.value());
+}
+
 // ---------------------------------------------------------------------------------------------
 // Derivatives
 
@@ -243,8 +285,10 @@ ExprId ChainRule(ExprPool& p, const Node& n, ExprId self, ExprId da, ExprId db, 
 ExprId Derive(ExprPool* pool, ExprId root, const std::function<ExprId(const Node&, ExprId)>& leaf_rule,
               uint8_t relevant_mask, bool* failed) {
   ExprPool& p = *pool;
-  std::unordered_map<uint32_t, ExprId> memo;
-  std::vector<uint32_t> stack{root.value()};
+  thread_local std::unordered_map<uint32_t, ExprId> memo;
+  thread_local std::vector<uint32_t> stack;
+  ResetScratch(&memo);
+  stack.assign(1, root.value());
   while (!stack.empty()) {
     uint32_t id = stack.back();
     if (memo.count(id)) {
@@ -315,54 +359,70 @@ ExprId TimeDerivative(ExprPool* pool, ExprId e) {
 
 namespace {
 
-bool AffineRec(ExprPool* pool, ExprId e, double scale, size_t max_terms, AffineForm* out,
-               std::unordered_map<uint32_t, size_t>* index) {
+/// Walks sums, differences, negations and scalings by numbers with an explicit stack, so a flow
+/// sum over a 100 000-member connection set is no problem; stops at the first non-affine node or
+/// when there are more than `max_terms` distinct leaves.
+bool AffineWalk(ExprPool* pool, ExprId root, size_t max_terms, AffineForm* out) {
   ExprPool& p = *pool;
-  if (p.IsParamOnly(e)) {
-    out->offset = p.Add(out->offset, scale == 1.0 ? e : p.Mul(p.Const(scale), e));
-    return true;
-  }
-  const Node& n = p.node(e);
-  switch (n.op) {
-    case Op::kVar:
-    case Op::kDer: {
-      auto it = index->find(e.value());
-      if (it != index->end()) {
-        out->terms[it->second].second += scale;
-      } else {
-        if (out->terms.size() >= max_terms) return false;
-        index->emplace(e.value(), out->terms.size());
-        out->terms.emplace_back(e, scale);
-      }
-      return true;
+  thread_local std::vector<std::pair<ExprId, double>> stack;
+  stack.assign(1, {root, 1.0});
+  while (!stack.empty()) {
+    auto [e, scale] = stack.back();
+    stack.pop_back();
+    if (p.IsParamOnly(e)) {
+      out->offset = p.Add(out->offset, scale == 1.0 ? e : p.Mul(p.Const(scale), e));
+      continue;
     }
-    case Op::kAdd:
-      return AffineRec(pool, ExprId(n.a), scale, max_terms, out, index) &&
-             AffineRec(pool, ExprId(n.b), scale, max_terms, out, index);
-    case Op::kSub:
-      return AffineRec(pool, ExprId(n.a), scale, max_terms, out, index) &&
-             AffineRec(pool, ExprId(n.b), -scale, max_terms, out, index);
-    case Op::kNeg:
-      return AffineRec(pool, ExprId(n.a), -scale, max_terms, out, index);
-    case Op::kMul:
-      if (p.IsConst(ExprId(n.a))) {
-        return AffineRec(pool, ExprId(n.b), scale * p.ConstValue(ExprId(n.a)), max_terms, out,
-                         index);
+    const Node& n = p.node(e);
+    switch (n.op) {
+      case Op::kVar:
+      case Op::kDer: {
+        bool found = false;
+        for (auto& t : out->terms) {
+          if (t.first == e) {
+            t.second += scale;
+            found = true;
+            break;
+          }
+        }
+        if (!found) {
+          if (out->terms.size() >= max_terms) return false;
+          out->terms.emplace_back(e, scale);
+        }
+        break;
       }
-      if (p.IsConst(ExprId(n.b))) {
-        return AffineRec(pool, ExprId(n.a), scale * p.ConstValue(ExprId(n.b)), max_terms, out,
-                         index);
-      }
-      return false;
-    case Op::kDiv:
-      if (p.IsConst(ExprId(n.b)) && p.ConstValue(ExprId(n.b)) != 0) {
-        return AffineRec(pool, ExprId(n.a), scale / p.ConstValue(ExprId(n.b)), max_terms, out,
-                         index);
-      }
-      return false;
-    default:
-      return false;
+      case Op::kAdd:
+        stack.push_back({ExprId(n.b), scale});
+        stack.push_back({ExprId(n.a), scale});
+        break;
+      case Op::kSub:
+        stack.push_back({ExprId(n.b), -scale});
+        stack.push_back({ExprId(n.a), scale});
+        break;
+      case Op::kNeg:
+        stack.push_back({ExprId(n.a), -scale});
+        break;
+      case Op::kMul:
+        if (p.IsConst(ExprId(n.a))) {
+          stack.push_back({ExprId(n.b), scale * p.ConstValue(ExprId(n.a))});
+        } else if (p.IsConst(ExprId(n.b))) {
+          stack.push_back({ExprId(n.a), scale * p.ConstValue(ExprId(n.b))});
+        } else {
+          return false;
+        }
+        break;
+      case Op::kDiv:
+        if (p.IsConst(ExprId(n.b)) && p.ConstValue(ExprId(n.b)) != 0) {
+          stack.push_back({ExprId(n.a), scale / p.ConstValue(ExprId(n.b))});
+        } else {
+          return false;
+        }
+        break;
+      default:
+        return false;
+    }
   }
+  return true;
 }
 
 }  // namespace
@@ -370,14 +430,11 @@ bool AffineRec(ExprPool* pool, ExprId e, double scale, size_t max_terms, AffineF
 bool DecomposeAffine(ExprPool* pool, ExprId e, size_t max_terms, AffineForm* out) {
   out->terms.clear();
   out->offset = pool->Zero();
-  std::unordered_map<uint32_t, size_t> index;
-  if (!AffineRec(pool, e, 1.0, max_terms, out, &index)) return false;
+  if (!AffineWalk(pool, e, max_terms, out)) return false;
   // Terms that cancelled (x - x) are dropped.
-  std::vector<std::pair<ExprId, double>> kept;
-  for (auto& t : out->terms) {
-    if (t.second != 0.0) kept.push_back(t);
-  }
-  out->terms.swap(kept);
+  out->terms.erase(std::remove_if(out->terms.begin(), out->terms.end(),
+                                  [](const auto& t) { return t.second == 0.0; }),
+                   out->terms.end());
   return true;
 }
 
@@ -391,9 +448,7 @@ ExprId SolveFor(ExprPool* pool, ExprId residual, ExprId leaf, bool param_coeffic
     return ExprId();
   }
   if (ContainsLeaf(p, a, leaf)) return ExprId();
-  Substitution zero(pool);
-  zero.Set(leaf, p.Zero());
-  ExprId b = zero.Apply(residual);
+  ExprId b = ReplaceLeaf(pool, residual, leaf, p.Zero());
   if (coefficient) *coefficient = a;
   // a*leaf + b = 0  =>  leaf = -b/a
   if (p.IsConst(a, 1.0)) return p.Neg(b);

@@ -12,11 +12,6 @@
 
 namespace momenta {
 
-/// Visits the nodes of the DAGs below `roots` once each, children before parents, and calls
-/// `visit(id)` for each. `visited` is scratch space (indexed by node id) reused across calls.
-void PostOrder(const ExprPool& pool, const std::vector<ExprId>& roots,
-               const std::function<void(ExprId)>& visit);
-
 /// The distinct leaves of kinds in `mask` (kHasVar, kHasDer, kHasPre, kHasParam) below `e`.
 std::vector<ExprId> CollectLeaves(const ExprPool& pool, ExprId e, uint8_t mask);
 
@@ -41,6 +36,9 @@ class Substitution {
   uint32_t gen_ = 1;
   size_t num_entries_ = 0;
 };
+
+/// `e` with one leaf replaced by `value` (for one-off rewrites; Substitution is for many).
+ExprId ReplaceLeaf(ExprPool* pool, ExprId e, ExprId leaf, ExprId value);
 
 /// d e / d leaf, where leaf is a kVar, kDer or kParam node (other leaves are constants).
 ExprId PartialDerivative(ExprPool* pool, ExprId e, ExprId leaf);

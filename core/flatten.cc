@@ -35,6 +35,8 @@ struct TNode {
 struct Template {
   std::vector<TNode> nodes;
   int32_t root = -1;
+  /// Pool ids of the instance-independent nodes (constants, time), filled on first use.
+  mutable std::vector<ExprId> fixed;
 };
 
 struct LocalVar {
@@ -137,31 +139,35 @@ class Flattener {
     }
   }
 
-  /// The numeric value of a model-scope expression at build time (count:, indices, ranges).
+  /// The numeric value of a model-scope expression at build time (count:, indices, ranges). Only
+  /// model parameters may appear; their values (with overrides) are computed once.
   double StructuralValue(const Ast& a, const std::string& text, const SourceLoc& loc,
                          const std::pair<std::string, double>* loop) {
     ExprId e = ModelExpr(a, text, loc, loop, false);
     if (!pool().IsParamOnly(e)) throw ModelError(loc, "'" + text + "' must be a constant expression of parameters");
-    // Evaluate the model parameters it needs (recursively, with overrides).
-    std::vector<ExprId> params = CollectLeaves(pool(), e, kHasParam);
-    std::vector<double> values(flat_.parameters.size(), 0.0);
-    for (ExprId pe : params) {
-      uint32_t id = pool().node(pe).a;
-      values[id] = ModelParamValue(ParamId(id), 0);
+    if (pool().IsConst(e)) return pool().ConstValue(e);
+    if (model_values_.empty() && !spec_.parameters.empty()) {
+      model_values_.resize(spec_.parameters.size());
+      for (size_t k = 0; k < spec_.parameters.size(); ++k) model_values_[k] = ModelParamValue(ParamId(k), 0);
+    }
+    for (ExprId leaf : CollectLeaves(pool(), e, kHasParam)) {
+      if (pool().node(leaf).a >= spec_.parameters.size()) {
+        throw ModelError(loc, "'" + text + "' shapes the model's structure, so it may use model parameters only");
+      }
     }
     LeafValues lv;
-    lv.params = values.data();
+    lv.params = model_values_.data();
     return Evaluate(pool(), e, lv);
   }
 
+  /// A model parameter's value, following its binding through other model parameters.
   double ModelParamValue(ParamId id, int depth) {
     const FlatParameter& p = flat_.parameters[id.value()];
     auto ov = overrides_.find(p.name);
     if (ov != overrides_.end()) return ov->second;
     if (depth > 100) throw ModelError(p.loc, "the parameters' bindings form a cycle through " + p.name);
-    std::vector<ExprId> params = CollectLeaves(pool(), p.binding, kHasParam);
-    std::vector<double> values(flat_.parameters.size(), 0.0);
-    for (ExprId pe : params) {
+    std::vector<double> values(spec_.parameters.size(), 0.0);
+    for (ExprId pe : CollectLeaves(pool(), p.binding, kHasParam)) {
       uint32_t q = pool().node(pe).a;
       values[q] = ModelParamValue(ParamId(q), depth + 1);
     }
@@ -576,11 +582,17 @@ class Flattener {
                      const std::string& text, const SourceLoc& loc) {
     ExprPool& p = pool();
     scratch_.resize(t.nodes.size());
+    if (t.fixed.size() != t.nodes.size()) {
+      t.fixed.assign(t.nodes.size(), ExprId());
+      for (size_t k = 0; k < t.nodes.size(); ++k) {
+        if (t.nodes[k].kind == TNode::kConst) t.fixed[k] = p.Const(t.nodes[k].value);
+      }
+    }
     for (size_t k = 0; k < t.nodes.size(); ++k) {
       const TNode& n = t.nodes[k];
       ExprId r;
       switch (n.kind) {
-        case TNode::kConst: r = p.Const(n.value); break;
+        case TNode::kConst: r = t.fixed[k]; break;
         case TNode::kLocalVar: r = p.Var(VarId(first_var.value() + n.local)); break;
         case TNode::kLocalParam: r = p.Param(ParamId(first_param.value() + n.local)); break;
         case TNode::kPre: r = p.Pre(VarId(first_var.value() + n.local)); break;
@@ -1038,6 +1050,7 @@ class Flattener {
   std::vector<uint32_t> slot_instance_;  ///< connector slot -> instance
   std::vector<uint32_t> parent_;         ///< union-find over connector slots
   std::vector<ExprId> scratch_;
+  std::vector<double> model_values_;  ///< model parameters' values for structural expressions
 };
 
 }  // namespace

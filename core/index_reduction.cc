@@ -87,7 +87,8 @@ void ConstrainedStates(EquationSystem* sys, IndexStats* stats) {
       uint32_t v = p.node(x).a;
       s.Set(x, value);
       s.Set(p.Der(VarId(v)), dvalue);
-      s.Set(p.Pre(VarId(v)), value);  // pre() of a continuous variable is its value
+      ExprId pre = p.FindLeaf(Op::kPre, v);
+      if (pre.valid()) s.Set(pre, value);  // pre() of a continuous variable is its value
       if (!p.IsConst(coefficient)) sys->guards.push_back({coefficient, eq.origin, VarId(v)});
       sys->role[v] = VarRole::kConstrained;
       ++stats->constrained_states;
