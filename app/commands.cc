@@ -145,6 +145,10 @@ int RunSimulate(const SimulateArgs& args) {
     << stats.steps << " steps, " << stats.residual_evals << " residual evaluations, "
     << stats.jacobian_evals << " Jacobians, " << stats.error_test_failures << " error-test failures, "
     << stats.nonlinear_failures << " convergence failures\n";
+  if (stats.events > 0) {
+    o << "  " << stats.events << " events (" << stats.time_events << " time events, " << stats.impacts
+      << " impacts), " << stats.restarts << " restarts\n";
+  }
   o << "  results: " << out_path << " (" << rows << " rows)\n";
   if (!model->output_names.empty()) {
     o << "  final values at t = " << FormatDouble(last_t) << ":\n";

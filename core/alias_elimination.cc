@@ -66,10 +66,14 @@ EquationSystem EliminateAliases(EquationSystem sys, AliasStats* stats) {
   std::vector<bool> diff = DifferentiatedVariables(sys);
   AliasForest forest(&p, n);
 
-  // Which root survives: states first, then `state: prefer`, then a fixed start, then order.
+  // Which root survives: impact forces, states, `state: prefer`, a fixed start, then order.
+  // Impact forces stay (their equation gives way to Newton's law at an impact).
+  std::vector<bool> keep(n, false);
+  for (const auto& im : sys.impacts) keep[im.force.value()] = true;
   auto rank = [&](uint32_t v) {
     const FlatVariable& fv = flat.variables[v];
-    return std::make_tuple(diff[v] ? 1 : 0, fv.state_priority, fv.is_flow ? 0 : 1);
+    return std::make_tuple(keep[v] ? 1 : 0, diff[v] ? 1 : 0, fv.state_priority, fv.fixed ? 1 : 0,
+                           fv.is_flow ? 0 : 1);
   };
 
   std::vector<SystemEquation> kept;
@@ -80,6 +84,13 @@ EquationSystem EliminateAliases(EquationSystem sys, AliasStats* stats) {
     bool consumed = false;
     if (!(m & (kHasDer | kHasPre | kHasTime | kHasInitial)) &&
         DecomposeAffine(&p, eq.residual, 2, &form) && !form.terms.empty()) {
+      // Discrete variables are never aliased: their equations are evaluated at events.
+      bool discrete = false;
+      for (const auto& t : form.terms) discrete = discrete || flat.variables[p.node(t.first).a].discrete;
+      if (discrete) {
+        kept.push_back(eq);
+        continue;
+      }
       // Resolve each term through the forest: c*x = c*(s*r + o).
       double c1 = form.terms[0].second;
       Link l1 = forest.Find(p.node(form.terms[0].first).a);

@@ -26,6 +26,7 @@ struct BuildReport {
   std::vector<std::string> pruned;      ///< names of pruned variables
   std::vector<std::string> states;      ///< names of the states
   size_t num_components = 0, num_parameters = 0;
+  std::string compile_note;
 };
 
 std::shared_ptr<const CompiledModel> BuildModel(const ModelSpec& spec, const Library& library,

@@ -16,13 +16,17 @@ EquationSystem Causalize(EquationSystem sys, Structure* st, CausalStats* stats) 
     if (algebraic_eq[k]) {
       for (ExprId leaf : CollectLeaves(p, sys.equations[k].residual, kHasVar)) {
         uint32_t w = p.node(leaf).a;
-        if (w == v || sys.role[w] != VarRole::kUnknown || st->is_state[w]) continue;
+        if (w == v || sys.role[w] != VarRole::kUnknown || st->is_state[w] || st->equation_of_var[w] < 0) {
+          continue;  // known here: states, discrete values
+        }
         adj.push_back(static_cast<uint32_t>(st->equation_of_var[w]));
       }
     }
     start.push_back(static_cast<uint32_t>(adj.size()));
   }
   auto components = StronglyConnectedComponents(static_cast<uint32_t>(ne), start, adj);
+  std::vector<bool> keep(sys.role.size(), false);
+  for (const auto& im : sys.impacts) keep[im.force.value()] = true;
   // Solve singletons explicitly, dependencies first.
   Substitution& s = *sys.eliminated;
   std::vector<bool> removed(ne, false);
@@ -35,7 +39,7 @@ EquationSystem Causalize(EquationSystem sys, Structure* st, CausalStats* stats) 
     uint32_t k = comp[0];
     if (!algebraic_eq[k]) continue;
     uint32_t v = static_cast<uint32_t>(st->var_of_equation[k]);
-    if (sys.flat->variables[v].type != ValueType::kReal) continue;
+    if (sys.flat->variables[v].type != ValueType::kReal || keep[v]) continue;
     ExprId r = s.Apply(sys.equations[k].residual);
     ExprId coefficient;
     ExprId value = SolveFor(&p, r, p.Var(VarId(v)), true, &coefficient);

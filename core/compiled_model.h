@@ -49,6 +49,44 @@ struct CompiledModel {
   std::vector<DivisorGuard> guards;
   std::vector<std::string> guard_text;
 
+  // Discrete variables: constant between events, updated by event iteration.
+  std::vector<VarId> discrete_vars;
+  Program discrete_starts;  ///< out: their values before the first event (pre-values at start)
+  Program discrete_update;  ///< stores every discrete equation's value into its register, in order
+
+  // Event conditions: each relation that may switch during integration is frozen in a register
+  // between events; its zero-crossing function z (a - b of the relation a op b) is monitored.
+  struct Condition {
+    Op op;
+    bool time_only;  ///< depends on time and parameters only: a time event
+    std::string text;
+  };
+  std::vector<Condition> conditions;
+  Program zero_crossings;       ///< out: z (one per condition)
+  Program zero_crossing_rates;  ///< out: dz/dt
+
+  // When-clauses: value slots index when_values' outputs.
+  struct When {
+    std::string text;
+    std::vector<std::pair<uint32_t, uint32_t>> assigns;  ///< discrete index, value slot
+    std::vector<std::pair<uint32_t, uint32_t>> reinits;  ///< y index, value slot
+  };
+  std::vector<When> whens;
+  Program when_conditions;  ///< out: one per when-clause
+  Program when_values;      ///< out: every statement's value
+
+  // Impacts.
+  struct Impact {
+    std::string name;
+    uint32_t mode_row = 0;       ///< the residual that gives way to Newton's law
+    uint32_t contact = 0;        ///< discrete index of the contact mode
+    std::vector<uint32_t> gradient_y;  ///< y indices of d(velocity)/dy entries
+    uint32_t gradient_offset = 0;      ///< first entry in impact_gradients' output
+  };
+  std::vector<Impact> impacts;
+  Program impact_values;     ///< out: per impact gap, velocity, restitution, v_small, release
+  Program impact_gradients;  ///< out: d(velocity)/dy entries
+
   // Compiled programs.
   RegisterLayout layout;
   std::vector<std::pair<uint32_t, double>> constants;

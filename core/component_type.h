@@ -44,6 +44,34 @@ struct EquationDecl {
   SourceLoc loc;
 };
 
+/// One statement of a when-clause: `reinit(x, expr)` or the discrete assignment `x = expr`.
+struct StatementDecl {
+  bool is_reinit = false;
+  std::string target;  ///< the variable assigned or re-initialised
+  AstPtr value;
+  std::string text;
+  SourceLoc loc;
+};
+
+/// `when: cond` with its statements: executed at the event where cond becomes true.
+struct WhenDecl {
+  std::string text;
+  AstPtr condition;
+  std::vector<StatementDecl> statements;
+  SourceLoc loc;
+};
+
+/// An exact impact (docs/FORMAT.md, "Impacts"): when `gap` reaches zero while `velocity` < 0,
+/// velocities jump so that the model's integrated equations hold and velocity reverses by
+/// `restitution`; below `v_small` the contact closes and rests until `release` holds. The
+/// machinery adds the equation `0 = if contact then der(velocity) else force`.
+struct ImpactDecl {
+  AstPtr gap, velocity, restitution, v_small, release;
+  std::string gap_text, velocity_text, restitution_text, v_small_text, release_text;
+  std::string force, contact;  ///< variable names
+  SourceLoc loc;
+};
+
 struct ConnectorVariable {
   std::string name, unit, doc;
 };
@@ -69,6 +97,8 @@ struct ComponentType {
   std::vector<VariableDecl> variables;
   std::vector<EquationDecl> equations;
   std::vector<EquationDecl> initial_equations;
+  std::vector<WhenDecl> whens;
+  std::vector<ImpactDecl> impacts;
   SourceLoc loc;
   bool user_defined = false;  ///< from a model's define: section
 };

@@ -16,7 +16,7 @@ const char* VarRoleName(VarRole r) {
 
 size_t EquationSystem::num_unknowns() const {
   size_t n = 0;
-  for (VarRole r : role) n += r == VarRole::kUnknown;
+  for (size_t v = 0; v < role.size(); ++v) n += role[v] == VarRole::kUnknown && !flat->variables[v].discrete;
   return n;
 }
 
@@ -39,6 +39,15 @@ void EquationSystem::ApplyEliminations() {
   for (auto& e : equations) e.residual = s.Apply(e.residual);
   for (auto& e : initial) e.residual = s.Apply(e.residual);
   for (auto& o : outputs) o = s.Apply(o);
+  for (auto& w : whens) {
+    w.condition = s.Apply(w.condition);
+    for (auto& a : w.assigns) a.second = s.Apply(a.second);
+    for (auto& r : w.reinits) r.second = s.Apply(r.second);
+  }
+  for (auto& im : impacts) {
+    for (ExprId* e : {&im.gap, &im.velocity, &im.restitution, &im.v_small, &im.release}) *e = s.Apply(*e);
+  }
+  for (auto& d : discrete) d.value = s.Apply(d.value);
 }
 
 EquationSystem MakeEquationSystem(std::shared_ptr<const FlatSystem> flat) {
@@ -63,6 +72,14 @@ EquationSystem MakeEquationSystem(std::shared_ptr<const FlatSystem> flat) {
     }
   }
   for (const auto& o : flat->outputs) sys.outputs.push_back(o.expr);
+  for (uint32_t k = 0; k < flat->whens.size(); ++k) {
+    const FlatWhen& w = flat->whens[k];
+    sys.whens.push_back({w.condition, w.assigns, w.reinits, k});
+  }
+  for (uint32_t k = 0; k < flat->impacts.size(); ++k) {
+    const FlatImpact& im = flat->impacts[k];
+    sys.impacts.push_back({im.gap, im.velocity, im.restitution, im.v_small, im.release, im.force, im.contact, k});
+  }
   return sys;
 }
 

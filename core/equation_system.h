@@ -37,6 +37,26 @@ struct DivisorGuard {
   VarId variable;
 };
 
+/// A when-clause as it stands after eliminations (targets are flat variables).
+struct SystemWhen {
+  ExprId condition;
+  std::vector<std::pair<VarId, ExprId>> assigns, reinits;
+  uint32_t origin;  ///< index into flat->whens
+};
+
+struct SystemImpact {
+  ExprId gap, velocity, restitution, v_small, release;
+  VarId force, contact;
+  uint32_t origin;  ///< index into flat->impacts
+};
+
+/// A discrete variable's defining equation, solved: var = value (evaluated at events only).
+struct DiscreteEquation {
+  VarId var;
+  ExprId value;
+  uint32_t origin;  ///< index into flat->equations
+};
+
 struct EquationSystem {
   std::shared_ptr<const FlatSystem> flat;
   std::shared_ptr<ExprPool> pool;
@@ -47,6 +67,9 @@ struct EquationSystem {
   std::vector<ExprId> outputs;            ///< by flat output
   std::shared_ptr<Substitution> eliminated;
   std::vector<DivisorGuard> guards;
+  std::vector<SystemWhen> whens;
+  std::vector<SystemImpact> impacts;
+  std::vector<DiscreteEquation> discrete;  ///< in evaluation order
 
   size_t num_unknowns() const;
   /// The flat equation an equation came from, described in the user's names.

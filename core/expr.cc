@@ -18,6 +18,7 @@ int Arity(Op op) {
     case Op::kTime:
     case Op::kInitial:
     case Op::kCj:
+    case Op::kCond:
       return 0;
     case Op::kNeg:
     case Op::kSin:
@@ -65,6 +66,7 @@ const char* OpName(Op op) {
     case Op::kTime: return "time";
     case Op::kInitial: return "initial";
     case Op::kCj: return "cj";
+    case Op::kCond: return "cond";
     case Op::kAdd: return "+";
     case Op::kSub: return "-";
     case Op::kMul: return "*";
@@ -174,6 +176,7 @@ ExprId ExprPool::Intern(const Node& n) {
     case Op::kTime: stored.mask = kHasTime; break;
     case Op::kInitial: stored.mask = kHasInitial; break;
     case Op::kCj: stored.mask = kHasTime; break;
+    case Op::kCond: stored.mask = kHasCond; break;
     case Op::kConst: stored.mask = 0; break;
     default: {
       int arity = Arity(n.op);

@@ -23,6 +23,7 @@ enum class Op : uint8_t {
   kTime,     ///< the independent variable
   kInitial,  ///< true during initialisation only
   kCj,       ///< IDA's coefficient cj in dF/dy + cj dF/dy' (Jacobians only)
+  kCond,     ///< a = condition index: an event relation's value, frozen between events
   // Arithmetic.
   kAdd, kSub, kMul, kDiv, kPow, kNeg,
   // Functions of one argument.
@@ -50,6 +51,7 @@ enum LeafMask : uint8_t {
   kHasPre = 16,
   kHasRelation = 32,
   kHasInitial = 64,
+  kHasCond = 128,
 };
 
 struct Node {
@@ -80,6 +82,7 @@ class ExprPool {
   ExprId Time() { return time_; }
   ExprId Initial() { return Leaf(Op::kInitial, 0); }
   ExprId Cj() { return Leaf(Op::kCj, 0); }
+  ExprId Cond(uint32_t index) { return Leaf(Op::kCond, index); }
   ExprId Zero() const { return zero_; }
   ExprId One() const { return one_; }
 
@@ -110,7 +113,7 @@ class ExprPool {
   double ConstValue(ExprId id) const { return node(id).value; }
   /// No variables, derivatives, pre-values, time or initial(): a function of parameters only.
   bool IsParamOnly(ExprId id) const {
-    return (node(id).mask & (kHasVar | kHasDer | kHasTime | kHasPre | kHasInitial)) == 0;
+    return (node(id).mask & (kHasVar | kHasDer | kHasTime | kHasPre | kHasInitial | kHasCond)) == 0;
   }
   uint8_t mask(ExprId id) const { return node(id).mask; }
 

@@ -176,6 +176,44 @@ ExprId Substitution::Apply(ExprId root) {
   return result(root.value());
 }
 
+ExprId ReplaceNodes(ExprPool* pool, ExprId root, const std::unordered_map<uint32_t, ExprId>& map,
+                    uint8_t mask) {
+  ExprPool& p = *pool;
+  std::unordered_map<uint32_t, ExprId> memo;
+  std::vector<uint32_t> stack{root.value()};
+  while (!stack.empty()) {
+    uint32_t id = stack.back();
+    if (memo.count(id)) {
+      stack.pop_back();
+      continue;
+    }
+    auto hit = map.find(id);
+    const Node n = p.node(ExprId(id));
+    if (hit != map.end() || !(n.mask & mask) || IsLeaf(n.op)) {
+      memo.emplace(id, hit != map.end() ? hit->second : ExprId(id));
+      stack.pop_back();
+      continue;
+    }
+    int arity = Arity(n.op);
+    bool ready = true;
+    if (arity >= 1 && !memo.count(n.a)) { stack.push_back(n.a); ready = false; }
+    if (arity >= 2 && !memo.count(n.b)) { stack.push_back(n.b); ready = false; }
+    if (arity >= 3 && !memo.count(n.c)) { stack.push_back(n.c); ready = false; }
+    if (!ready) continue;
+    stack.pop_back();
+    ExprId r;
+    if (arity == 1) {
+      r = p.Unary(n.op, memo.at(n.a));
+    } else if (arity == 2) {
+      r = p.Binary(n.op, memo.at(n.a), memo.at(n.b), n.flags);
+    } else {
+      r = p.If(memo.at(n.a), memo.at(n.b), memo.at(n.c));
+    }
+    memo.emplace(id, r);
+  }
+  return memo.at(root.value());
+}
+
 ExprId ReplaceLeaf(ExprPool* pool, ExprId root, ExprId leaf, ExprId value) {
   ExprPool& p = *pool;
   const uint8_t mask = MaskOfLeaf(p.op(leaf));
@@ -508,6 +546,8 @@ void Print(const ExprPool& pool, ExprId e, const ExprNamer& names, int depth, st
     case Op::kParam: *out += names.param ? names.param(n.a) : "p" + std::to_string(n.a); return;
     case Op::kTime: *out += "time"; return;
     case Op::kInitial: *out += "initial()"; return;
+    case Op::kCj: *out += "cj"; return;
+    case Op::kCond: *out += "c" + std::to_string(n.a); return;
     case Op::kNeg: *out += "-"; child(n.a, Precedence(Op::kNeg) + 1); return;
     case Op::kNot: *out += "not "; child(n.a, Precedence(Op::kNot)); return;
     case Op::kIf:

@@ -6,6 +6,7 @@
 
 #include <functional>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "core/expr.h"
@@ -36,6 +37,11 @@ class Substitution {
   uint32_t gen_ = 1;
   size_t num_entries_ = 0;
 };
+
+/// `e` with the nodes in `map` (node id -> replacement) replaced; only subtrees whose leaf mask
+/// meets `mask` are visited.
+ExprId ReplaceNodes(ExprPool* pool, ExprId e, const std::unordered_map<uint32_t, ExprId>& map,
+                    uint8_t mask);
 
 /// `e` with one leaf replaced by `value` (for one-off rewrites; Substitution is for many).
 ExprId ReplaceLeaf(ExprPool* pool, ExprId e, ExprId leaf, ExprId value);

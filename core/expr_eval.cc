@@ -17,6 +17,8 @@ double EvalRec(const ExprPool& pool, ExprId e, const LeafValues& lv,
     case Op::kParam: return lv.params ? lv.params[n.a] : 0.0;
     case Op::kTime: return lv.time;
     case Op::kInitial: return lv.initial ? 1.0 : 0.0;
+    case Op::kCj: return 0.0;
+    case Op::kCond: return lv.conds ? lv.conds[n.a] : 0.0;
     default: break;
   }
   auto it = memo.find(e.value());

@@ -69,6 +69,7 @@ struct LeafValues {
   const double* vars = nullptr;
   const double* ders = nullptr;
   const double* pres = nullptr;
+  const double* conds = nullptr;
   double time = 0;
   bool initial = false;
 };

@@ -25,6 +25,9 @@ struct FlatVariable {
   int state_priority = 0;
   bool is_flow = false;
   bool is_input = false;  ///< an unconnected signal input would be one of these
+  /// Constant between events: Boolean and Integer variables, Reals assigned in when-clauses,
+  /// impact contact modes.
+  bool discrete = false;
   InstanceId instance;    ///< owner; invalid for the model's own variables
   SourceLoc loc;          ///< where start/fixed were given, else where declared
   std::string unit;
@@ -56,6 +59,26 @@ struct FlatInstance {
   SourceLoc loc;     ///< the component entry in the model file
 };
 
+/// A when-clause: at the event where `condition` becomes true, `assigns` set discrete variables and
+/// `reinits` give states new values (right-hand sides may use pre()).
+struct FlatWhen {
+  ExprId condition;
+  std::vector<std::pair<VarId, ExprId>> assigns, reinits;
+  InstanceId instance;
+  std::string text;
+  SourceLoc loc;
+};
+
+/// An exact impact (see ImpactDecl). `mode_equation` indexes the generated equation
+/// `0 = if contact then der(velocity) else force` in FlatSystem::equations.
+struct FlatImpact {
+  ExprId gap, velocity, restitution, v_small, release;
+  VarId force, contact;
+  uint32_t mode_equation = 0;
+  InstanceId instance;
+  SourceLoc loc;
+};
+
 struct FlatOutput {
   std::string text;
   ExprId expr;
@@ -71,6 +94,8 @@ struct FlatSystem {
   std::vector<FlatEquation> equations;
   std::vector<FlatEquation> initial_equations;  ///< from initial_equations: (fixed starts are on the variables)
   std::vector<FlatInstance> instances;
+  std::vector<FlatWhen> whens;
+  std::vector<FlatImpact> impacts;
   std::vector<FlatOutput> outputs;
   ExperimentSpec experiment;
 

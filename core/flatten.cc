@@ -14,6 +14,7 @@
 
 #include "core/expr_eval.h"
 #include "core/flat_system.h"
+#include "core/parser.h"
 
 namespace momenta {
 
@@ -62,6 +63,17 @@ struct TypeLayout {
   std::vector<ConnectorSlot> connectors;
   std::unordered_map<std::string, uint32_t> connector_index;
   std::vector<Template> equations, initial_equations, param_defaults, starts;
+  struct WhenTemplate {
+    Template condition;
+    std::vector<std::pair<uint32_t, Template>> assigns, reinits;  ///< local variable, value
+  };
+  std::vector<WhenTemplate> whens;
+  struct ImpactTemplate {
+    Template gap, velocity, restitution, v_small, release;
+    uint32_t force = 0, contact = 0;
+  };
+  std::vector<ImpactTemplate> impacts;
+  std::vector<bool> discrete;  ///< by local variable
   std::vector<std::string> LocalNames() const {
     std::vector<std::string> names;
     for (const auto& v : vars) names.push_back(v.name);
@@ -420,6 +432,51 @@ class Flattener {
     for (const auto& e : type->initial_equations) {
       L.initial_equations.push_back(EquationTemplate(L, e));
     }
+    // Discrete variables: Boolean and Integer ones, and those a when-clause or impact assigns.
+    L.discrete.assign(L.vars.size(), false);
+    for (size_t k = 0; k < L.vars.size(); ++k) L.discrete[k] = L.vars[k].type != ValueType::kReal;
+    auto local_var = [&](const std::string& name, const SourceLoc& loc, const std::string& what) {
+      auto it = L.var_index.find(name);
+      if (it == L.var_index.end()) {
+        throw ModelError(loc, "unknown variable '" + name + "' in " + what + " of " + type->name +
+                                  " (valid variables: " + JoinNames([&] {
+                                    std::vector<std::string> v;
+                                    for (const auto& x : L.vars) v.push_back(x.name);
+                                    return v;
+                                  }()) + ")");
+      }
+      return it->second;
+    };
+    for (const auto& w : type->whens) {
+      TypeLayout::WhenTemplate wt;
+      wt.condition = MakeTemplate(L, *w.condition, w.text, w.loc, false);
+      for (const auto& st : w.statements) {
+        uint32_t target = local_var(st.target, st.loc, "'" + st.text + "'");
+        Template value = MakeTemplate(L, *st.value, st.text, st.loc, false);
+        if (st.is_reinit) {
+          wt.reinits.emplace_back(target, std::move(value));
+        } else {
+          wt.assigns.emplace_back(target, std::move(value));
+          L.discrete[target] = true;
+        }
+      }
+      L.whens.push_back(std::move(wt));
+    }
+    for (const auto& im : type->impacts) {
+      TypeLayout::ImpactTemplate it;
+      it.gap = MakeTemplate(L, *im.gap, im.gap_text, im.loc, false);
+      it.velocity = MakeTemplate(L, *im.velocity, im.velocity_text, im.loc, false);
+      it.restitution = MakeTemplate(L, *im.restitution, im.restitution_text, im.loc, true);
+      it.v_small = MakeTemplate(L, *im.v_small, im.v_small_text, im.loc, true);
+      it.release = MakeTemplate(L, *im.release, im.release_text, im.loc, false);
+      it.force = local_var(im.force, im.loc, "impact");
+      it.contact = local_var(im.contact, im.loc, "impact");
+      if (L.vars[it.contact].type != ValueType::kBoolean) {
+        throw ModelError(im.loc, "the impact contact of " + type->name + " must be a Boolean variable (type: Boolean)");
+      }
+      L.discrete[it.contact] = true;
+      L.impacts.push_back(std::move(it));
+    }
     const TypeLayout& ref = *layout;
     layouts_[type] = std::move(layout);
     return ref;
@@ -639,6 +696,7 @@ class Flattener {
       fv.loc = v.loc;
       fv.unit = v.unit;
       fv.start = v.start ? ModelExpr(*v.start, AstToString(*v.start), v.loc, nullptr, false) : ExprId();
+      fv.discrete = v.type != ValueType::kReal;
       model_var_[v.name] = VarId(flat_.variables.size());
       flat_.variables.push_back(fv);
     }
@@ -753,6 +811,7 @@ class Flattener {
           fv.start = Instantiate(L.starts[k], data.first_var, data.first_param, path, "", lv.decl->loc);
         }
       }
+      fv.discrete = L.discrete[k];
       if (const Modifier* m = var_mod[k]) {
         if (m->start) fv.start = ModelExpr(*m->start, AstToString(*m->start), m->loc, index, false);
         if (m->fixed) fv.fixed = *m->fixed;
@@ -770,6 +829,49 @@ class Flattener {
       eq.text = d.text;
       eq.loc = d.loc;
       flat_.equations.push_back(std::move(eq));
+    }
+    // When-clauses and impacts.
+    auto inst_expr = [&](const Template& t, const std::string& text) {
+      return Instantiate(t, data.first_var, data.first_param, path, text, c.loc);
+    };
+    auto var_of = [&](uint32_t local) { return VarId(data.first_var.value() + local); };
+    for (size_t k = 0; k < L.whens.size(); ++k) {
+      const auto& wt = L.whens[k];
+      FlatWhen w;
+      w.condition = inst_expr(wt.condition, type->whens[k].text);
+      for (const auto& [target, value] : wt.assigns) w.assigns.emplace_back(var_of(target), inst_expr(value, ""));
+      for (const auto& [target, value] : wt.reinits) w.reinits.emplace_back(var_of(target), inst_expr(value, ""));
+      w.instance = inst;
+      w.text = type->whens[k].text;
+      w.loc = type->whens[k].loc;
+      flat_.whens.push_back(std::move(w));
+    }
+    for (size_t k = 0; k < L.impacts.size(); ++k) {
+      const auto& it = L.impacts[k];
+      const ImpactDecl& d = type->impacts[k];
+      FlatImpact im;
+      im.gap = inst_expr(it.gap, d.gap_text);
+      im.velocity = inst_expr(it.velocity, d.velocity_text);
+      im.restitution = inst_expr(it.restitution, d.restitution_text);
+      im.v_small = inst_expr(it.v_small, d.v_small_text);
+      im.release = inst_expr(it.release, d.release_text);
+      im.force = var_of(it.force);
+      im.contact = var_of(it.contact);
+      im.instance = inst;
+      im.loc = d.loc;
+      // The contact law: no force while open, no relative acceleration while closed.
+      ExprPool& p = pool();
+      ExprId dvel = TimeDerivative(&p, im.velocity);
+      if (!dvel.valid()) throw ModelError(d.loc, "the impact velocity of " + type->name + " may not contain der()");
+      FlatEquation eq;
+      eq.residual = p.If(p.Var(im.contact), dvel, p.Var(im.force));
+      eq.origin = EquationOrigin::kComponent;
+      eq.instance = inst;
+      eq.text = "0 = if " + d.contact + " then der(" + d.velocity_text + ") else " + d.force + " (impact)";
+      eq.loc = d.loc;
+      im.mode_equation = static_cast<uint32_t>(flat_.equations.size());
+      flat_.equations.push_back(std::move(eq));
+      flat_.impacts.push_back(std::move(im));
     }
     for (size_t k = 0; k < L.initial_equations.size(); ++k) {
       const EquationDecl& d = type->initial_equations[k];
@@ -977,6 +1079,25 @@ class Flattener {
       out->push_back(std::move(eq));
     };
     for (const auto& d : spec_.equations) add(d, EquationOrigin::kModel, &flat_.equations);
+    for (const auto& w : spec_.whens) {
+      FlatWhen fw;
+      fw.condition = ModelExpr(*w.condition, w.text, w.loc, nullptr, true);
+      for (const auto& st : w.statements) {
+        ExprId target = ModelExpr(*ParseName(st.target, st.loc), st.text, st.loc, nullptr, true);
+        if (pool().op(target) != Op::kVar) throw ModelError(st.loc, "'" + st.target + "' is not a variable, in '" + st.text + "'");
+        VarId v(pool().node(target).a);
+        ExprId value = ModelExpr(*st.value, st.text, st.loc, nullptr, true);
+        if (st.is_reinit) {
+          fw.reinits.emplace_back(v, value);
+        } else {
+          fw.assigns.emplace_back(v, value);
+          flat_.variables[v.value()].discrete = true;
+        }
+      }
+      fw.text = w.text;
+      fw.loc = w.loc;
+      flat_.whens.push_back(std::move(fw));
+    }
     for (const auto& d : spec_.initial_equations) add(d, EquationOrigin::kInitial, &flat_.initial_equations);
   }
 

@@ -54,6 +54,7 @@ struct ModelSpec {
   std::vector<ConnectionSpec> connections;
   std::vector<VariableDecl> variables;
   std::vector<EquationDecl> equations, initial_equations;
+  std::vector<WhenDecl> whens;
   ExperimentSpec experiment;
   std::vector<OutputSpec> outputs;
   SourceLoc loc;

@@ -1,6 +1,7 @@
 #include "core/model_state.h"
 
 #include <cmath>
+#include <algorithm>
 #include <cstring>
 #include <sstream>
 
@@ -39,7 +40,7 @@ void ModelState::Load(double t, const double* y, const double* yp) {
   const RegisterLayout& L = model_->layout;
   regs_[RegisterLayout::kTime] = t;
   const size_t n = L.num_unknowns;
-  std::memcpy(regs_.data() + L.y_base, y, n * sizeof(double));
+  if (y) std::memcpy(regs_.data() + L.y_base, y, n * sizeof(double));
   if (yp) std::memcpy(regs_.data() + L.yp_base, yp, n * sizeof(double));
 }
 
@@ -57,6 +58,66 @@ void ModelState::Jacobian(double t, double cj, const double* y, const double* yp
 void ModelState::Outputs(double t, const double* y, const double* yp, double* out) {
   Load(t, y, yp);
   model_->outputs.Run(regs_.data(), out);
+}
+
+void ModelState::StartDiscrete() {
+  const CompiledModel& m = *model_;
+  const size_t nd = m.discrete_vars.size();
+  if (nd == 0) return;
+  std::vector<double> values(nd);
+  m.discrete_starts.Run(regs_.data(), values.data());
+  std::copy(values.begin(), values.end(), mutable_discrete());
+  std::copy(values.begin(), values.end(), regs_.begin() + m.layout.pre_base + m.layout.num_unknowns);
+}
+
+void ModelState::SavePre(const double* y) {
+  const RegisterLayout& L = model_->layout;
+  std::memcpy(regs_.data() + L.pre_base, y, L.num_unknowns * sizeof(double));
+  std::memcpy(regs_.data() + L.pre_base + L.num_unknowns, regs_.data() + L.disc_base,
+              L.num_discrete * sizeof(double));
+}
+
+void ModelState::ZeroCrossings(double t, const double* y, const double* yp, double* out) {
+  Load(t, y, yp);
+  model_->zero_crossings.Run(regs_.data(), out);
+}
+
+void ModelState::ZeroCrossingRates(double t, const double* y, const double* yp, double* out) {
+  Load(t, y, yp);
+  model_->zero_crossing_rates.Run(regs_.data(), out);
+}
+
+void ModelState::UpdateDiscrete(double t, const double* y, const double* yp) {
+  Load(t, y, yp);
+  model_->discrete_update.Run(regs_.data(), nullptr);
+}
+
+void ModelState::WhenConditions(double t, const double* y, const double* yp, double* out) {
+  Load(t, y, yp);
+  model_->when_conditions.Run(regs_.data(), out);
+}
+
+void ModelState::WhenValues(double t, const double* y, const double* yp, double* out) {
+  Load(t, y, yp);
+  model_->when_values.Run(regs_.data(), out);
+}
+
+void ModelState::ImpactValues(double t, const double* y, const double* yp, double* out) {
+  Load(t, y, yp);
+  model_->impact_values.Run(regs_.data(), out);
+}
+
+void ModelState::ImpactGradients(double t, const double* y, const double* yp, double* out) {
+  Load(t, y, yp);
+  model_->impact_gradients.Run(regs_.data(), out);
+}
+
+void ModelState::JacobianParts(double t, const double* y, const double* yp, double* dfdy,
+                               double* dfdyp) {
+  const size_t nnz = model_->jacobian_pattern.nnz();
+  Jacobian(t, 0.0, y, yp, dfdy);
+  Jacobian(t, 1.0, y, yp, dfdyp);
+  for (size_t k = 0; k < nnz; ++k) dfdyp[k] -= dfdy[k];
 }
 
 void ModelState::StartValues(double* y) { model_->start_values.Run(regs_.data(), y); }

@@ -29,6 +29,29 @@ class ModelState {
 
   const CompiledModel& model() const { return *model_; }
 
+  // Events. Conditions and discrete values live in registers; these read and set them.
+  size_t num_conditions() const { return model_->conditions.size(); }
+  size_t num_discrete() const { return model_->discrete_vars.size(); }
+  const double* conditions() const { return regs_.data() + model_->layout.cond_base; }
+  double* mutable_conditions() { return regs_.data() + model_->layout.cond_base; }
+  const double* discrete() const { return regs_.data() + model_->layout.disc_base; }
+  double* mutable_discrete() { return regs_.data() + model_->layout.disc_base; }
+  /// Discrete values before the first event (and their pre-values).
+  void StartDiscrete();
+  /// pre := current values of y and of the discrete variables.
+  void SavePre(const double* y);
+  void ZeroCrossings(double t, const double* y, const double* yp, double* out);
+  void ZeroCrossingRates(double t, const double* y, const double* yp, double* out);
+  /// Evaluates the discrete equations in order (with the current conditions and pre-values).
+  void UpdateDiscrete(double t, const double* y, const double* yp);
+  void WhenConditions(double t, const double* y, const double* yp, double* out);
+  void WhenValues(double t, const double* y, const double* yp, double* out);
+  /// Per impact: gap, velocity, restitution, v_small, release (5 values each).
+  void ImpactValues(double t, const double* y, const double* yp, double* out);
+  void ImpactGradients(double t, const double* y, const double* yp, double* out);
+  /// dF/dy (cj = 0) and dF/dy' (the cj = 1 values minus those) in the Jacobian's pattern.
+  void JacobianParts(double t, const double* y, const double* yp, double* dfdy, double* dfdyp);
+
  private:
   void Load(double t, const double* y, const double* yp);
   void LoadZ(double t, const double* z);

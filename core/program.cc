@@ -42,6 +42,10 @@ void Program::Run(double* r, double* out) const {
           out[in.dst] = r[in.a];
           continue;
         }
+        if (in.op == kStoreRegister) {
+          r[in.dst] = r[in.a];
+          continue;
+        }
         v = ApplyUnary(static_cast<Op>(in.op), r[in.a]);
         break;
     }
@@ -50,17 +54,23 @@ void Program::Run(double* r, double* out) const {
 }
 
 ProgramCompiler::ProgramCompiler(const ExprPool& pool, uint32_t num_params,
-                                 std::vector<int32_t> unknown_index)
-    : pool_(pool), unknown_index_(std::move(unknown_index)) {
-  uint32_t n = 0;
-  for (int32_t i : unknown_index_) n = std::max<uint32_t>(n, static_cast<uint32_t>(i + 1));
+                                 std::vector<int32_t> y_index, std::vector<int32_t> disc_index,
+                                 uint32_t num_conditions)
+    : pool_(pool), y_index_(std::move(y_index)), disc_index_(std::move(disc_index)) {
+  uint32_t n = 0, nd = 0;
+  for (int32_t i : y_index_) n = std::max<uint32_t>(n, static_cast<uint32_t>(i + 1));
+  for (int32_t i : disc_index_) nd = std::max<uint32_t>(nd, static_cast<uint32_t>(i + 1));
   layout_.num_params = num_params;
   layout_.num_unknowns = n;
+  layout_.num_discrete = nd;
+  layout_.num_conditions = num_conditions;
   layout_.param_base = 3;
   layout_.y_base = layout_.param_base + num_params;
   layout_.yp_base = layout_.y_base + n;
-  layout_.pre_base = layout_.yp_base + n;
-  next_global_ = layout_.pre_base + n;
+  layout_.disc_base = layout_.yp_base + n;
+  layout_.pre_base = layout_.disc_base + nd;
+  layout_.cond_base = layout_.pre_base + n + nd;
+  next_global_ = layout_.cond_base + num_conditions;
 }
 
 uint32_t ProgramCompiler::Global() { return next_global_++; }
@@ -72,13 +82,19 @@ uint32_t ProgramCompiler::LeafRegister(ExprId e) {
     case Op::kInitial: return RegisterLayout::kInitial;
     case Op::kCj: return RegisterLayout::kCj;
     case Op::kParam: return layout_.param_base + n.a;
+    case Op::kCond:
+      MOMENTA_CHECK(n.a < layout_.num_conditions);
+      return layout_.cond_base + n.a;
     case Op::kVar:
     case Op::kDer:
     case Op::kPre: {
-      int32_t i = n.a < unknown_index_.size() ? unknown_index_[n.a] : -1;
-      MOMENTA_CHECK_MSG(i >= 0, "a compiled expression refers to an eliminated variable");
-      uint32_t base = n.op == Op::kVar ? layout_.y_base : n.op == Op::kDer ? layout_.yp_base : layout_.pre_base;
-      return base + static_cast<uint32_t>(i);
+      int32_t i = n.a < y_index_.size() ? y_index_[n.a] : -1;
+      int32_t d = n.a < disc_index_.size() ? disc_index_[n.a] : -1;
+      MOMENTA_CHECK_MSG(i >= 0 || (d >= 0 && n.op != Op::kDer),
+                        "a compiled expression refers to an eliminated variable");
+      if (n.op == Op::kVar) return i >= 0 ? layout_.y_base + i : layout_.disc_base + d;
+      if (n.op == Op::kDer) return layout_.yp_base + i;
+      return i >= 0 ? layout_.pre_base + i : layout_.pre_base + layout_.num_unknowns + d;
     }
     default:
       MOMENTA_CHECK(false);
@@ -144,7 +160,7 @@ void ProgramCompiler::EmitParamOnly(ExprId root) {
   }
 }
 
-Program ProgramCompiler::Compile(const std::vector<ExprId>& roots) {
+Program ProgramCompiler::Compile(const std::vector<ExprId>& roots, const std::vector<uint32_t>* registers) {
   Program prog;
   // 1. The nodes this program computes, children first, and how often each is read.
   std::vector<uint32_t> order;
@@ -157,7 +173,7 @@ Program ProgramCompiler::Compile(const std::vector<ExprId>& roots) {
   {
     std::unordered_map<uint32_t, uint8_t> state;
     std::vector<uint32_t> stack;
-    for (ExprId root : roots) {
+    for (const ExprId& root : roots) {
       if (computed(root.value())) ++uses[root.value()];
       stack.push_back(root.value());
       while (!stack.empty()) {
@@ -184,6 +200,8 @@ Program ProgramCompiler::Compile(const std::vector<ExprId>& roots) {
         stack.pop_back();
         order.push_back(id);
       }
+      // A marker: root k's turn is over (leaf roots are stored here in register mode).
+      order.push_back(kTempFlag | static_cast<uint32_t>(&root - roots.data()));
     }
   }
   // 2. Emit with register reuse.
@@ -205,6 +223,13 @@ Program ProgramCompiler::Compile(const std::vector<ExprId>& roots) {
     if (computed(roots[k].value())) root_slots[roots[k].value()].push_back(static_cast<uint32_t>(k));
   }
   for (uint32_t id : order) {
+    if (id & kTempFlag) {
+      uint32_t k = id & ~kTempFlag;
+      if (registers && !computed(roots[k].value())) {
+        prog.code().push_back({kStoreRegister, (*registers)[k], operand(roots[k].value()), 0, 0});
+      }
+      continue;
+    }
     const Node& n = pool_.node(ExprId(id));
     int arity = Arity(n.op);
     Instruction in{static_cast<uint8_t>(n.op), 0, 0, 0, 0};
@@ -227,7 +252,11 @@ Program ProgramCompiler::Compile(const std::vector<ExprId>& roots) {
     auto slots = root_slots.find(id);
     if (slots != root_slots.end()) {
       for (uint32_t k : slots->second) {
-        prog.code().push_back({kStore, k, kTempFlag | dst, 0, 0});
+        if (registers) {
+          prog.code().push_back({kStoreRegister, (*registers)[k], kTempFlag | dst, 0, 0});
+        } else {
+          prog.code().push_back({kStore, k, kTempFlag | dst, 0, 0});
+        }
         release(id);
       }
     }
@@ -235,7 +264,7 @@ Program ProgramCompiler::Compile(const std::vector<ExprId>& roots) {
   // Roots that are leaves or parameter-only read their global register.
   for (size_t k = 0; k < roots.size(); ++k) {
     uint32_t id = roots[k].value();
-    if (computed(id)) continue;
+    if (computed(id) || registers) continue;
     prog.code().push_back({kStore, static_cast<uint32_t>(k), operand(id), 0, 0});
   }
   max_temps_ = std::max(max_temps_, num_temps);
@@ -250,7 +279,7 @@ void ProgramCompiler::Finish(std::vector<Program*> programs) {
   };
   for (Program* p : programs) {
     for (Instruction& in : p->code()) {
-      if (in.op != kStore) place(in.dst);
+      if (in.op != kStore && in.op != kStoreRegister) place(in.dst);
       place(in.a);
       place(in.b);
       place(in.c);

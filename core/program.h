@@ -21,6 +21,8 @@ struct Instruction {
 
 /// out[dst] = regs[a]
 constexpr uint8_t kStore = 255;
+/// regs[dst] = regs[a] (results that later instructions read, e.g. discrete values in order)
+constexpr uint8_t kStoreRegister = 254;
 
 class Program {
  public:
@@ -33,22 +35,27 @@ class Program {
   std::vector<Instruction> code_;
 };
 
-/// Registers every compiled function of a model shares.
+/// Registers every compiled function of a model shares: time, cj, the initialisation flag,
+/// parameters, y, y', discrete values, pre-values (of y, then of the discrete values), event
+/// conditions, constants and parameter-only subexpressions, then temporaries.
 struct RegisterLayout {
   static constexpr uint32_t kTime = 0, kCj = 1, kInitial = 2;
-  uint32_t param_base = 0, y_base = 0, yp_base = 0, pre_base = 0;
+  uint32_t param_base = 0, y_base = 0, yp_base = 0, disc_base = 0, pre_base = 0, cond_base = 0;
   uint32_t temp_base = 0, size = 0;
-  uint32_t num_params = 0, num_unknowns = 0;
+  uint32_t num_params = 0, num_unknowns = 0, num_discrete = 0, num_conditions = 0;
 };
 
-/// Turns expression DAGs into Programs. Leaves map to fixed registers: kVar(v) -> y, kDer(v) ->
-/// y', kPre(v) -> pre, through `unknown_index` (flat variable -> position in y, or -1).
+/// Turns expression DAGs into Programs. Leaves map to fixed registers: kVar(v) -> y or the
+/// discrete values, kDer(v) -> y', kPre(v) -> pre, kCond(r) -> conditions, through `y_index` and
+/// `disc_index` (flat variable -> position, or -1).
 class ProgramCompiler {
  public:
-  ProgramCompiler(const ExprPool& pool, uint32_t num_params, std::vector<int32_t> unknown_index);
+  ProgramCompiler(const ExprPool& pool, uint32_t num_params, std::vector<int32_t> y_index,
+                  std::vector<int32_t> disc_index, uint32_t num_conditions);
 
-  /// A program that stores roots[k] into out[k].
-  Program Compile(const std::vector<ExprId>& roots);
+  /// A program that stores roots[k] into out[k] or, with `registers`, into regs[registers[k]]
+  /// as soon as it is computed (so later roots read it).
+  Program Compile(const std::vector<ExprId>& roots, const std::vector<uint32_t>* registers = nullptr);
   /// Finalises the layout (after every Compile): temporaries go after the global registers.
   void Finish(std::vector<Program*> programs);
 
@@ -64,7 +71,7 @@ class ProgramCompiler {
   void EmitParamOnly(ExprId root);
 
   const ExprPool& pool_;
-  std::vector<int32_t> unknown_index_;
+  std::vector<int32_t> y_index_, disc_index_;
   RegisterLayout layout_;
   uint32_t next_global_;
   std::vector<uint32_t> global_of_;  ///< by node id: register of a constant or parameter-only node

@@ -16,13 +16,27 @@ EquationSystem Prune(EquationSystem sys, Structure* st, PruneStats* stats) {
   auto mark_leaves = [&](ExprId e) {
     for (ExprId leaf : CollectLeaves(p, e, kHasVar | kHasDer | kHasPre)) {
       uint32_t v = p.node(leaf).a;
-      if (sys.role[v] == VarRole::kUnknown && !need_var[v]) {
+      if (sys.role[v] == VarRole::kUnknown && !sys.flat->variables[v].discrete && !need_var[v]) {
         need_var[v] = true;
         queue.push_back(v);
       }
     }
   };
   for (ExprId o : sys.outputs) mark_leaves(o);
+  // Event machinery is kept whole: what it reads and what it sets.
+  for (const auto& w : sys.whens) {
+    mark_leaves(w.condition);
+    for (const auto& a : w.assigns) mark_leaves(a.second);
+    for (const auto& r : w.reinits) {
+      mark_leaves(r.second);
+      mark_leaves(sys.pool->Var(r.first));
+    }
+  }
+  for (const auto& im : sys.impacts) {
+    for (ExprId e : {im.gap, im.velocity, im.release}) mark_leaves(e);
+    mark_leaves(sys.pool->Var(im.force));
+  }
+  for (const auto& d : sys.discrete) mark_leaves(d.value);
   while (true) {
     while (!queue.empty()) {
       uint32_t v = queue.back();
@@ -77,7 +91,7 @@ EquationSystem Prune(EquationSystem sys, Structure* st, PruneStats* stats) {
   sys.initial.swap(init);
   st->num_states = 0;
   for (uint32_t v = 0; v < nv; ++v) {
-    if (sys.role[v] != VarRole::kUnknown) continue;
+    if (sys.role[v] != VarRole::kUnknown || sys.flat->variables[v].discrete) continue;
     if (!need_var[v]) {
       sys.role[v] = VarRole::kPruned;
       st->is_state[v] = false;

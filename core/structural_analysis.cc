@@ -48,7 +48,7 @@ Structure AnalyseStructure(const EquationSystem& sys) {
   std::vector<int32_t> col_of_var(nv, -1);
   std::vector<uint32_t> var_of_col;
   for (uint32_t v = 0; v < nv; ++v) {
-    if (sys.role[v] != VarRole::kUnknown) {
+    if (sys.role[v] != VarRole::kUnknown || sys.flat->variables[v].discrete) {
       st.is_state[v] = false;
       continue;
     }

@@ -188,6 +188,70 @@ class Reader {
     return out;
   }
 
+  std::vector<WhenDecl> Whens(const YAML::Node& n, const std::string& what) const {
+    std::vector<WhenDecl> out;
+    if (n.IsNull()) return out;
+    if (!n.IsSequence()) Fail(n, what + " must be a list of {when: condition, then: [statements]}");
+    for (const auto& w : n) {
+      ExpectMap(w, "a when-clause of " + what);
+      CheckKeys(w, "a when-clause of " + what, {"when", "then"});
+      if (!w["when"] || !w["then"]) Fail(w, "a when-clause needs 'when: condition' and 'then: [statements]'");
+      WhenDecl d;
+      d.loc = Loc(w);
+      d.text = Scalar(w["when"], "a when condition");
+      d.condition = ParseExpression(d.text, TextLoc(w["when"]));
+      const YAML::Node& body = w["then"];
+      if (!body.IsSequence()) Fail(body, "'then' must be a list such as [\"reinit(v, -e*pre(v))\", \"n = pre(n) + 1\"]");
+      for (const auto& st : body) {
+        StatementDecl sd;
+        sd.text = Scalar(st, "a when statement");
+        sd.loc = TextLoc(st);
+        if (sd.text.rfind("reinit", 0) == 0) {
+          AstPtr call = ParseExpression(sd.text, sd.loc);
+          if (call->kind != Ast::Kind::kCall || call->op != "reinit" || call->args[0]->kind != Ast::Kind::kName) {
+            Fail(st, "expected reinit(variable, expression), found '" + sd.text + "'");
+          }
+          sd.is_reinit = true;
+          sd.target = call->args[0]->PathText();
+          sd.value = call->args[1];
+        } else {
+          AstEquation eq = ParseEquation(sd.text, sd.loc);
+          if (eq.lhs->kind != Ast::Kind::kName) {
+            Fail(st, "a when statement is reinit(x, expr) or an assignment 'x = expr'; found '" + sd.text + "'");
+          }
+          sd.target = eq.lhs->PathText();
+          sd.value = eq.rhs;
+        }
+        d.statements.push_back(std::move(sd));
+      }
+      out.push_back(std::move(d));
+    }
+    return out;
+  }
+
+  ImpactDecl Impact(const YAML::Node& n, const std::string& what) const {
+    ImpactDecl d;
+    d.loc = Loc(n);
+    ExpectMap(n, "impact of " + what);
+    CheckKeys(n, "impact of " + what,
+              {"gap", "velocity", "force", "restitution", "contact", "release", "v_small"});
+    for (const char* key : {"gap", "velocity", "force", "restitution", "contact", "release", "v_small"}) {
+      if (!n[key]) Fail(n, "impact of " + what + " needs '" + key + "'");
+    }
+    auto expr = [&](const char* key, AstPtr* ast, std::string* text) {
+      *text = Scalar(n[key], std::string("impact ") + key);
+      *ast = ParseExpression(*text, TextLoc(n[key]));
+    };
+    expr("gap", &d.gap, &d.gap_text);
+    expr("velocity", &d.velocity, &d.velocity_text);
+    expr("restitution", &d.restitution, &d.restitution_text);
+    expr("v_small", &d.v_small, &d.v_small_text);
+    expr("release", &d.release, &d.release_text);
+    d.force = Scalar(n["force"], "impact force");
+    d.contact = Scalar(n["contact"], "impact contact");
+    return d;
+  }
+
   ConnectorType Connector(const std::string& name, const YAML::Node& n) const {
     ConnectorType c;
     c.name = name;
@@ -238,7 +302,7 @@ class Reader {
     ExpectMap(n, "component type " + name);
     CheckKeys(n, "component type " + name,
               {"kind", "doc", "parameters", "connectors", "variables", "equations",
-               "initial_equations"});
+               "initial_equations", "when", "impact"});
     if (n["doc"]) t.doc = Scalar(n["doc"], name + ".doc");
     if (n["parameters"] && !n["parameters"].IsNull()) {
       ExpectMap(n["parameters"], "parameters of " + name);
@@ -273,6 +337,8 @@ class Reader {
     if (n["initial_equations"]) {
       t.initial_equations = Equations(n["initial_equations"], "initial equations of " + name);
     }
+    if (n["when"]) t.whens = Whens(n["when"], name);
+    if (n["impact"]) t.impacts.push_back(Impact(n["impact"], name));
     return t;
   }
 
@@ -384,7 +450,7 @@ class Reader {
     }
     CheckKeys(root, "the model",
               {"model", "doc", "parameters", "define", "components", "connections", "variables",
-               "equations", "initial_equations", "experiment", "outputs"});
+               "equations", "initial_equations", "when", "experiment", "outputs"});
     if (!root["model"]) Fail(root, "the model needs a name: 'model: MyModel'");
     m.name = Scalar(root["model"], "model");
     if (root["doc"]) m.doc = Scalar(root["doc"], "doc");
@@ -418,6 +484,7 @@ class Reader {
     if (root["initial_equations"]) {
       m.initial_equations = Equations(root["initial_equations"], "the model's initial equations");
     }
+    if (root["when"]) m.whens = Whens(root["when"], "the model");
     if (root["experiment"]) {
       const YAML::Node& e = root["experiment"];
       ExpectMap(e, "experiment");

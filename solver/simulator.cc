@@ -1,7 +1,25 @@
+// IDA integration with events and exact impacts. See simulator.h for the event semantics.
+//
+// Impact maths (ARCHITECTURE.md decision 7). Integrating the DAE F(t, y, y') = 0 over an impact
+// of vanishing length, bounded terms vanish, each y' becomes the jump Δx of a state, and each
+// algebraic unknown that carries the impact becomes its impulse Λ. For F linear in y' and in the
+// impulsive unknowns (masses times accelerations balanced by forces) this is
+//     [dF/dy' (state columns) | dF/dz (algebraic columns)] [Δx; Λ] = 0,
+// the IDA Jacobian's two parts (cj = 1 minus cj = 0, and cj = 0). The contact's own law (its
+// `0 = if contact then der(velocity) else force` row) gives way to Newton's law
+//     d(velocity)/dx · Δx = -(1 + e) · velocity⁻,
+// so the impulse passes through rods (rigid: one velocity), not through springs (bounded forces:
+// Λ = 0), and through closed contacts as through rods. Positions do not jump (der(s) = v gives
+// Δs = 0). An approach slower than v_small closes the contact (e = 0); it then rests, with
+// der(velocity) = 0, until its release condition (a pulling force) holds.
+
 #include "solver/simulator.h"
 
 #include <ida/ida.h>
 
+#include <Eigen/Sparse>
+#include <Eigen/SparseLU>
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <sstream>
@@ -79,6 +97,605 @@ std::string FlagMeaning(int flag) {
   }
 }
 
+/// A relation's value for its zero-crossing function z = a - b.
+bool RelationHolds(Op op, double z) {
+  switch (op) {
+    case Op::kLt: return z < 0;
+    case Op::kLe: return z <= 0;
+    case Op::kGt: return z > 0;
+    case Op::kGe: return z >= 0;
+    case Op::kEq: return z == 0;
+    default: return z != 0;
+  }
+}
+
+/// Samples of the zero-crossing functions inside each step: the end and three interior points.
+constexpr int kInteriorSamples = 3;
+
+class EventIntegrator {
+ public:
+  EventIntegrator(ModelState* state, const SimulationOptions& opt, const RowCallback& row,
+                  SolverStats* stats)
+      : state_(state), m_(state->model()), opt_(opt), row_(row), stats_(stats) {
+    n_ = m_.num_unknowns();
+    nc_ = m_.conditions.size();
+    interval_ = opt.interval > 0 ? opt.interval : (opt.stop - opt.start) / 500.0;
+    outputs_.resize(m_.output_names.size());
+    has_events_ = nc_ > 0 || !m_.whens.empty() || !m_.impacts.empty();
+    sparse_ = opt.linear_solver == "klu" || (opt.linear_solver == "auto" && n_ > kDenseLimit);
+    stats_->linear_solver = sparse_ ? "klu" : "dense";
+    num_intervals_ = static_cast<long>(std::ceil((opt.stop - opt.start) / interval_ - 1e-9));
+    z_.resize(nc_);
+    zscale_.assign(nc_, 1.0);
+  }
+
+  void Run() {
+    Initialize();
+    if (n_ == 0) {
+      // Nothing to integrate: outputs are functions of time (events are not monitored).
+      for (long k = 1; k <= num_intervals_; ++k) Emit(GridTime(k), nullptr, nullptr);
+      stats_->final_time = opt_.stop;
+      return;
+    }
+    SetUpIda();
+    t_ = opt_.start;
+    next_grid_ = 1;
+    t_run_ = std::chrono::steady_clock::now();
+    if (!has_events_) {
+      RunWithoutEvents();
+    } else {
+      RunWithEvents();
+    }
+    CollectStats();
+    stats_->integrate_seconds = Elapsed(t_run_);
+  }
+
+ private:
+  double GridTime(long k) const { return k >= num_intervals_ ? opt_.stop : opt_.start + k * interval_; }
+
+  void Emit(double t, const double* y, const double* yp) {
+    state_->Outputs(t, y, yp, outputs_.data());
+    row_(t, outputs_);
+    stats_->final_time = t;
+  }
+
+  // -------------------------------------------------------------------------------------------
+  // Initialisation: continuous values and discrete values iterate until they agree.
+
+  void Initialize() {
+    auto t0 = std::chrono::steady_clock::now();
+    state_->StartDiscrete();
+    y_.assign(n_, 0.0);
+    yp_.assign(n_, 0.0);
+    state_->StartValues(y_.data());
+    state_->SavePre(y_.data());
+    // First guesses for the conditions: their values at the start values.
+    SetConditions(opt_.start, y_.data(), yp_.data(), /*use_rates=*/false);
+    for (int iter = 0;; ++iter) {
+      InitialValues init = SolveInitialization(state_, opt_.start, sparse_);
+      stats_->init_iterations += init.iterations;
+      y_ = init.y;
+      yp_ = init.yp;
+      if (!has_events_) break;
+      bool changed = SetConditions(opt_.start, y_.data(), yp_.data(), true);
+      changed = UpdateDiscrete(opt_.start) || changed;
+      if (!changed) break;
+      if (iter == 50) throw SolverError("at t = " + Num(opt_.start) + ": the initial discrete values do not settle (the conditions switch back and forth)");
+    }
+    when_state_.resize(m_.whens.size());
+    if (!m_.whens.empty()) {
+      std::vector<double> w(m_.whens.size());
+      state_->WhenConditions(opt_.start, y_.data(), yp_.data(), w.data());
+      for (size_t k = 0; k < w.size(); ++k) when_state_[k] = w[k] != 0;
+    }
+    state_->SavePre(y_.data());
+    stats_->init_seconds = Elapsed(t0);
+    Emit(opt_.start, y_.data(), yp_.data());
+  }
+
+  // -------------------------------------------------------------------------------------------
+  // IDA
+
+  void SetUpIda() {
+    ctx_ = MakeContext();
+    y_vec_ = MakeVector(static_cast<sunindextype>(n_), ctx_.get());
+    yp_vec_ = MakeVector(static_cast<sunindextype>(n_), ctx_.get());
+    VectorPtr abstol = MakeVector(static_cast<sunindextype>(n_), ctx_.get());
+    id_ = MakeVector(static_cast<sunindextype>(n_), ctx_.get());
+    dky_ = MakeVector(static_cast<sunindextype>(n_), ctx_.get());
+    dkyp_ = MakeVector(static_cast<sunindextype>(n_), ctx_.get());
+    const double atol = opt_.atol > 0 ? opt_.atol : opt_.rtol;
+    for (size_t k = 0; k < n_; ++k) {
+      N_VGetArrayPointer(abstol.get())[k] = atol * m_.nominal[k];
+      N_VGetArrayPointer(id_.get())[k] = m_.is_state[k] ? 1.0 : 0.0;
+    }
+    Load(y_, yp_);
+    data_ = IdaData{state_, {}, {}, {}};
+    ida_.reset(IDACreate(ctx_.get()));
+    CheckNotNull(ida_.get(), "IDACreate");
+    void* mem = ida_.get();
+    CheckFlag(IDAInit(mem, Residual, opt_.start, y_vec_.get(), yp_vec_.get()), "IDAInit");
+    CheckFlag(IDASetUserData(mem, &data_), "IDASetUserData");
+    CheckFlag(IDASetErrHandlerFn(mem, IdaMessage, &data_), "IDASetErrHandlerFn");
+    CheckFlag(IDASVtolerances(mem, opt_.rtol, abstol.get()), "IDASVtolerances");
+    CheckFlag(IDASetId(mem, id_.get()), "IDASetId");
+    ls_ = MakeLinearSystem(y_vec_.get(), static_cast<sunindextype>(n_),
+                           static_cast<sunindextype>(m_.jacobian_pattern.nnz()), sparse_, ctx_.get());
+    CheckFlag(IDASetLinearSolver(mem, ls_.solver.get(), ls_.matrix.get()), "IDASetLinearSolver");
+    CheckFlag(IDASetJacFn(mem, Jacobian), "IDASetJacFn");
+    CheckFlag(IDASetMaxNumSteps(mem, 500000), "IDASetMaxNumSteps");
+    CheckFlag(IDASetStopTime(mem, opt_.stop), "IDASetStopTime");
+    abstol_ = std::move(abstol);
+  }
+
+  void Load(const std::vector<double>& y, const std::vector<double>& yp) {
+    std::copy(y.begin(), y.end(), N_VGetArrayPointer(y_vec_.get()));
+    std::copy(yp.begin(), yp.end(), N_VGetArrayPointer(yp_vec_.get()));
+  }
+
+  void CollectStats() {
+    void* mem = ida_.get();
+    long v = 0;
+    IDAGetNumSteps(mem, &v);
+    stats_->steps = base_.steps + v;
+    IDAGetNumResEvals(mem, &v);
+    stats_->residual_evals = base_.residual_evals + v;
+    IDAGetNumJacEvals(mem, &v);
+    stats_->jacobian_evals = base_.jacobian_evals + v;
+    IDAGetNumErrTestFails(mem, &v);
+    stats_->error_test_failures = base_.error_test_failures + v;
+    IDAGetNumNonlinSolvConvFails(mem, &v);
+    stats_->nonlinear_failures = base_.nonlinear_failures + v;
+  }
+
+  [[noreturn]] void Fail(int flag) {
+    CollectStats();
+    stats_->integrate_seconds = Elapsed(t_run_);
+    void* mem = ida_.get();
+    double t_fail = t_;
+    IDAGetCurrentTime(mem, &t_fail);
+    stats_->final_time = t_fail;
+    std::ostringstream msg;
+    msg << "at t = " << t_fail << ": ";
+    if (!data_.error.empty()) {
+      msg << data_.error;
+    } else {
+      msg << "IDA stopped (" << IDAGetReturnFlagName(flag) << "): " << FlagMeaning(flag);
+      VectorPtr ewt = MakeVector(static_cast<sunindextype>(n_), ctx_.get());
+      VectorPtr ele = MakeVector(static_cast<sunindextype>(n_), ctx_.get());
+      if (IDAGetErrWeights(mem, ewt.get()) == IDA_SUCCESS && IDAGetEstLocalErrors(mem, ele.get()) == IDA_SUCCESS) {
+        size_t worst = 0;
+        double worst_err = -1;
+        for (size_t j = 0; j < n_; ++j) {
+          double e = std::fabs(N_VGetArrayPointer(ele.get())[j] * N_VGetArrayPointer(ewt.get())[j]);
+          if (e > worst_err) {
+            worst_err = e;
+            worst = j;
+          }
+        }
+        msg << ". The largest local error is in " << m_.flat->DescribeVariable(m_.unknowns[worst])
+            << ", governed by " << m_.residual_origin[worst];
+      }
+      msg << ". Try a tighter tolerance (--rtol), check the parameters of that component, or "
+             "look for a singularity in its equations.";
+    }
+    throw SolverError(msg.str());
+  }
+
+  void RunWithoutEvents() {
+    void* mem = ida_.get();
+    double* yv = N_VGetArrayPointer(y_vec_.get());
+    double* ypv = N_VGetArrayPointer(yp_vec_.get());
+    for (long k = 1; k <= num_intervals_; ++k) {
+      double tout = GridTime(k), tret = 0;
+      int flag = IDASolve(mem, tout, &tret, y_vec_.get(), yp_vec_.get(), IDA_NORMAL);
+      if (flag < 0) Fail(flag);
+      t_ = tout;
+      Emit(tout, yv, ypv);
+    }
+  }
+
+  // -------------------------------------------------------------------------------------------
+  // The event loop
+
+  void RunWithEvents() {
+    void* mem = ida_.get();
+    double* yv = N_VGetArrayPointer(y_vec_.get());
+    double* ypv = N_VGetArrayPointer(yp_vec_.get());
+    while (t_ < opt_.stop) {
+      double t_event = NextTimeEvent();
+      double tstop = std::min(opt_.stop, t_event);
+      CheckFlag(IDASetStopTime(mem, tstop), "IDASetStopTime");
+      double t_old = t_, tret = 0;
+      int flag = IDASolve(mem, tstop, &tret, y_vec_.get(), yp_vec_.get(), IDA_ONE_STEP);
+      if (flag < 0) Fail(flag);
+      // A state event inside (t_old, tret]?
+      double t_cross = FirstCrossing(t_old, tret);
+      if (t_cross <= tret) {
+        EmitGrid(t_cross, /*inclusive=*/false);
+        Interpolate(t_cross);
+        DoEvent(t_cross, false);
+        continue;
+      }
+      EmitGrid(tret, true);
+      t_ = tret;
+      if (flag == IDA_TSTOP_RETURN && tret < opt_.stop) {
+        y_.assign(yv, yv + n_);
+        yp_.assign(ypv, ypv + n_);
+        DoEvent(tret, true);
+      } else if (flag == IDA_TSTOP_RETURN && tret >= opt_.stop && t_event <= opt_.stop) {
+        // A time event exactly at the stop time: the right limit ends the run.
+        y_.assign(yv, yv + n_);
+        yp_.assign(ypv, ypv + n_);
+        DoEvent(tret, true);
+      }
+    }
+  }
+
+  /// Grid rows up to `t` (and at t when inclusive), interpolated within the last step.
+  void EmitGrid(double t, bool inclusive) {
+    while (next_grid_ <= num_intervals_) {
+      double tg = GridTime(next_grid_);
+      if (tg > t || (!inclusive && tg >= t)) break;
+      if (tg <= last_event_time_) {  // already written as an event's rows
+        ++next_grid_;
+        continue;
+      }
+      Interpolate(tg);
+      Emit(tg, y_.data(), yp_.data());
+      ++next_grid_;
+    }
+  }
+
+  /// y_, yp_ := the interpolant at t (within the last step).
+  void Interpolate(double t) {
+    void* mem = ida_.get();
+    CheckFlag(IDAGetDky(mem, t, 0, dky_.get()), "IDAGetDky");
+    CheckFlag(IDAGetDky(mem, t, 1, dkyp_.get()), "IDAGetDky");
+    const double* a = N_VGetArrayPointer(dky_.get());
+    const double* b = N_VGetArrayPointer(dkyp_.get());
+    y_.assign(a, a + n_);
+    yp_.assign(b, b + n_);
+  }
+
+  /// The earliest time in (t0, t1] at which a frozen condition no longer agrees with its
+  /// relation (or an open contact's gap closes while approaching); +inf when none.
+  double FirstCrossing(double t0, double t1) {
+    if (nc_ == 0 && m_.impacts.empty()) return HUGE_VAL;
+    double lo = t0;
+    for (int s = 1; s <= kInteriorSamples + 1; ++s) {
+      double ts = t0 + (t1 - t0) * s / (kInteriorSamples + 1);
+      if (s == kInteriorSamples + 1) ts = t1;
+      if (Crossed(ts)) return Locate(lo, ts);
+      lo = ts;
+    }
+    return HUGE_VAL;
+  }
+
+  /// Whether, at time t (interpolated), some condition or contact has switched.
+  bool Crossed(double t) {
+    Interpolate(t);
+    if (nc_) {
+      state_->ZeroCrossings(t, y_.data(), yp_.data(), z_.data());
+      const double* c = state_->conditions();
+      for (size_t i = 0; i < nc_; ++i) {
+        if (m_.conditions[i].time_only && affine_[i]) continue;  // scheduled exactly
+        bool now = RelationHolds(m_.conditions[i].op, z_[i]);
+        if (now != (c[i] != 0) && std::fabs(z_[i]) > Band(i)) return true;
+      }
+    }
+    return ContactCloses(t);
+  }
+
+  bool ContactCloses(double t) {
+    if (m_.impacts.empty()) return false;
+    impact_values_.resize(5 * m_.impacts.size());
+    state_->ImpactValues(t, y_.data(), yp_.data(), impact_values_.data());
+    const double* d = state_->discrete();
+    for (size_t k = 0; k < m_.impacts.size(); ++k) {
+      if (d[m_.impacts[k].contact] != 0) continue;
+      double gap = impact_values_[5 * k], vel = impact_values_[5 * k + 1];
+      if (gap < 0 && vel < 0) return true;
+    }
+    return false;
+  }
+
+  double Band(size_t i) const { return 1e-12 * zscale_[i]; }
+
+  /// Illinois (regula falsi) on "crossed or not", shrinking [lo, hi] until it is below the time
+  /// resolution; the event is placed at hi, where the switch has happened.
+  double Locate(double lo, double hi) {
+    const double tol = 100 * 2.2e-16 * (std::fabs(hi) + std::fabs(hi - lo)) + 1e-15;
+    for (int it = 0; it < 200 && hi - lo > tol; ++it) {
+      double mid = 0.5 * (lo + hi);
+      if (Crossed(mid)) {
+        hi = mid;
+      } else {
+        lo = mid;
+      }
+    }
+    return hi;
+  }
+
+  /// Time of the next affine time event after t_ (+inf when none).
+  double NextTimeEvent() {
+    if (affine_.size() != nc_) affine_.assign(nc_, false);
+    double best = HUGE_VAL;
+    if (nc_ == 0) return best;
+    std::vector<double> z0(nc_), z1(nc_), z2(nc_);
+    state_->ZeroCrossings(t_, nullptr, nullptr, z0.data());
+    state_->ZeroCrossings(t_ + 1.0, nullptr, nullptr, z1.data());
+    state_->ZeroCrossings(t_ + 2.0, nullptr, nullptr, z2.data());
+    for (size_t i = 0; i < nc_; ++i) {
+      if (!m_.conditions[i].time_only) continue;
+      double slope = z1[i] - z0[i];
+      affine_[i] = std::fabs((z2[i] - z1[i]) - slope) <= 1e-9 * (std::fabs(slope) + std::fabs(z0[i]) + 1);
+      if (!affine_[i] || slope == 0) continue;
+      double te = t_ - z0[i] / slope;
+      if (te > t_ * (1 + 1e-15) + 1e-300 && te < best) best = te;
+    }
+    return best;
+  }
+
+  // -------------------------------------------------------------------------------------------
+  // One event at time t, from the left-limit values in y_, yp_.
+
+  void DoEvent(double t, bool time_event) {
+    ++stats_->events;
+    if (time_event) ++stats_->time_events;
+    CheckChattering(t);
+    Emit(t, y_.data(), yp_.data());  // left limit
+    state_->SavePre(y_.data());
+    ResolveImpacts(t);
+    bool reinitialized = false;
+    for (int iter = 0;; ++iter) {
+      if (iter > 0 || reinitialized) Restart(t);
+      bool changed = SetConditions(t, y_.data(), yp_.data(), true);
+      changed = UpdateDiscrete(t) || changed;
+      changed = Releases(t) || changed;
+      bool fired = FireWhens(t);
+      if (!changed && !fired) break;
+      state_->SavePre(y_.data());
+      reinitialized = true;
+      if (iter == 100) {
+        throw SolverError("at t = " + Num(t) + ": the event iteration does not settle (discrete values keep changing); " + ActiveConditions());
+      }
+    }
+    Restart(t);
+    last_event_time_ = t;
+    t_ = t;
+    Emit(t, y_.data(), yp_.data());  // right limit
+  }
+
+  /// Consistent y, y' for the current discrete values and states (IDACalcIC), and IDA restarted.
+  void Restart(double t) {
+    CollectStats();
+    base_.steps = stats_->steps;
+    base_.residual_evals = stats_->residual_evals;
+    base_.jacobian_evals = stats_->jacobian_evals;
+    base_.error_test_failures = stats_->error_test_failures;
+    base_.nonlinear_failures = stats_->nonlinear_failures;
+    ++stats_->restarts;
+    void* mem = ida_.get();
+    Load(y_, yp_);
+    CheckFlag(IDAReInit(mem, t, y_vec_.get(), yp_vec_.get()), "IDAReInit");
+    double tout1 = std::min(opt_.stop, t + interval_);
+    if (tout1 <= t) tout1 = t + std::max(1e-6, 1e-6 * std::fabs(t));
+    int flag = IDACalcIC(mem, IDA_YA_YDP_INIT, tout1);
+    if (flag < 0) {
+      throw SolverError("at t = " + Num(t) + ": no consistent restart after the event (IDACalcIC: " +
+                        std::string(IDAGetReturnFlagName(flag)) + (data_.error.empty() ? "" : ", " + data_.error) +
+                        "); the discrete values or re-initialised states contradict the equations");
+    }
+    CheckFlag(IDAGetConsistentIC(mem, y_vec_.get(), yp_vec_.get()), "IDAGetConsistentIC");
+    const double* a = N_VGetArrayPointer(y_vec_.get());
+    const double* b = N_VGetArrayPointer(yp_vec_.get());
+    y_.assign(a, a + n_);
+    yp_.assign(b, b + n_);
+  }
+
+  /// Sets every frozen condition to its right-limit value at (t, y, y'); true when one changed.
+  bool SetConditions(double t, const double* y, const double* yp, bool use_rates) {
+    if (nc_ == 0) return false;
+    state_->ZeroCrossings(t, y, yp, z_.data());
+    std::vector<double> rate(nc_, 0.0);
+    if (use_rates) state_->ZeroCrossingRates(t, y, yp, rate.data());
+    double* c = state_->mutable_conditions();
+    bool changed = false;
+    for (size_t i = 0; i < nc_; ++i) {
+      zscale_[i] = std::max(zscale_[i], std::fabs(z_[i]));
+      double zi = z_[i];
+      // Within rounding of zero the relation takes the value it has just after t.
+      if (std::fabs(zi) <= Band(i) && rate[i] != 0 && m_.conditions[i].op != Op::kEq &&
+          m_.conditions[i].op != Op::kNe) {
+        zi = rate[i];
+      }
+      double v = RelationHolds(m_.conditions[i].op, zi) ? 1.0 : 0.0;
+      if (v != c[i]) changed = true;
+      c[i] = v;
+    }
+    return changed;
+  }
+
+  bool UpdateDiscrete(double t) {
+    const size_t nd = state_->num_discrete();
+    if (nd == 0) return false;
+    std::vector<double> before(state_->discrete(), state_->discrete() + nd);
+    state_->UpdateDiscrete(t, y_.data(), yp_.data());
+    return !std::equal(before.begin(), before.end(), state_->discrete());
+  }
+
+  /// Closed contacts whose release condition holds open.
+  bool Releases(double t) {
+    if (m_.impacts.empty()) return false;
+    impact_values_.resize(5 * m_.impacts.size());
+    state_->ImpactValues(t, y_.data(), yp_.data(), impact_values_.data());
+    double* d = state_->mutable_discrete();
+    bool changed = false;
+    for (size_t k = 0; k < m_.impacts.size(); ++k) {
+      if (d[m_.impacts[k].contact] != 0 && impact_values_[5 * k + 4] != 0) {
+        d[m_.impacts[k].contact] = 0;
+        changed = true;
+      }
+    }
+    return changed;
+  }
+
+  /// When-clauses whose condition has become true: assignments and reinit().
+  bool FireWhens(double t) {
+    if (m_.whens.empty()) return false;
+    std::vector<double> cond(m_.whens.size());
+    state_->WhenConditions(t, y_.data(), yp_.data(), cond.data());
+    std::vector<double> values;
+    bool fired = false;
+    double* d = state_->mutable_discrete();
+    for (size_t k = 0; k < m_.whens.size(); ++k) {
+      bool now = cond[k] != 0;
+      bool edge = now && !when_state_[k];
+      when_state_[k] = now;
+      if (!edge) continue;
+      if (values.empty()) {
+        size_t count = 0;
+        for (const auto& w : m_.whens) count += w.assigns.size() + w.reinits.size();
+        values.resize(count);
+        state_->WhenValues(t, y_.data(), yp_.data(), values.data());
+      }
+      const auto& w = m_.whens[k];
+      for (const auto& [disc, slot] : w.assigns) d[disc] = values[slot];
+      for (const auto& [y, slot] : w.reinits) y_[y] = values[slot];
+      fired = true;
+    }
+    return fired;
+  }
+
+  // -------------------------------------------------------------------------------------------
+  // Impacts
+
+  void ResolveImpacts(double t) {
+    if (m_.impacts.empty()) return;
+    const size_t ni = m_.impacts.size();
+    for (int round = 0;; ++round) {
+      impact_values_.resize(5 * ni);
+      state_->ImpactValues(t, y_.data(), yp_.data(), impact_values_.data());
+      double* d = state_->mutable_discrete();
+      // The open contact that approaches fastest with its gap closed.
+      int which = -1;
+      double fastest = 0;
+      for (size_t k = 0; k < ni; ++k) {
+        if (d[m_.impacts[k].contact] != 0) continue;
+        double gap = impact_values_[5 * k], vel = impact_values_[5 * k + 1];
+        if (gap <= kGapBand && vel < -kVelocityBand && vel < fastest) {
+          fastest = vel;
+          which = static_cast<int>(k);
+        }
+      }
+      if (which < 0) return;
+      if (round == 10000) throw SolverError("at t = " + Num(t) + ": the impacts do not come to an end (more than 10000 in one instant)");
+      const auto& im = m_.impacts[which];
+      double vel = impact_values_[5 * which + 1];
+      double e = impact_values_[5 * which + 2], v_small = impact_values_[5 * which + 3];
+      bool close = -vel < v_small;
+      double dvel = close ? -vel : -(1 + e) * vel;
+      ApplyImpulse(t, im, dvel);
+      if (close) d[im.contact] = 1;
+      ++stats_->impacts;
+      stats_->impact_times.push_back(t);
+    }
+  }
+
+  /// Solves [dF/dy' | dF/dz] [Δx; Λ] = 0 with the contact's row replaced by
+  /// d(velocity)/dx · Δx = dvel, and adds Δx to the states.
+  void ApplyImpulse(double t, const CompiledModel::Impact& im, double dvel) {
+    const SparsePattern& pat = m_.jacobian_pattern;
+    std::vector<double> dfdy(pat.nnz()), dfdyp(pat.nnz());
+    state_->JacobianParts(t, y_.data(), yp_.data(), dfdy.data(), dfdyp.data());
+    std::vector<Eigen::Triplet<double>> triplets;
+    for (int32_t c = 0; c < pat.cols; ++c) {
+      for (int32_t k = pat.col_start[c]; k < pat.col_start[c + 1]; ++k) {
+        int32_t r = pat.row_index[k];
+        if (static_cast<uint32_t>(r) == im.mode_row) continue;
+        double v = m_.is_state[c] ? dfdyp[k] : dfdy[k];
+        if (v != 0) triplets.emplace_back(r, c, v);
+      }
+    }
+    std::vector<double> grad(m_.impact_gradients.size());
+    size_t total = 0;
+    for (const auto& other : m_.impacts) total += other.gradient_y.size();
+    grad.resize(total);
+    state_->ImpactGradients(t, y_.data(), yp_.data(), grad.data());
+    for (size_t j = 0; j < im.gradient_y.size(); ++j) {
+      triplets.emplace_back(static_cast<int>(im.mode_row), static_cast<int>(im.gradient_y[j]), grad[im.gradient_offset + j]);
+    }
+    Eigen::SparseMatrix<double> A(static_cast<int>(n_), static_cast<int>(n_));
+    A.setFromTriplets(triplets.begin(), triplets.end());
+    A.makeCompressed();
+    Eigen::SparseLU<Eigen::SparseMatrix<double>> lu;
+    lu.compute(A);
+    if (lu.info() != Eigen::Success) {
+      throw SolverError("at t = " + Num(t) + ": the impact of " + im.name +
+                        " has no unique solution (the integrated equations are singular: is a body without mass in the impulse's path?)");
+    }
+    Eigen::VectorXd b = Eigen::VectorXd::Zero(static_cast<int>(n_));
+    b[im.mode_row] = dvel;
+    Eigen::VectorXd x = lu.solve(b);
+    for (size_t c = 0; c < n_; ++c) {
+      if (m_.is_state[c]) y_[c] += x[static_cast<int>(c)];
+    }
+  }
+
+  // -------------------------------------------------------------------------------------------
+
+  void CheckChattering(double t) {
+    if (t - last_event_time_ <= 1e-10 * std::max(1.0, std::fabs(t))) {
+      if (++close_events_ > kChatterLimit) {
+        throw SolverError("at t = " + Num(t) + ": chattering: more than " + std::to_string(kChatterLimit) +
+                          " events within 1e-10 s of each other; " + ActiveConditions() +
+                          ". Smooth the switching relation, add hysteresis, or wrap it in noEvent()");
+      }
+    } else {
+      close_events_ = 0;
+    }
+  }
+
+  std::string ActiveConditions() const {
+    std::string s = "the conditions involved include";
+    for (size_t i = 0; i < nc_ && i < 5; ++i) s += (i ? ", " : " ") + m_.conditions[i].text;
+    for (const auto& im : m_.impacts) s += ", the impact of " + im.name;
+    return s;
+  }
+
+  static std::string Num(double v) {
+    std::ostringstream s;
+    s.precision(12);
+    s << v;
+    return s.str();
+  }
+
+  static constexpr double kGapBand = 1e-10;       ///< gaps within this [m] count as closed
+  static constexpr double kVelocityBand = 1e-12;  ///< approach speeds below this [m/s] are none
+
+  ModelState* state_;
+  const CompiledModel& m_;
+  const SimulationOptions& opt_;
+  const RowCallback& row_;
+  SolverStats* stats_;
+  size_t n_ = 0, nc_ = 0;
+  double interval_ = 0;
+  long num_intervals_ = 0, next_grid_ = 1;
+  bool has_events_ = false, sparse_ = false;
+  double t_ = 0, last_event_time_ = -HUGE_VAL;
+  int close_events_ = 0;
+  std::vector<double> y_, yp_, z_, zscale_, outputs_, impact_values_;
+  std::vector<bool> when_state_, affine_;
+  SolverStats base_;
+  std::chrono::steady_clock::time_point t_run_;
+  ContextPtr ctx_;
+  VectorPtr y_vec_, yp_vec_, id_, dky_, dkyp_, abstol_;
+  LinearSystem ls_;
+  IdaData data_{nullptr, {}, {}, {}};
+  std::unique_ptr<void, IdaDeleter> ida_;
+};
+
 }  // namespace
 
 SimulationOptions OptionsFromExperiment(const ExperimentSpec& e) {
@@ -91,127 +708,9 @@ SimulationOptions OptionsFromExperiment(const ExperimentSpec& e) {
   return o;
 }
 
-void Simulate(ModelState* state, const SimulationOptions& opt, const RowCallback& row,
+void Simulate(ModelState* state, const SimulationOptions& options, const RowCallback& row,
               SolverStats* stats) {
-  const CompiledModel& m = state->model();
-  const size_t n = m.num_unknowns();
-  const double interval = opt.interval > 0 ? opt.interval : (opt.stop - opt.start) / 500.0;
-  const double atol = opt.atol > 0 ? opt.atol : opt.rtol;
-  bool sparse = opt.linear_solver == "klu" || (opt.linear_solver == "auto" && n > kDenseLimit);
-  stats->linear_solver = sparse ? "klu" : "dense";
-  std::vector<double> outputs(m.output_names.size());
-
-  // Consistent initial values.
-  auto t_init = std::chrono::steady_clock::now();
-  InitialValues init = SolveInitialization(state, opt.start, sparse);
-  stats->init_iterations = init.iterations;
-  stats->init_seconds = Elapsed(t_init);
-  state->Outputs(opt.start, init.y.data(), init.yp.data(), outputs.data());
-  row(opt.start, outputs);
-  stats->final_time = opt.start;
-
-  // Output times: start + k*interval, and stop itself.
-  const long num_intervals = static_cast<long>(std::ceil((opt.stop - opt.start) / interval - 1e-9));
-  auto tout_of = [&](long k) { return k >= num_intervals ? opt.stop : opt.start + k * interval; };
-
-  auto t_run = std::chrono::steady_clock::now();
-  if (n == 0) {
-    // Nothing to integrate: the outputs are explicit functions of time.
-    for (long k = 1; k <= num_intervals; ++k) {
-      state->Outputs(tout_of(k), nullptr, nullptr, outputs.data());
-      row(tout_of(k), outputs);
-    }
-    stats->final_time = opt.stop;
-    stats->integrate_seconds = Elapsed(t_run);
-    return;
-  }
-
-  ContextPtr ctx = MakeContext();
-  VectorPtr y = MakeVector(static_cast<sunindextype>(n), ctx.get());
-  VectorPtr yp = MakeVector(static_cast<sunindextype>(n), ctx.get());
-  VectorPtr abstol = MakeVector(static_cast<sunindextype>(n), ctx.get());
-  VectorPtr id = MakeVector(static_cast<sunindextype>(n), ctx.get());
-  double* yv = N_VGetArrayPointer(y.get());
-  double* ypv = N_VGetArrayPointer(yp.get());
-  for (size_t k = 0; k < n; ++k) {
-    yv[k] = init.y[k];
-    ypv[k] = init.yp[k];
-    N_VGetArrayPointer(abstol.get())[k] = atol * m.nominal[k];
-    N_VGetArrayPointer(id.get())[k] = m.is_state[k] ? 1.0 : 0.0;
-  }
-
-  IdaData data{state, {}, {}, {}};
-  std::unique_ptr<void, IdaDeleter> ida(IDACreate(ctx.get()));
-  CheckNotNull(ida.get(), "IDACreate");
-  void* mem = ida.get();
-  CheckFlag(IDAInit(mem, Residual, opt.start, y.get(), yp.get()), "IDAInit");
-  CheckFlag(IDASetUserData(mem, &data), "IDASetUserData");
-  CheckFlag(IDASetErrHandlerFn(mem, IdaMessage, &data), "IDASetErrHandlerFn");
-  CheckFlag(IDASVtolerances(mem, opt.rtol, abstol.get()), "IDASVtolerances");
-  CheckFlag(IDASetId(mem, id.get()), "IDASetId");
-  LinearSystem ls = MakeLinearSystem(y.get(), static_cast<sunindextype>(n),
-                                     static_cast<sunindextype>(m.jacobian_pattern.nnz()), sparse, ctx.get());
-  CheckFlag(IDASetLinearSolver(mem, ls.solver.get(), ls.matrix.get()), "IDASetLinearSolver");
-  CheckFlag(IDASetJacFn(mem, Jacobian), "IDASetJacFn");
-  CheckFlag(IDASetMaxNumSteps(mem, 200000), "IDASetMaxNumSteps");
-  CheckFlag(IDASetStopTime(mem, opt.stop), "IDASetStopTime");
-
-  auto collect = [&]() {
-    long v = 0;
-    IDAGetNumSteps(mem, &v);
-    stats->steps = v;
-    IDAGetNumResEvals(mem, &v);
-    stats->residual_evals = v;
-    IDAGetNumJacEvals(mem, &v);
-    stats->jacobian_evals = v;
-    IDAGetNumErrTestFails(mem, &v);
-    stats->error_test_failures = v;
-    IDAGetNumNonlinSolvConvFails(mem, &v);
-    stats->nonlinear_failures = v;
-    stats->integrate_seconds = Elapsed(t_run);
-  };
-
-  for (long k = 1; k <= num_intervals; ++k) {
-    double tout = tout_of(k), tret = 0;
-    int flag = IDASolve(mem, tout, &tret, y.get(), yp.get(), IDA_NORMAL);
-    if (flag < 0) {
-      collect();
-      double t_fail = tret;
-      IDAGetCurrentTime(mem, &t_fail);
-      stats->final_time = t_fail;
-      std::ostringstream msg;
-      msg << "at t = " << t_fail << ": ";
-      if (!data.error.empty()) {
-        msg << data.error;
-      } else {
-        msg << "IDA stopped (" << IDAGetReturnFlagName(flag) << "): " << FlagMeaning(flag);
-        // Name the variable with the largest weighted local error.
-        VectorPtr ewt = MakeVector(static_cast<sunindextype>(n), ctx.get());
-        VectorPtr ele = MakeVector(static_cast<sunindextype>(n), ctx.get());
-        if (IDAGetErrWeights(mem, ewt.get()) == IDA_SUCCESS &&
-            IDAGetEstLocalErrors(mem, ele.get()) == IDA_SUCCESS) {
-          size_t worst = 0;
-          double worst_err = -1;
-          for (size_t j = 0; j < n; ++j) {
-            double e = std::fabs(N_VGetArrayPointer(ele.get())[j] * N_VGetArrayPointer(ewt.get())[j]);
-            if (e > worst_err) {
-              worst_err = e;
-              worst = j;
-            }
-          }
-          msg << ". The largest local error is in " << m.flat->DescribeVariable(m.unknowns[worst])
-              << ", governed by " << m.residual_origin[worst];
-        }
-        msg << ". Try a tighter tolerance (--rtol), check the parameters of that component, or "
-               "look for a singularity in its equations.";
-      }
-      throw SolverError(msg.str());
-    }
-    state->Outputs(tout, yv, ypv, outputs.data());
-    row(tout, outputs);
-    stats->final_time = tout;
-  }
-  collect();
+  EventIntegrator(state, options, row, stats).Run();
 }
 
 }  // namespace momenta

@@ -26,12 +26,27 @@ struct SolverStats {
   std::string linear_solver;
   long steps = 0, residual_evals = 0, jacobian_evals = 0, error_test_failures = 0,
        nonlinear_failures = 0, init_iterations = 0;
+  long events = 0, time_events = 0, impacts = 0, restarts = 0;
+  std::vector<double> impact_times;  ///< when each impact happened (for tests and summaries)
   double init_seconds = 0, integrate_seconds = 0;
   double final_time = 0;
 };
 
 /// Called for every output row: time and the outputs in CompiledModel::output_names order.
 using RowCallback = std::function<void(double t, const std::vector<double>& outputs)>;
+
+/// Events (docs/FORMAT.md, "Events"): between events every relation outside noEvent() keeps the
+/// value it had after the last event; its zero-crossing function is watched on IDA's interpolant at
+/// the end of each step and at interior points, so a sign change inside a step is not missed
+/// however large the step. The event is located by the Illinois method on the interpolant;
+/// relations of time alone that are affine in it (Step, Ramp, startTime) are hit exactly as IDA
+/// stop times. At an event: a left-limit output row; impacts are resolved one contact at a time
+/// (the fastest approaching first) until none approaches; the event iteration updates conditions
+/// (right-limit values: a relation whose function is within rounding of zero takes the value its
+/// derivative points to), discrete equations, when-clauses and releases until nothing changes;
+/// IDA restarts from consistent values (IDACalcIC); a right-limit row follows. More than
+/// kChatterLimit events in a row less than kChatterSpacing apart stop the run as chattering.
+constexpr int kChatterLimit = 200;
 
 /// Runs the simulation. Rows reach `row` as they are computed, so a failure keeps what came
 /// before it; the failure is then thrown as SolverError ("at t = …: …") after `stats` is filled.

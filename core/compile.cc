@@ -1,0 +1,450 @@
+#include "core/compile.h"
+
+#include <algorithm>
+#include <sstream>
+#include <unordered_map>
+#include <unordered_set>
+
+#include "core/graph.h"
+
+namespace momenta {
+
+namespace {
+
+/// Where each flat variable lives at run time.
+struct Slots {
+  std::vector<int32_t> y_of_var;     ///< flat variable -> y index
+  std::vector<int32_t> disc_of_var;  ///< flat variable -> discrete index
+  std::vector<int32_t> state_of_y;   ///< y index -> state slot
+};
+
+/// Checks that the initial conditions determine the model; returns the y indices of states whose
+/// start values must be taken as fixed. Throws ModelError when they over-determine it.
+std::vector<uint32_t> CompleteInitialConditions(const EquationSystem& sys, const CompiledModel& m,
+                                                const Slots& slots) {
+  const ExprPool& p = *sys.pool;
+  const uint32_t n = static_cast<uint32_t>(m.unknowns.size());
+  BipartiteGraph g;
+  g.num_cols = n + static_cast<uint32_t>(m.state_y.size());
+  auto row_of = [&](ExprId e) {
+    std::vector<uint32_t> row;
+    for (ExprId leaf : CollectLeaves(p, e, kHasVar | kHasDer)) {
+      const Node& nd = p.node(leaf);
+      int32_t y = slots.y_of_var[nd.a];
+      if (y < 0) continue;
+      if (nd.op == Op::kDer) {
+        int32_t s = slots.state_of_y[y];
+        if (s >= 0) row.push_back(n + static_cast<uint32_t>(s));
+      } else {
+        row.push_back(static_cast<uint32_t>(y));
+      }
+    }
+    std::sort(row.begin(), row.end());
+    row.erase(std::unique(row.begin(), row.end()), row.end());
+    return row;
+  };
+  for (ExprId r : m.residual_exprs) g.AddRow(row_of(r));
+  for (ExprId r : m.initial_exprs) g.AddRow(row_of(r));
+  Matching match = MaximumMatching(g);
+  if (match.size < g.num_rows()) {
+    std::vector<uint32_t> rows, over_cols;
+    OverDeterminedPart(g, match, &rows, &over_cols);
+    std::ostringstream msg;
+    msg << sys.flat->file << ": the initial conditions of " << sys.flat->model_name
+        << " over-determine it: these equations fix more than the " << over_cols.size()
+        << " unknowns they involve:";
+    size_t shown = 0;
+    for (uint32_t r : rows) {
+      if (shown++ == 12) break;
+      msg << "\n    " << (r < n ? m.residual_origin[r] : m.initial_origin[r - n]);
+    }
+    msg << "\n  Remove one of the fixed start values (or set fixed: false).";
+    throw ModelError(msg.str());
+  }
+  // Columns left free: fix the start values of the states their alternating paths reach.
+  std::vector<uint32_t> under_rows, under_cols;
+  UnderDeterminedPart(g, match, &under_rows, &under_cols);
+  std::vector<uint32_t> defaulted;
+  for (uint32_t c : under_cols) {
+    if (c < n && m.is_state[c]) defaulted.push_back(c);
+  }
+  BipartiteGraph g2 = g;
+  for (uint32_t c : defaulted) g2.AddRow({c});
+  Matching m2 = MaximumMatching(g2);
+  if (m2.size < g2.num_cols) {
+    std::ostringstream msg;
+    msg << sys.flat->file << ": the initial conditions of " << sys.flat->model_name
+        << " leave unknowns undetermined:";
+    size_t shown = 0;
+    for (uint32_t c = 0; c < g2.num_cols; ++c) {
+      if (m2.col_to_row[c] >= 0) continue;
+      if (shown++ == 12) break;
+      uint32_t y = c < n ? c : m.state_y[c - n];
+      msg << "\n    " << (c < n ? "" : "der of ") << sys.flat->DescribeVariable(m.unknowns[y]);
+    }
+    throw ModelError(msg.str());
+  }
+  return defaulted;
+}
+
+struct Entry {
+  int32_t row, col;
+  ExprId value;
+};
+
+void SortToPattern(std::vector<Entry>* entries, int32_t rows, int32_t cols, SparsePattern* pattern,
+                   std::vector<ExprId>* values) {
+  std::sort(entries->begin(), entries->end(), [](const Entry& a, const Entry& b) {
+    return a.col != b.col ? a.col < b.col : a.row < b.row;
+  });
+  pattern->rows = rows;
+  pattern->cols = cols;
+  pattern->col_start.assign(cols + 1, 0);
+  pattern->row_index.clear();
+  values->clear();
+  for (const Entry& e : *entries) {
+    ++pattern->col_start[e.col + 1];
+    pattern->row_index.push_back(e.row);
+    values->push_back(e.value);
+  }
+  for (int32_t c = 0; c < cols; ++c) pattern->col_start[c + 1] += pattern->col_start[c];
+}
+
+/// Event relations: every relation outside noEvent() whose operands change with time or state
+/// becomes a condition, frozen between events.
+class ConditionTable {
+ public:
+  ConditionTable(ExprPool* pool, const ExprNamer& names) : pool_(pool), names_(names) {}
+
+  /// Registers the relations below `e` (outermost first, then nested ones).
+  void Collect(ExprId e) {
+    ExprPool& p = *pool_;
+    if (!(p.mask(e) & kHasRelation)) return;
+    std::vector<uint32_t> stack{e.value()};
+    while (!stack.empty()) {
+      uint32_t id = stack.back();
+      stack.pop_back();
+      const Node& n = p.node(ExprId(id));
+      if (!(n.mask & kHasRelation) || !visited_.insert(id).second) continue;
+      if (IsRelation(n.op) && !(n.flags & kNoEvent) && !p.IsParamOnly(ExprId(id))) {
+        index_.emplace(id, static_cast<uint32_t>(relations_.size()));
+        relations_.push_back(ExprId(id));
+      }
+      int arity = Arity(n.op);
+      if (arity >= 1) stack.push_back(n.a);
+      if (arity >= 2) stack.push_back(n.b);
+      if (arity >= 3) stack.push_back(n.c);
+    }
+  }
+
+  /// Finishes: the map from relation nodes to condition leaves.
+  void Freeze() {
+    for (const auto& [id, r] : index_) map_.emplace(id, pool_->Cond(r));
+  }
+
+  /// `e` with every registered relation replaced by its condition leaf.
+  ExprId Replace(ExprId e) {
+    if (map_.empty() || !(pool_->mask(e) & kHasRelation)) return e;
+    return ReplaceNodes(pool_, e, map_, kHasRelation);
+  }
+
+  size_t size() const { return relations_.size(); }
+  ExprId relation(size_t r) const { return relations_[r]; }
+  std::string Text(size_t r) const { return ToString(*pool_, relations_[r], names_); }
+
+ private:
+  ExprPool* pool_;
+  const ExprNamer& names_;
+  std::unordered_map<uint32_t, uint32_t> index_;
+  std::unordered_map<uint32_t, ExprId> map_;
+  std::unordered_set<uint32_t> visited_;
+  std::vector<ExprId> relations_;
+};
+
+}  // namespace
+
+std::shared_ptr<CompiledModel> CompileModel(EquationSystem sys, const Structure& st,
+                                            const std::vector<std::string>& output_names,
+                                            BuildReport* report) {
+  ExprPool& p = *sys.pool;
+  const FlatSystem& flat = *sys.flat;
+  const ExprNamer names = flat.Namer();
+  auto m = std::make_shared<CompiledModel>();
+  m->flat = sys.flat;
+  m->pool = sys.pool;
+  m->experiment = flat.experiment;
+
+  // Unknowns in declaration order, each with its matched equation; discrete variables apart.
+  Slots slots;
+  slots.y_of_var.assign(sys.role.size(), -1);
+  slots.disc_of_var.assign(sys.role.size(), -1);
+  std::vector<uint32_t> residual_source;
+  for (uint32_t v = 0; v < sys.role.size(); ++v) {
+    if (sys.role[v] != VarRole::kUnknown) continue;
+    if (flat.variables[v].discrete) {
+      slots.disc_of_var[v] = static_cast<int32_t>(m->discrete_vars.size());
+      m->discrete_vars.push_back(VarId(v));
+      continue;
+    }
+    slots.y_of_var[v] = static_cast<int32_t>(m->unknowns.size());
+    m->unknowns.push_back(VarId(v));
+    m->is_state.push_back(st.is_state[v]);
+    m->nominal.push_back(flat.variables[v].nominal);
+    const SystemEquation& eq = sys.equations[st.equation_of_var[v]];
+    m->residual_exprs.push_back(eq.residual);
+    m->residual_origin.push_back(sys.Describe(eq));
+    residual_source.push_back(eq.origin);
+    if (st.is_state[v]) report->states.push_back(flat.variables[v].name);
+  }
+  const uint32_t n = static_cast<uint32_t>(m->unknowns.size());
+  const uint32_t nd = static_cast<uint32_t>(m->discrete_vars.size());
+  slots.state_of_y.assign(n, -1);
+  for (uint32_t y = 0; y < n; ++y) {
+    if (!m->is_state[y]) continue;
+    slots.state_of_y[y] = static_cast<int32_t>(m->state_y.size());
+    m->state_y.push_back(y);
+  }
+  m->output_names = output_names;
+  m->output_exprs = sys.outputs;
+
+  // Discrete start values; initial equations `pre(d) = expr` set them instead.
+  std::vector<ExprId> discrete_start(nd);
+  for (uint32_t k = 0; k < nd; ++k) discrete_start[k] = sys.guess[m->discrete_vars[k].value()];
+  for (const auto& e : sys.initial) {
+    std::vector<ExprId> pres = CollectLeaves(p, e.residual, kHasPre);
+    std::vector<ExprId> vars = CollectLeaves(p, e.residual, kHasVar | kHasDer);
+    if (pres.size() == 1 && vars.empty() && slots.disc_of_var[p.node(pres[0]).a] >= 0) {
+      ExprId value = SolveFor(&p, e.residual, pres[0], true, nullptr);
+      if (value.valid() && p.IsParamOnly(value)) {
+        discrete_start[slots.disc_of_var[p.node(pres[0]).a]] = value;
+        continue;
+      }
+    }
+    m->initial_exprs.push_back(e.residual);
+    m->initial_origin.push_back(sys.Describe(e));
+  }
+  m->guards = sys.guards;
+  for (const auto& g : sys.guards) m->guard_text.push_back(ToString(p, g.divisor, names));
+
+  // States without an initial condition take their start value (as Modelica tools do).
+  std::vector<uint32_t> defaulted = CompleteInitialConditions(sys, *m, slots);
+  for (uint32_t y : defaulted) {
+    VarId v = m->unknowns[y];
+    m->initial_exprs.push_back(p.Sub(p.Var(v), sys.guess[v.value()]));
+    m->initial_origin.push_back("start value of " + flat.variables[v.value()].name + " (not fixed; taken as initial condition)");
+    m->defaulted_starts.push_back(flat.variables[v.value()].name);
+  }
+  if (!m->defaulted_starts.empty()) {
+    std::ostringstream w;
+    w << "initial conditions: no fixed start value determines ";
+    for (size_t k = 0; k < m->defaulted_starts.size() && k < 10; ++k) w << (k ? ", " : "") << m->defaulted_starts[k];
+    if (m->defaulted_starts.size() > 10) w << " and " << m->defaulted_starts.size() - 10 << " more";
+    w << "; their start values are used (add fixed: true to say so)";
+    report->warnings.push_back(w.str());
+  }
+
+  // Event conditions, from everything that is evaluated.
+  ConditionTable conds(&p, names);
+  auto collect_all = [&](auto&& fn) {
+    for (ExprId& e : m->residual_exprs) fn(e);
+    for (ExprId& e : m->output_exprs) fn(e);
+    for (ExprId& e : m->initial_exprs) fn(e);
+    for (auto& d : sys.discrete) fn(d.value);
+    for (auto& w : sys.whens) {
+      fn(w.condition);
+      for (auto& a : w.assigns) fn(a.second);
+      for (auto& r : w.reinits) fn(r.second);
+    }
+    for (auto& im : sys.impacts) {
+      for (ExprId* e : {&im.gap, &im.velocity, &im.release}) fn(*e);
+    }
+  };
+  collect_all([&](ExprId& e) { conds.Collect(e); });
+  conds.Freeze();
+  std::vector<ExprId> z, dz;
+  for (size_t r = 0; r < conds.size(); ++r) {
+    const Node& rel = p.node(conds.relation(r));
+    ExprId zr = conds.Replace(p.Sub(ExprId(rel.a), ExprId(rel.b)));
+    bool time_only = !(p.mask(zr) & (kHasVar | kHasDer | kHasPre | kHasCond | kHasInitial));
+    m->conditions.push_back({rel.op, time_only, conds.Text(r)});
+    z.push_back(zr);
+    ExprId rate = TimeDerivative(&p, zr);
+    dz.push_back(rate.valid() ? rate : p.Zero());
+  }
+  collect_all([&](ExprId& e) { e = conds.Replace(e); });
+  const uint32_t nc = static_cast<uint32_t>(conds.size());
+
+  ProgramCompiler compiler(p, static_cast<uint32_t>(flat.parameters.size()), slots.y_of_var,
+                           slots.disc_of_var, nc);
+
+  // The DAE's residual and Jacobian dF/dy + cj dF/dy', and the initialisation system's
+  // partials (columns: y, then the states' y').
+  m->residual = compiler.Compile(m->residual_exprs);
+  std::vector<Entry> entries, init_entries;
+  for (uint32_t i = 0; i < n; ++i) {
+    ExprId r = m->residual_exprs[i];
+    for (ExprId leaf : CollectLeaves(p, r, kHasVar | kHasDer)) {
+      const Node& nd_leaf = p.node(leaf);
+      int32_t y = slots.y_of_var[nd_leaf.a];
+      if (y < 0) continue;
+      ExprId d = PartialDerivative(&p, r, leaf);
+      if (p.IsConst(d, 0)) continue;
+      bool der = nd_leaf.op == Op::kDer;
+      entries.push_back({static_cast<int32_t>(i), y, der ? p.Mul(p.Cj(), d) : d});
+      if (!der) {
+        init_entries.push_back({static_cast<int32_t>(i), y, d});
+      } else if (slots.state_of_y[y] >= 0) {
+        init_entries.push_back({static_cast<int32_t>(i), static_cast<int32_t>(n) + slots.state_of_y[y], d});
+      }
+    }
+  }
+  {
+    std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) {
+      return a.col != b.col ? a.col < b.col : a.row < b.row;
+    });
+    std::vector<Entry> merged;
+    for (const Entry& e : entries) {
+      if (!merged.empty() && merged.back().row == e.row && merged.back().col == e.col) {
+        merged.back().value = p.Add(merged.back().value, e.value);
+      } else {
+        merged.push_back(e);
+      }
+    }
+    std::vector<ExprId> values;
+    SortToPattern(&merged, static_cast<int32_t>(n), static_cast<int32_t>(n), &m->jacobian_pattern, &values);
+    m->jacobian = compiler.Compile(values);
+  }
+  {
+    std::vector<ExprId> roots = m->residual_exprs;
+    roots.insert(roots.end(), m->initial_exprs.begin(), m->initial_exprs.end());
+    m->init_residual = compiler.Compile(roots);
+    for (size_t gi = 0; gi < m->initial_exprs.size(); ++gi) {
+      ExprId r = m->initial_exprs[gi];
+      int32_t row = static_cast<int32_t>(n + gi);
+      for (ExprId leaf : CollectLeaves(p, r, kHasVar | kHasDer)) {
+        const Node& nd_leaf = p.node(leaf);
+        int32_t y = slots.y_of_var[nd_leaf.a];
+        if (y < 0) continue;
+        bool der = nd_leaf.op == Op::kDer;
+        if (der && slots.state_of_y[y] < 0) continue;
+        ExprId d = PartialDerivative(&p, r, leaf);
+        if (p.IsConst(d, 0)) continue;
+        int32_t col = der ? static_cast<int32_t>(n) + slots.state_of_y[y] : y;
+        init_entries.push_back({row, col, d});
+      }
+    }
+    std::vector<ExprId> values;
+    int32_t size = static_cast<int32_t>(n + m->state_y.size());
+    SortToPattern(&init_entries, size, size, &m->init_pattern, &values);
+    m->init_jacobian = compiler.Compile(values);
+  }
+  m->outputs = compiler.Compile(m->output_exprs);
+  {
+    std::vector<ExprId> starts;
+    for (VarId v : m->unknowns) starts.push_back(sys.guess[v.value()]);
+    m->start_values = compiler.Compile(starts);
+  }
+  {
+    std::vector<ExprId> divisors;
+    for (const auto& g : m->guards) divisors.push_back(g.divisor);
+    m->guard_values = compiler.Compile(divisors);
+  }
+
+  // Discrete values: starts, and the equations stored into their registers in order.
+  m->discrete_starts = compiler.Compile(discrete_start);
+  {
+    std::vector<ExprId> values;
+    std::vector<uint32_t> registers;
+    // Register numbers are known now: disc_base + index (the layout's fixed part).
+    for (const auto& d : sys.discrete) {
+      values.push_back(d.value);
+      registers.push_back(compiler.layout().disc_base + static_cast<uint32_t>(slots.disc_of_var[d.var.value()]));
+    }
+    m->discrete_update = compiler.Compile(values, &registers);
+  }
+  m->zero_crossings = compiler.Compile(z);
+  m->zero_crossing_rates = compiler.Compile(dz);
+
+  // When-clauses: conditions, statement values, targets.
+  {
+    std::vector<ExprId> cond_values, statement_values;
+    for (const auto& w : sys.whens) {
+      CompiledModel::When cw;
+      cw.text = flat.whens[w.origin].text;
+      cond_values.push_back(w.condition);
+      for (const auto& [target, value] : w.assigns) {
+        int32_t d = slots.disc_of_var[target.value()];
+        if (d < 0) throw ModelError(flat.whens[w.origin].loc, "when '" + cw.text + "' assigns " + flat.variables[target.value()].name + ", which is not a discrete variable");
+        cw.assigns.emplace_back(static_cast<uint32_t>(d), static_cast<uint32_t>(statement_values.size()));
+        statement_values.push_back(value);
+      }
+      for (const auto& [target, value] : w.reinits) {
+        // The target may have been replaced by an alias: x = c*u + o gives u := (value - o)/c.
+        ExprId rep = sys.eliminated->Apply(p.Var(target));
+        AffineForm form;
+        if (!DecomposeAffine(&p, rep, 1, &form) || form.terms.size() != 1 || p.op(form.terms[0].first) != Op::kVar) {
+          throw ModelError(flat.whens[w.origin].loc, "reinit(" + flat.variables[target.value()].name + ", …) in '" + cw.text + "': the variable is not a state");
+        }
+        uint32_t u = p.node(form.terms[0].first).a;
+        int32_t y = slots.y_of_var[u];
+        if (y < 0 || !m->is_state[y]) {
+          throw ModelError(flat.whens[w.origin].loc, "reinit(" + flat.variables[target.value()].name + ", …) in '" + cw.text + "': the variable is not a state (der() of it appears nowhere)");
+        }
+        cw.reinits.emplace_back(static_cast<uint32_t>(y), static_cast<uint32_t>(statement_values.size()));
+        statement_values.push_back(p.Div(p.Sub(value, form.offset), p.Const(form.terms[0].second)));
+      }
+      m->whens.push_back(std::move(cw));
+    }
+    m->when_conditions = compiler.Compile(cond_values);
+    m->when_values = compiler.Compile(statement_values);
+  }
+
+  // Impacts: the residual Newton's law replaces, and d(velocity)/dy.
+  {
+    std::vector<ExprId> values, gradients;
+    for (const auto& im : sys.impacts) {
+      const FlatImpact& fi = flat.impacts[im.origin];
+      CompiledModel::Impact ci;
+      ci.name = flat.instances[fi.instance.value()].path;
+      auto row = std::find(residual_source.begin(), residual_source.end(), fi.mode_equation);
+      if (row == residual_source.end()) {
+        throw ModelError(fi.loc, "the impact of " + ci.name + " lost its contact equation during simplification (an internal limitation; please report the model)");
+      }
+      ci.mode_row = static_cast<uint32_t>(row - residual_source.begin());
+      ci.contact = static_cast<uint32_t>(slots.disc_of_var[im.contact.value()]);
+      ci.gradient_offset = static_cast<uint32_t>(gradients.size());
+      for (ExprId leaf : CollectLeaves(p, im.velocity, kHasVar | kHasDer)) {
+        const Node& nd_leaf = p.node(leaf);
+        int32_t y = slots.y_of_var[nd_leaf.a];
+        if (nd_leaf.op == Op::kDer || y < 0 || !m->is_state[y]) {
+          throw ModelError(fi.loc, "the impact velocity of " + ci.name + " must be a function of the states; it depends on " + flat.variables[nd_leaf.a].name);
+        }
+        ci.gradient_y.push_back(static_cast<uint32_t>(y));
+        gradients.push_back(PartialDerivative(&p, im.velocity, leaf));
+      }
+      for (ExprId e : {im.gap, im.velocity, im.restitution, im.v_small, im.release}) values.push_back(e);
+      m->impacts.push_back(std::move(ci));
+    }
+    m->impact_values = compiler.Compile(values);
+    m->impact_gradients = compiler.Compile(gradients);
+  }
+
+  compiler.Finish({&m->residual, &m->jacobian, &m->outputs, &m->start_values, &m->init_residual,
+                   &m->init_jacobian, &m->guard_values, &m->discrete_starts, &m->discrete_update,
+                   &m->zero_crossings, &m->zero_crossing_rates, &m->when_conditions,
+                   &m->when_values, &m->impact_values, &m->impact_gradients,
+                   &compiler.parameter_program()});
+  m->parameters = compiler.parameter_program();
+  m->layout = compiler.layout();
+  m->constants = compiler.constants();
+  std::ostringstream note;
+  note << m->residual.size() << " residual, " << m->jacobian.size() << " Jacobian ("
+       << m->jacobian_pattern.nnz() << " nonzeros), " << m->parameters.size()
+       << " parameter instructions; " << m->initial_exprs.size() << " initial equations";
+  if (!defaulted.empty()) note << " (" << defaulted.size() << " start values taken)";
+  if (nc || nd) note << "; " << nc << " event conditions, " << nd << " discrete variables";
+  report->compile_note = note.str();
+  return m;
+}
+
+}  // namespace momenta
