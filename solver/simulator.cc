@@ -395,7 +395,7 @@ class EventIntegrator {
     for (size_t k = 0; k < m_.impacts.size(); ++k) {
       if (d[m_.impacts[k].contact] != 0) continue;
       double gap = impact_values_[5 * k], vel = impact_values_[5 * k + 1];
-      if (gap < 0 && vel < 0) return true;
+      if (gap < 0 && vel < -kVelocityBand) return true;
     }
     return false;
   }
@@ -458,7 +458,8 @@ class EventIntegrator {
       state_->SavePre(y_.data());
       reinitialized = true;
       if (iter == 100) {
-        throw SolverError("at t = " + Num(t) + ": the event iteration does not settle (discrete values keep changing); " + ActiveConditions());
+        throw SolverError("at t = " + Num(t) + ": chattering: the event iteration does not settle, the conditions switch back and forth at one instant (a sliding mode: each branch drives the relation back); " +
+                          ActiveConditions() + ". Add hysteresis, or model the sliding state explicitly");
       }
     }
     Restart(t);
@@ -505,8 +506,11 @@ class EventIntegrator {
     for (size_t i = 0; i < nc_; ++i) {
       zscale_[i] = std::max(zscale_[i], std::fabs(z_[i]));
       double zi = z_[i];
-      // Within rounding of zero the relation takes the value it has just after t.
-      if (std::fabs(zi) <= Band(i) && rate[i] != 0 && m_.conditions[i].op != Op::kEq &&
+      // Within the location error of zero (the event is placed just past the crossing) the
+      // relation takes the value its derivative leads to: the right limit. Without this, h < 0
+      // at h = -1e-12 after a bounce would switch back an instant later: a duplicate event.
+      const double near = 4 * Band(i) + std::fabs(rate[i]) * 1e-12 * std::max(1.0, std::fabs(t));
+      if (std::fabs(zi) <= near && rate[i] != 0 && m_.conditions[i].op != Op::kEq &&
           m_.conditions[i].op != Op::kNe) {
         zi = rate[i];
       }
@@ -594,7 +598,8 @@ class EventIntegrator {
       const auto& im = m_.impacts[which];
       double vel = impact_values_[5 * which + 1];
       double e = impact_values_[5 * which + 2], v_small = impact_values_[5 * which + 3];
-      bool close = -vel < v_small;
+      // A plastic impact, or one slower than v_small, leaves the bodies resting together.
+      bool close = -vel < v_small || e == 0;
       double dvel = close ? -vel : -(1 + e) * vel;
       ApplyImpulse(t, im, dvel);
       if (close) d[im.contact] = 1;

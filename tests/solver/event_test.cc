@@ -1,0 +1,169 @@
+// Events: time events hit exactly, state events located, left/right rows, when-clauses with
+// reinit and discrete assignments, pre(), the event iteration, and chattering reported rather
+// than looping forever.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "tests/support/test_models.h"
+
+namespace momenta {
+namespace {
+
+using testing::Built;
+using testing::Trajectory;
+
+std::vector<size_t> EventRows(const Trajectory& tr) {
+  std::vector<size_t> rows;
+  for (size_t k = 0; k + 1 < tr.t.size(); ++k) {
+    if (tr.t[k] == tr.t[k + 1]) rows.push_back(k);
+  }
+  return rows;
+}
+
+TEST(EventTest, StepIsATimeEventHitExactly) {
+  // startTime 0.123 is not on the 0.01 output grid: the event rows appear at exactly 0.123.
+  Built b = testing::BuildYaml(R"yaml(
+model: StepEvent
+components:
+  step: {type: Step, height: 2, offset: 1, startTime: 0.123}
+  integrator: {type: Integrator}
+connections:
+  - [step.y, integrator.u]
+experiment: {stop: 0.3, tolerance: 1e-10, interval: 0.01}
+outputs: [step.y, integrator.y]
+)yaml");
+  Trajectory tr = testing::RunDefault(b);
+  auto rows = EventRows(tr);
+  ASSERT_EQ(rows.size(), 1u);
+  EXPECT_EQ(tr.t[rows[0]], 0.123);
+  EXPECT_EQ(tr.Column("step.y", rows[0]), 1.0);      // left limit: offset
+  EXPECT_EQ(tr.Column("step.y", rows[0] + 1), 3.0);  // right limit: offset + height
+  EXPECT_EQ(tr.stats.time_events, 1);
+  // The integral is exact for a piecewise-constant input (BDF integrates it exactly): 1e-10.
+  EXPECT_NEAR(tr.Column("integrator.y", tr.t.size() - 1), 0.3 + 2 * (0.3 - 0.123), 1e-10);
+}
+
+TEST(EventTest, StateEventIsLocatedOnTheInterpolant) {
+  // x = t^2 crosses 0.5 at t = sqrt(0.5); a when-clause records the time it happened.
+  Built b = testing::BuildYaml(R"yaml(
+model: StateEvent
+variables:
+  x: {start: 0, fixed: true}
+  v: {start: 0, fixed: true}
+  t_cross: {start: -1}
+equations:
+  - der(x) = v
+  - der(v) = 2
+when:
+  - when: x > 0.5
+    then: ["t_cross = time"]
+experiment: {stop: 1, tolerance: 1e-10, interval: 0.1}
+outputs: [x, t_cross]
+)yaml");
+  Trajectory tr = testing::RunDefault(b);
+  // Located to the solver's time resolution (~1e-15 relative); 1e-12 allows for the
+  // interpolant's error at rtol 1e-10.
+  EXPECT_NEAR(tr.Column("t_cross", tr.t.size() - 1), std::sqrt(0.5), 1e-12);
+  ASSERT_EQ(EventRows(tr).size(), 1u);
+  EXPECT_EQ(tr.Column("t_cross", EventRows(tr)[0]), -1.0);
+}
+
+TEST(EventTest, WhenClauseWithReinitBouncesLikeTheImpactComponent) {
+  // The classic Modelica bouncing ball, written with reinit(): same impact times as the exact
+  // Impact component (models/bouncing_ball.yaml) while the bounces are large.
+  Built b = testing::BuildYaml(R"yaml(
+model: ReinitBall
+parameters: {e: 0.8, g: 9.81}
+variables:
+  h: {start: 1, fixed: true}
+  v: {start: 0, fixed: true}
+  n: {type: Integer, start: 0}
+equations:
+  - der(h) = v
+  - der(v) = -g
+when:
+  - when: h < 0
+    then: ["reinit(v, -e*pre(v))", "n = pre(n) + 1"]
+experiment: {stop: 3, tolerance: 1e-10, interval: 0.01}
+outputs: [h, v, n]
+)yaml");
+  Trajectory tr = testing::RunDefault(b);
+  const double g = 9.81, e = 0.8, v0 = std::sqrt(2 * g), t1 = std::sqrt(2 / g);
+  auto rows = EventRows(tr);
+  ASSERT_GE(rows.size(), 4u);
+  double tk = t1, vk = v0;
+  for (size_t k = 0; k < 4; ++k) {
+    EXPECT_NEAR(tr.t[rows[k]], tk, 1e-9) << "bounce " << k + 1;
+    EXPECT_NEAR(tr.Column("v", rows[k] + 1), e * vk, 1e-8);
+    EXPECT_EQ(tr.Column("n", rows[k] + 1), static_cast<double>(k + 1));
+    vk *= e;
+    tk += 2 * vk / g;
+  }
+}
+
+TEST(EventTest, DiscreteEquationsWithPreIterateUntilSettled) {
+  // A Boolean that latches: on becomes true when x passes 1 and stays true (pre() feedback).
+  Built b = testing::BuildYaml(R"yaml(
+model: Latch
+variables:
+  x: {start: 0, fixed: true}
+  on: {type: Boolean, start: false}
+  y: {}
+equations:
+  - der(x) = if on then -1 else 1
+  - on = pre(on) or x > 1
+  - y = if on then 10 else 0
+experiment: {stop: 3, tolerance: 1e-10, interval: 0.01}
+outputs: [x, on, y]
+)yaml");
+  Trajectory tr = testing::RunDefault(b);
+  size_t last = tr.t.size() - 1;
+  EXPECT_EQ(tr.Column("on", last), 1.0);
+  EXPECT_EQ(tr.Column("y", last), 10.0);
+  // x rises to 1 at t = 1 and then falls at unit rate: x(3) = 1 - 2 = -1 (to rtol).
+  EXPECT_NEAR(tr.Column("x", last), -1.0, 1e-8);
+}
+
+TEST(EventTest, ChatteringIsReportedNotLoopedForever) {
+  // der(x) = -sign-like switching around x = 0: a sliding mode with events ever closer together.
+  Built b = testing::BuildYaml(R"yaml(
+model: Chatter
+variables:
+  x: {start: 1, fixed: true}
+equations:
+  - der(x) = if x > 0 then -1 else 1
+experiment: {stop: 2, tolerance: 1e-8, interval: 0.01}
+outputs: [x]
+)yaml");
+  try {
+    testing::RunDefault(b);
+    FAIL() << "expected a chattering error";
+  } catch (const SolverError& e) {
+    std::string msg = e.what();
+    EXPECT_NE(msg.find("chattering"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("at t = 1"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("x > 0"), std::string::npos) << msg;
+  }
+}
+
+TEST(EventTest, NoEventRelationsMakeNoEvents) {
+  Built b = testing::BuildYaml(R"yaml(
+model: Smooth
+variables:
+  x: {start: -1, fixed: true}
+  y: {}
+equations:
+  - der(x) = 1
+  - y = noEvent(if x > 0 then x^2 else 0)
+experiment: {stop: 2, tolerance: 1e-10, interval: 0.1}
+outputs: [y]
+)yaml");
+  Trajectory tr = testing::RunDefault(b);
+  EXPECT_TRUE(EventRows(tr).empty());
+  EXPECT_NEAR(tr.Column("y", tr.t.size() - 1), 1.0, 1e-9);
+}
+
+}  // namespace
+}  // namespace momenta
