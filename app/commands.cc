@@ -134,7 +134,8 @@ int RunSimulate(const SimulateArgs& args) {
     return code;
   }
   if (args.quiet) return kExitOk;
-  std::ostream& o = std::cout;
+  // With the CSV on standard output, the summary goes to standard error.
+  std::ostream& o = out_path == "-" ? std::cerr : std::cout;
   o << model->flat->model_name << " (" << args.model << "): simulated " << FormatDouble(opt.start)
     << " to " << FormatDouble(stats.final_time) << " s\n";
   o << "  build " << Ms(load_s + build_s) << " (load " << Ms(load_s);
@@ -238,7 +239,7 @@ int RunList(const std::string& name) {
     std::map<std::string, std::vector<const ComponentType*>> by_file;
     for (const auto& n : lib.ComponentNames()) {
       const ComponentType* t = lib.FindComponent(n);
-      by_file[t->loc.file].push_back(t);
+      by_file[t->loc.file()].push_back(t);
     }
     for (const auto& [file, types] : by_file) {
       o << file << "\n";

@@ -38,6 +38,14 @@ int main(int argc, char** argv) {
   auto* list = app.add_subcommand("list", "list the component library, or describe one component");
   list->add_option("name", list_name, "component or connector type");
 
+  // An unknown command is named (CLI11 would only say that a subcommand is required).
+  if (argc > 1 && argv[1][0] != '-') {
+    std::string cmd = argv[1];
+    if (cmd != "simulate" && cmd != "check" && cmd != "list") {
+      std::cerr << "momenta: unknown command '" << cmd << "' (valid commands: simulate, check, list; see momenta --help)\n";
+      return kExitUsage;
+    }
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

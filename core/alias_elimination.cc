@@ -4,6 +4,7 @@
 
 #include "core/alias_elimination.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace momenta {
@@ -76,60 +77,75 @@ EquationSystem EliminateAliases(EquationSystem sys, AliasStats* stats) {
                            fv.is_flow ? 0 : 1);
   };
 
-  std::vector<SystemEquation> kept;
-  kept.reserve(sys.equations.size());
+  // An equation is an alias once its terms, resolved through the forest, leave at most two roots
+  // with coefficients of equal size. Resolving can turn a longer equation into one (a term whose
+  // root became constant drops out), so the scan repeats until a pass finds nothing.
+  constexpr size_t kMaxTerms = 6;
+  std::vector<SystemEquation> pending = std::move(sys.equations), kept;
   AffineForm form;
-  for (const SystemEquation& eq : sys.equations) {
-    const uint8_t m = p.mask(eq.residual);
-    bool consumed = false;
-    if (!(m & (kHasDer | kHasPre | kHasTime | kHasInitial)) &&
-        DecomposeAffine(&p, eq.residual, 2, &form) && !form.terms.empty()) {
-      // Discrete variables are never aliased: their equations are evaluated at events.
-      bool discrete = false;
-      for (const auto& t : form.terms) discrete = discrete || flat.variables[p.node(t.first).a].discrete;
-      if (discrete) {
-        kept.push_back(eq);
-        continue;
-      }
-      // Resolve each term through the forest: c*x = c*(s*r + o).
-      double c1 = form.terms[0].second;
-      Link l1 = forest.Find(p.node(form.terms[0].first).a);
-      double c2 = form.terms.size() == 2 ? form.terms[1].second : 0.0;
-      Link l2 = form.terms.size() == 2 ? forest.Find(p.node(form.terms[1].first).a)
-                                       : Link{kConstantRoot, 1.0, p.Zero()};
-      // With x_k = s_k*r_k + o_k: a1*r1 + a2*r2 + d = 0, where a constant root contributes
-      // only its offset (its a_k is zero).
-      double a1 = l1.parent == kConstantRoot ? 0.0 : c1 * l1.sign;
-      double a2 = l2.parent == kConstantRoot ? 0.0 : c2 * l2.sign;
-      ExprId d = p.Add(form.offset, p.Add(p.Mul(p.Const(c1), l1.offset), p.Mul(p.Const(c2), l2.offset)));
-      if (l1.parent == kConstantRoot) {
-        std::swap(l1, l2);
-        std::swap(a1, a2);
-      }
-      if (l1.parent == kConstantRoot) {
-        // Both sides already constant: the equation is redundant or contradictory; keep it so
-        // the structural check reports it.
-      } else if (l2.parent == kConstantRoot || l1.parent == l2.parent) {
-        // a*r1 + d = 0: r1 is constant.
-        double a = (l1.parent == l2.parent) ? a1 + a2 : a1;
-        if (a != 0.0) {
-          forest.Attach(l1.parent, kConstantRoot, 1.0, p.Neg(p.Div(d, p.Const(a))));
+  for (int pass = 0; pass < 10; ++pass) {
+    kept.clear();
+    kept.reserve(pending.size());
+    size_t consumed_here = 0;
+    for (const SystemEquation& eq : pending) {
+      const uint8_t m = p.mask(eq.residual);
+      bool consumed = false;
+      if (!(m & (kHasDer | kHasPre | kHasTime | kHasInitial | kHasCond)) &&
+          DecomposeAffine(&p, eq.residual, kMaxTerms, &form) && !form.terms.empty()) {
+        // Discrete variables are never aliased: their equations are evaluated at events.
+        bool discrete = false;
+        for (const auto& t : form.terms) discrete = discrete || flat.variables[p.node(t.first).a].discrete;
+        // sum c_k x_k + offset with x_k = s_k r_k + o_k: collect a_r per root and the constant d.
+        std::vector<std::pair<uint32_t, double>> roots;
+        ExprId d = form.offset;
+        for (const auto& [leaf, c] : form.terms) {
+          Link l = forest.Find(p.node(leaf).a);
+          if (!p.IsConst(l.offset, 0)) d = p.Add(d, p.Mul(p.Const(c), l.offset));
+          if (l.parent == kConstantRoot) continue;
+          auto it = std::find_if(roots.begin(), roots.end(), [&](const auto& r) { return r.first == l.parent; });
+          if (it == roots.end()) {
+            roots.emplace_back(l.parent, c * l.sign);
+          } else {
+            it->second += c * l.sign;
+          }
+        }
+        roots.erase(std::remove_if(roots.begin(), roots.end(), [](const auto& r) { return r.second == 0.0; }),
+                    roots.end());
+        if (roots.empty() && !discrete) {
+          // Every term cancels: 0 = d. Redundant or contradictory; kept in that plain form, so
+          // the structural check reports it as an equation without unknowns.
+          SystemEquation plain = eq;
+          plain.residual = d;
+          kept.push_back(plain);
+          continue;
+        } else if (discrete) {
+          // Discrete variables' equations are evaluated at events, never aliased.
+        } else if (roots.size() == 1) {
+          // a*r + d = 0: r is constant.
+          forest.Attach(roots[0].first, kConstantRoot, 1.0, p.Neg(p.Div(d, p.Const(roots[0].second))));
+          consumed = true;
+        } else if (roots.size() == 2 && std::fabs(roots[0].second) == std::fabs(roots[1].second)) {
+          // a1*r1 + a2*r2 + d = 0  =>  r1 = -(a2/a1) r2 - d/a1, r1 the one that gives way.
+          auto [r1, a1] = roots[0];
+          auto [r2, a2] = roots[1];
+          if (rank(r1) > rank(r2) || (rank(r1) == rank(r2) && r1 < r2)) {
+            std::swap(r1, r2);
+            std::swap(a1, a2);
+          }
+          forest.Attach(r1, r2, -a2 / a1, p.Neg(p.Div(d, p.Const(a1))));
           consumed = true;
         }
-      } else if (std::fabs(std::fabs(a1) - std::fabs(a2)) == 0.0) {
-        // r1 = -(a2/a1) r2 - d/a1 or the other way round.
-        uint32_t r1 = l1.parent, r2 = l2.parent;
-        if (rank(r1) > rank(r2) || (rank(r1) == rank(r2) && r1 < r2)) {
-          std::swap(r1, r2);
-          std::swap(a1, a2);
-        }
-        forest.Attach(r1, r2, -a2 / a1, p.Neg(p.Div(d, p.Const(a1))));
-        consumed = true;
+      }
+      if (consumed) {
+        ++consumed_here;
+      } else {
+        kept.push_back(eq);
       }
     }
-    if (!consumed) kept.push_back(eq);
+    pending.swap(kept);
+    if (consumed_here == 0) break;
   }
-  sys.equations.swap(kept);
+  sys.equations = std::move(pending);
 
   // Record the eliminations and carry start values over to the roots that stay.
   Substitution& s = *sys.eliminated;

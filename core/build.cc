@@ -54,9 +54,11 @@ std::shared_ptr<const CompiledModel> BuildModel(const ModelSpec& spec, const Lib
   for (int round = 0; round < 20; ++round) {
     size_t before = sys.num_unknowns();
     sys = EliminateAliases(std::move(sys), &alias);
-    size_t der_before = index.derivative_aliases;
+    size_t changes_before = index.derivative_aliases + index.constrained_states;
     sys = ReduceIndex(std::move(sys), &index);
-    if (sys.num_unknowns() == before && index.derivative_aliases == der_before) break;
+    // Only index reduction makes new alias equations: when it changed nothing, we are done.
+    if (index.derivative_aliases + index.constrained_states == changes_before) break;
+    if (sys.num_unknowns() == before) break;
   }
   {
     std::ostringstream note;

@@ -263,7 +263,7 @@ std::shared_ptr<CompiledModel> CompileModel(EquationSystem sys, const Structure&
   conds.Freeze();
   std::vector<ExprId> z, dz;
   for (size_t r = 0; r < conds.size(); ++r) {
-    const Node& rel = p.node(conds.relation(r));
+    const Node rel = p.node(conds.relation(r));
     ExprId zr = conds.Replace(p.Sub(ExprId(rel.a), ExprId(rel.b)));
     bool time_only = !(p.mask(zr) & (kHasVar | kHasDer | kHasPre | kHasCond | kHasInitial));
     m->conditions.push_back({rel.op, time_only, conds.Text(r)});
@@ -284,7 +284,7 @@ std::shared_ptr<CompiledModel> CompileModel(EquationSystem sys, const Structure&
   for (uint32_t i = 0; i < n; ++i) {
     ExprId r = m->residual_exprs[i];
     for (ExprId leaf : CollectLeaves(p, r, kHasVar | kHasDer)) {
-      const Node& nd_leaf = p.node(leaf);
+      const Node nd_leaf = p.node(leaf);  // a copy: new nodes may move the pool
       int32_t y = slots.y_of_var[nd_leaf.a];
       if (y < 0) continue;
       ExprId d = PartialDerivative(&p, r, leaf);
@@ -322,7 +322,7 @@ std::shared_ptr<CompiledModel> CompileModel(EquationSystem sys, const Structure&
       ExprId r = m->initial_exprs[gi];
       int32_t row = static_cast<int32_t>(n + gi);
       for (ExprId leaf : CollectLeaves(p, r, kHasVar | kHasDer)) {
-        const Node& nd_leaf = p.node(leaf);
+        const Node nd_leaf = p.node(leaf);  // a copy: new nodes may move the pool
         int32_t y = slots.y_of_var[nd_leaf.a];
         if (y < 0) continue;
         bool der = nd_leaf.op == Op::kDer;
@@ -414,7 +414,7 @@ std::shared_ptr<CompiledModel> CompileModel(EquationSystem sys, const Structure&
       ci.contact = static_cast<uint32_t>(slots.disc_of_var[im.contact.value()]);
       ci.gradient_offset = static_cast<uint32_t>(gradients.size());
       for (ExprId leaf : CollectLeaves(p, im.velocity, kHasVar | kHasDer)) {
-        const Node& nd_leaf = p.node(leaf);
+        const Node nd_leaf = p.node(leaf);  // a copy: new nodes may move the pool
         int32_t y = slots.y_of_var[nd_leaf.a];
         if (nd_leaf.op == Op::kDer || y < 0 || !m->is_state[y]) {
           throw ModelError(fi.loc, "the impact velocity of " + ci.name + " must be a function of the states; it depends on " + flat.variables[nd_leaf.a].name);

@@ -2,12 +2,33 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <mutex>
+#include <set>
 
 namespace momenta {
 
+namespace {
+const std::string* Intern(const std::string& name) {
+  static std::mutex mutex;
+  static std::set<std::string>* names = new std::set<std::string>();
+  std::lock_guard<std::mutex> lock(mutex);
+  return &*names->insert(name).first;
+}
+}  // namespace
+
+SourceLoc::SourceLoc(const std::string& file_name, int line_number, int column_number)
+    : line(line_number), column(column_number), file_(Intern(file_name)) {}
+
+const std::string& SourceLoc::file() const {
+  static const std::string kNone;
+  return file_ ? *file_ : kNone;
+}
+
+void SourceLoc::set_file(const std::string& file_name) { file_ = Intern(file_name); }
+
 std::string SourceLoc::ToString() const {
-  if (file.empty() && line == 0) return "";
-  std::string s = file;
+  if (file().empty() && line == 0) return "";
+  std::string s = file();
   if (line > 0) {
     s += ":" + std::to_string(line) + ":" + std::to_string(column > 0 ? column : 1);
   }

@@ -9,16 +9,26 @@
 namespace momenta {
 
 /// A place in a user's file. Lines and columns are 1-based; line 0 means "no place known".
+/// The file name is interned: copying a SourceLoc (every flattened variable and equation keeps
+/// one) copies a pointer, not a string.
 struct SourceLoc {
-  std::string file;
+  SourceLoc() = default;
+  SourceLoc(const std::string& file_name, int line_number = 0, int column_number = 0);
+
   int line = 0;
   int column = 0;
+
+  const std::string& file() const;
+  void set_file(const std::string& file_name);
 
   bool known() const { return line > 0; }
   /// "file:line:col" or the file alone, or "" when nothing is known.
   std::string ToString() const;
   /// The same place moved `columns` characters to the right (for text inside a YAML scalar).
   SourceLoc Shifted(int columns) const;
+
+ private:
+  const std::string* file_ = nullptr;
 };
 
 /// An error in the user's model: exit code 1. The message starts with "file:line:col: ".

@@ -98,6 +98,8 @@ struct FlatSystem {
   std::vector<FlatImpact> impacts;
   std::vector<FlatOutput> outputs;
   ExperimentSpec experiment;
+  std::shared_ptr<const Library> defines;  ///< the model's own types (instances point into them)
+  std::map<std::string, double> structural;  ///< parameters that shaped the structure, and their values
 
   ExprNamer Namer() const;
   /// "component A (Mass) at model.yaml:12:3, equation 'm*a = flange_a.f + flange_b.f'".

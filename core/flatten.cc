@@ -109,7 +109,7 @@ class Flattener {
         throw ModelError(d.loc, "define: " + d.name +
                                     " has the name of a library component; choose another name");
       }
-      defines_.AddComponent(d);
+      defines_->AddComponent(d);
     }
   }
 
@@ -122,6 +122,8 @@ class Flattener {
     Outputs();
     OrderParameters();
     CheckOverrides();
+    flat_.defines = defines_;  // instances point into these types
+    flat_.structural = structural_;
     return std::move(flat_);
   }
 
@@ -163,9 +165,11 @@ class Flattener {
       for (size_t k = 0; k < spec_.parameters.size(); ++k) model_values_[k] = ModelParamValue(ParamId(k), 0);
     }
     for (ExprId leaf : CollectLeaves(pool(), e, kHasParam)) {
-      if (pool().node(leaf).a >= spec_.parameters.size()) {
+      uint32_t id = pool().node(leaf).a;
+      if (id >= spec_.parameters.size()) {
         throw ModelError(loc, "'" + text + "' shapes the model's structure, so it may use model parameters only");
       }
+      structural_[flat_.parameters[id].name] = model_values_[id];
     }
     LeafValues lv;
     lv.params = model_values_.data();
@@ -201,7 +205,7 @@ class Flattener {
   // Model-scope names: model parameters, model variables, instance paths, a loop index.
 
   const ComponentType* FindType(const std::string& name) const {
-    if (const ComponentType* t = defines_.FindComponent(name)) return t;
+    if (const ComponentType* t = defines_->FindComponent(name)) return t;
     return library_.FindComponent(name);
   }
 
@@ -477,9 +481,45 @@ class Flattener {
       L.discrete[it.contact] = true;
       L.impacts.push_back(std::move(it));
     }
+    CheckLocalBalance(L);
     const TypeLayout& ref = *layout;
     layouts_[type] = std::move(layout);
     return ref;
+  }
+
+  /// Modelica's local balance: a component determines its own unknowns except the flow
+  /// variables of its connectors (the connections determine those) and its signal inputs; the
+  /// variables set by when-clauses and impacts need no equation.
+  void CheckLocalBalance(const TypeLayout& L) {
+    const ComponentType* type = L.type;
+    size_t unknowns = 0;
+    for (size_t k = 0; k < L.vars.size(); ++k) {
+      if (L.vars[k].is_flow || L.vars[k].is_input) continue;
+      unknowns += 1;
+    }
+    std::vector<bool> assigned(L.vars.size(), false);
+    for (const auto& w : L.whens) {
+      for (const auto& a : w.assigns) assigned[a.first] = true;
+    }
+    for (const auto& im : L.impacts) assigned[im.contact] = true;
+    for (size_t k = 0; k < L.vars.size(); ++k) {
+      if (assigned[k] && !L.vars[k].is_flow && !L.vars[k].is_input) --unknowns;
+    }
+    size_t equations = type->equations.size() + type->impacts.size();
+    size_t flows = 0;
+    for (const auto& v : L.vars) flows += v.is_flow;
+    if (equations == unknowns) return;
+    auto count = [](size_t n, const char* noun) { return std::to_string(n) + " " + noun + (n == 1 ? "" : "s"); };
+    const ComponentSpec* user = current_component_;
+    std::string who = user ? user->name + " (" + type->name + ")" : type->name;
+    throw ModelError(user ? user->loc : type->loc,
+                     who + " is not balanced: it has " + count(equations, "equation") + " for " +
+                         count(unknowns, "unknown") + " (" + count(L.vars.size(), "variable") +
+                         ", less " + count(flows, "flow variable") +
+                         " of its connectors, signal inputs and variables set by when-clauses); " +
+                         (equations > unknowns ? "remove the extra equation or add the variable it determines"
+                                               : "add an equation for each variable nothing determines") +
+                         " (type defined at " + type->loc.ToString() + ")");
   }
 
   Template EquationTemplate(const TypeLayout& L, const EquationDecl& e) {
@@ -717,6 +757,7 @@ class Flattener {
                                          (close.empty() ? "" : " (did you mean " + JoinNames(close) + "?)") +
                                          " (valid types: " + JoinNames(names, 80) + ")");
       }
+      current_component_ = &c;
       const TypeLayout& L = Layout(type);
       ComponentArray arr{s, static_cast<uint32_t>(flat_.instances.size()), 1, c.count != nullptr};
       if (c.count) {
@@ -746,7 +787,7 @@ class Flattener {
           for (const auto& p2 : type->parameters) names.push_back(p2.name);
           for (const auto& v2 : L.vars) names.push_back(v2.name);
           auto close = ClosestNames(m.key, names);
-          throw ModelError(m.loc, "unknown key '" + m.key + "' for " + c.name + " (" + type->name + ")" +
+          throw ModelError(m.key_loc, "unknown key '" + m.key + "' for " + c.name + " (" + type->name + ")" +
                                       (close.empty() ? "" : " (did you mean " + JoinNames(close) + "?)") +
                                       " (valid parameters and variables: " + JoinNames(names) +
                                       "; reserved keys: type, count, doc)");
@@ -1161,7 +1202,7 @@ class Flattener {
   const ModelSpec& spec_;
   const Library& library_;
   const ParameterOverrides& overrides_;
-  Library defines_;
+  std::shared_ptr<Library> defines_ = std::make_shared<Library>();
   FlatSystem flat_;
   std::unordered_map<std::string, ParamId> model_param_;
   std::unordered_map<std::string, VarId> model_var_;
@@ -1172,6 +1213,8 @@ class Flattener {
   std::vector<uint32_t> parent_;         ///< union-find over connector slots
   std::vector<ExprId> scratch_;
   std::vector<double> model_values_;  ///< model parameters' values for structural expressions
+  std::map<std::string, double> structural_;
+  const ComponentSpec* current_component_ = nullptr;  ///< for messages about its type
 };
 
 }  // namespace
@@ -1191,6 +1234,17 @@ std::vector<double> EvaluateParameters(const FlatSystem& flat, const ParameterOv
       auto it = names.find(name);
       if (it == names.end()) throw ModelError(flat.file + ": -p " + name + ": no parameter of that name");
       override_of[it->second] = &value;
+    }
+  }
+  // A parameter that shaped the structure (count:, indices) keeps the value it was built with.
+  for (const auto& [name, value] : overrides) {
+    auto it = flat.structural.find(name);
+    if (it != flat.structural.end() && it->second != value) {
+      std::ostringstream msg;
+      msg << flat.file << ": -p " << name << "=" << value << ": " << name
+          << " shapes the model's structure (a count or a connection index) and the model was built with "
+          << name << " = " << it->second << "; build the model again with the new value";
+      throw ModelError(msg.str());
     }
   }
   LeafValues lv;

@@ -15,7 +15,8 @@ struct Modifier {
   std::string value_text;
   AstPtr start;      ///< variable modifier: start value (may be null)
   std::optional<bool> fixed;
-  SourceLoc loc;
+  SourceLoc loc;      ///< the value
+  SourceLoc key_loc;  ///< the key
 };
 
 struct ComponentSpec {

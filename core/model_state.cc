@@ -7,6 +7,13 @@
 
 namespace momenta {
 
+namespace {
+/// memcpy of n doubles; n = 0 with a null pointer (an empty vector) is allowed.
+void CopyDoubles(double* dst, const double* src, size_t n) {
+  if (n > 0) std::memcpy(dst, src, n * sizeof(double));
+}
+}  // namespace
+
 ModelState::ModelState(std::shared_ptr<const CompiledModel> model) : model_(std::move(model)) {
   regs_.assign(model_->layout.size, 0.0);
   for (const auto& [reg, value] : model_->constants) regs_[reg] = value;
@@ -15,7 +22,9 @@ ModelState::ModelState(std::shared_ptr<const CompiledModel> model) : model_(std:
 void ModelState::SetParameters(const ParameterOverrides& overrides) {
   const CompiledModel& m = *model_;
   params_ = EvaluateParameters(*m.flat, overrides);
-  std::memcpy(regs_.data() + m.layout.param_base, params_.data(), params_.size() * sizeof(double));
+  if (!params_.empty()) {
+    CopyDoubles(regs_.data() + m.layout.param_base, params_.data(), params_.size());
+  }
   m.parameters.Run(regs_.data(), nullptr);
   // Divisors of eliminated variables' formulas must not vanish.
   if (!m.guards.empty()) {
@@ -40,8 +49,8 @@ void ModelState::Load(double t, const double* y, const double* yp) {
   const RegisterLayout& L = model_->layout;
   regs_[RegisterLayout::kTime] = t;
   const size_t n = L.num_unknowns;
-  if (y) std::memcpy(regs_.data() + L.y_base, y, n * sizeof(double));
-  if (yp) std::memcpy(regs_.data() + L.yp_base, yp, n * sizeof(double));
+  if (y) CopyDoubles(regs_.data() + L.y_base, y, n);
+  if (yp) CopyDoubles(regs_.data() + L.yp_base, yp, n);
 }
 
 void ModelState::Residual(double t, const double* y, const double* yp, double* out) {
@@ -72,9 +81,8 @@ void ModelState::StartDiscrete() {
 
 void ModelState::SavePre(const double* y) {
   const RegisterLayout& L = model_->layout;
-  std::memcpy(regs_.data() + L.pre_base, y, L.num_unknowns * sizeof(double));
-  std::memcpy(regs_.data() + L.pre_base + L.num_unknowns, regs_.data() + L.disc_base,
-              L.num_discrete * sizeof(double));
+  CopyDoubles(regs_.data() + L.pre_base, y, L.num_unknowns);
+  CopyDoubles(regs_.data() + L.pre_base + L.num_unknowns, regs_.data() + L.disc_base, L.num_discrete);
 }
 
 void ModelState::ZeroCrossings(double t, const double* y, const double* yp, double* out) {
@@ -127,7 +135,7 @@ void ModelState::LoadZ(double t, const double* z) {
   regs_[RegisterLayout::kTime] = t;
   regs_[RegisterLayout::kInitial] = 1.0;
   const size_t n = L.num_unknowns;
-  std::memcpy(regs_.data() + L.y_base, z, n * sizeof(double));
+  CopyDoubles(regs_.data() + L.y_base, z, n);
   std::fill(regs_.begin() + L.yp_base, regs_.begin() + L.yp_base + n, 0.0);
   for (size_t s = 0; s < model_->state_y.size(); ++s) regs_[L.yp_base + model_->state_y[s]] = z[n + s];
 }

@@ -53,7 +53,9 @@ EquationSystem Prune(EquationSystem sys, Structure* st, PruneStats* stats) {
       if (need_init[k]) continue;
       bool touches = false;
       for (ExprId leaf : CollectLeaves(p, sys.initial[k].residual, kHasVar | kHasDer | kHasPre)) {
-        touches = touches || need_var[p.node(leaf).a];
+        uint32_t v = p.node(leaf).a;
+        // Discrete variables are always kept (events may need them), so are their initial values.
+        touches = touches || need_var[v] || (sys.flat->variables[v].discrete && sys.role[v] == VarRole::kUnknown);
       }
       if (touches) {
         need_init[k] = true;

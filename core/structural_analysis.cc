@@ -37,6 +37,10 @@ std::string ListEquations(const EquationSystem& sys, const std::vector<uint32_t>
   return s.str();
 }
 
+std::string Count(size_t n, const char* noun) {
+  return std::to_string(n) + " " + noun + (n == 1 ? "" : "s");
+}
+
 }  // namespace
 
 Structure AnalyseStructure(const EquationSystem& sys) {
@@ -78,6 +82,25 @@ Structure AnalyseStructure(const EquationSystem& sys) {
   }
   Matching m = MaximumMatching(g);
   const size_t ne = sys.equations.size(), nu = var_of_col.size();
+  // An equation left without unknowns (after eliminations) is redundant or contradicts others:
+  // typically a closed loop of rigid parts, whose second constraint repeats the first.
+  {
+    std::vector<uint32_t> empty;
+    for (uint32_t r = 0; r < g.num_rows(); ++r) {
+      if (g.row_start[r] == g.row_start[r + 1] && pencil.row_start[r] == pencil.row_start[r + 1]) empty.push_back(r);
+    }
+    if (!empty.empty() && ne == nu) {
+      std::ostringstream msg;
+      msg << sys.flat->file << ": " << sys.flat->model_name << " has "
+          << (empty.size() == 1 ? "an equation that no longer involves"
+                                : std::to_string(empty.size()) + " equations that no longer involve")
+          << " any unknown once the others are used, so it is redundant or contradicts them (a "
+             "closed loop of rigid connections, two sources fixing one position, or a constraint "
+             "stated twice):"
+          << ListEquations(sys, empty);
+      throw ModelError(msg.str());
+    }
+  }
   if (m.size < ne || m.size < nu) {
     std::vector<uint32_t> over_rows, over_cols, under_rows, under_cols;
     OverDeterminedPart(g, m, &over_rows, &over_cols);
@@ -103,22 +126,20 @@ Structure AnalyseStructure(const EquationSystem& sys) {
       throw ModelError(msg.str());
     }
     if (ne != nu) {
-      msg << file << ": " << sys.flat->model_name << " is unbalanced: " << ne << " equations for "
-          << nu << " unknowns (after " << (sys.flat->variables.size() - nu)
-          << " variables were eliminated).";
+      msg << file << ": " << sys.flat->model_name << " is unbalanced: " << Count(ne, "equation")
+          << " for " << Count(nu, "unknown") << ".";
     } else {
       msg << file << ": " << sys.flat->model_name
           << " is structurally singular: the equations cannot be solved for all unknowns.";
     }
     if (!over_rows.empty()) {
-      msg << "\n  Over-determined: these " << over_rows.size() << " equations determine only "
-          << over_cols.size() << " unknowns" << ListEquations(sys, over_rows);
+      msg << "\n  Over-determined: " << Count(over_rows.size(), "equation") << " for only "
+          << Count(over_cols.size(), "unknown") << ":" << ListEquations(sys, over_rows);
       if (!over_vars.empty()) msg << "\n  which involve" << ListVariables(sys, over_vars);
     }
     if (!under_cols.empty()) {
-      msg << "\n  Under-determined: nothing determines these " << under_cols.size()
-          << " unknowns (" << under_rows.size() << " equations for them)"
-          << ListVariables(sys, under_vars);
+      msg << "\n  Under-determined: " << Count(under_cols.size(), "unknown") << " with only "
+          << Count(under_rows.size(), "equation") << ":" << ListVariables(sys, under_vars);
       if (!under_rows.empty()) msg << "\n  which occur in" << ListEquations(sys, under_rows);
     }
     throw ModelError(msg.str());

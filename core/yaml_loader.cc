@@ -21,7 +21,7 @@ class Reader {
 
   SourceLoc Loc(const YAML::Node& n) const {
     SourceLoc l;
-    l.file = file_;
+    l.set_file(file_);
     YAML::Mark m = n.Mark();
     if (m.line >= 0) {
       l.line = m.line + 1;
@@ -347,7 +347,7 @@ class Reader {
     ExpectMap(root, user ? "define" : "a library file");
     for (auto it = root.begin(); it != root.end(); ++it) {
       std::string name = it->first.as<std::string>();
-      const YAML::Node& n = it->second;
+      const YAML::Node n = it->second;  // a copy: it->second is a temporary
       ExpectMap(n, "type " + name);
       std::string kind = n["kind"] ? Scalar(n["kind"], name + ".kind") : "component";
       if (kind == "connector") {
@@ -388,6 +388,7 @@ class Reader {
       Modifier m;
       m.key = key;
       m.loc = Loc(it->first);
+      m.key_loc = m.loc;
       if (it->second.IsMap()) {
         CheckKeys(it->second, name + "." + key, {"start", "fixed"});
         if (it->second["start"]) m.start = Expression(it->second["start"], "start of " + name + "." + key);
@@ -531,7 +532,7 @@ YAML::Node ParseYaml(const std::string& text, const std::string& file) {
     return YAML::Load(text);
   } catch (const YAML::Exception& e) {
     SourceLoc loc;
-    loc.file = file;
+    loc.set_file(file);
     if (e.mark.line >= 0) {
       loc.line = e.mark.line + 1;
       loc.column = e.mark.column + 1;
@@ -549,7 +550,7 @@ ModelSpec LoadModelString(const std::string& yaml, const std::string& file_name)
     return reader.Model(root);
   } catch (const YAML::Exception& e) {
     SourceLoc loc;
-    loc.file = file_name;
+    loc.set_file(file_name);
     if (e.mark.line >= 0) {
       loc.line = e.mark.line + 1;
       loc.column = e.mark.column + 1;

@@ -132,9 +132,15 @@ class EventIntegrator {
   void Run() {
     Initialize();
     if (n_ == 0) {
-      // Nothing to integrate: outputs are functions of time (events are not monitored).
-      for (long k = 1; k <= num_intervals_; ++k) Emit(GridTime(k), nullptr, nullptr);
+      // Nothing to integrate: outputs are functions of time and of the discrete values.
+      t_run_ = std::chrono::steady_clock::now();
+      if (has_events_) {
+        RunStateless();
+      } else {
+        for (long k = 1; k <= num_intervals_; ++k) Emit(GridTime(k), nullptr, nullptr);
+      }
       stats_->final_time = opt_.stop;
+      stats_->integrate_seconds = Elapsed(t_run_);
       return;
     }
     SetUpIda();
@@ -191,6 +197,21 @@ class EventIntegrator {
     state_->SavePre(y_.data());
     stats_->init_seconds = Elapsed(t0);
     Emit(opt_.start, y_.data(), yp_.data());
+    // The initial event: with pre() now the initial values, discrete equations such as
+    // edge(u) = u and not pre(u) may change at once; a second row at the start time shows it.
+    if (has_events_ && Iterate(opt_.start, /*restart=*/false)) {
+      if (n_ > 0) SolveAtStart();
+      last_event_time_ = opt_.start;
+      Emit(opt_.start, y_.data(), yp_.data());
+    }
+  }
+
+  /// Consistent continuous values at the start for the current discrete values.
+  void SolveAtStart() {
+    InitialValues init = SolveInitialization(state_, opt_.start, sparse_);
+    stats_->init_iterations += init.iterations;
+    y_ = init.y;
+    yp_ = init.yp;
   }
 
   // -------------------------------------------------------------------------------------------
@@ -317,7 +338,8 @@ class EventIntegrator {
         DoEvent(t_cross, false);
         continue;
       }
-      EmitGrid(tret, true);
+      const bool at_time_event = flag == IDA_TSTOP_RETURN && tret == t_event;
+      EmitGrid(tret, !at_time_event);  // an event's own rows cover its time
       t_ = tret;
       if (flag == IDA_TSTOP_RETURN && tret < opt_.stop) {
         y_.assign(yv, yv + n_);
@@ -329,6 +351,28 @@ class EventIntegrator {
         yp_.assign(ypv, ypv + n_);
         DoEvent(tret, true);
       }
+    }
+  }
+
+  /// Models without states: time advances in sub-steps of the output interval, each checked for
+  /// crossings like an IDA step (everything is a function of time and the discrete values).
+  void RunStateless() {
+    t_ = opt_.start;
+    next_grid_ = 1;
+    const double h = interval_ / 8;
+    while (t_ < opt_.stop) {
+      double t_event = NextTimeEvent();
+      double t_next = std::min({opt_.stop, t_event, t_ + h});
+      double t_cross = FirstCrossing(t_, t_next);
+      if (t_cross <= t_next) {
+        EmitGrid(t_cross, false);
+        DoEvent(t_cross, false);
+        continue;
+      }
+      bool at_time_event = t_next == t_event && t_event < HUGE_VAL;
+      EmitGrid(t_next, !at_time_event);
+      t_ = t_next;
+      if (at_time_event) DoEvent(t_next, true);
     }
   }
 
@@ -349,6 +393,7 @@ class EventIntegrator {
 
   /// y_, yp_ := the interpolant at t (within the last step).
   void Interpolate(double t) {
+    if (n_ == 0) return;
     void* mem = ida_.get();
     CheckFlag(IDAGetDky(mem, t, 0, dky_.get()), "IDAGetDky");
     CheckFlag(IDAGetDky(mem, t, 1, dkyp_.get()), "IDAGetDky");
@@ -444,32 +489,50 @@ class EventIntegrator {
     ++stats_->events;
     if (time_event) ++stats_->time_events;
     CheckChattering(t);
-    Emit(t, y_.data(), yp_.data());  // left limit
+    // The left limit is written only if the event changes an output: an event that merely flips
+    // a relation nobody sees leaves no rows.
+    std::vector<double> left(outputs_.size());
+    state_->Outputs(t, y_.data(), yp_.data(), left.data());
     state_->SavePre(y_.data());
+    long impacts_before = stats_->impacts;
     ResolveImpacts(t);
-    bool reinitialized = false;
+    Iterate(t, true);
+    Restart(t);
+    t_ = t;
+    state_->Outputs(t, y_.data(), yp_.data(), outputs_.data());
+    if (outputs_ != left || stats_->impacts != impacts_before) {
+      row_(t, left);
+      row_(t, outputs_);
+      stats_->final_time = t;
+      last_event_time_ = t;
+    }
+  }
+
+  /// The event iteration: conditions, discrete equations, releases and when-clauses until nothing
+  /// changes; returns whether anything did. With `restart`, the continuous values are made
+  /// consistent (IDACalcIC) between rounds.
+  bool Iterate(double t, bool restart) {
+    bool any = false;
     for (int iter = 0;; ++iter) {
-      if (iter > 0 || reinitialized) Restart(t);
+      if (iter > 0 && restart) Restart(t);
       bool changed = SetConditions(t, y_.data(), yp_.data(), true);
       changed = UpdateDiscrete(t) || changed;
       changed = Releases(t) || changed;
       bool fired = FireWhens(t);
       if (!changed && !fired) break;
+      any = true;
       state_->SavePre(y_.data());
-      reinitialized = true;
       if (iter == 100) {
         throw SolverError("at t = " + Num(t) + ": chattering: the event iteration does not settle, the conditions switch back and forth at one instant (a sliding mode: each branch drives the relation back); " +
                           ActiveConditions() + ". Add hysteresis, or model the sliding state explicitly");
       }
     }
-    Restart(t);
-    last_event_time_ = t;
-    t_ = t;
-    Emit(t, y_.data(), yp_.data());  // right limit
+    return any;
   }
 
   /// Consistent y, y' for the current discrete values and states (IDACalcIC), and IDA restarted.
   void Restart(double t) {
+    if (n_ == 0) return;
     CollectStats();
     base_.steps = stats_->steps;
     base_.residual_evals = stats_->residual_evals;

@@ -1,0 +1,333 @@
+// The real `momenta` binary: what each subcommand writes and prints, and its exit codes
+// (0 success, 1 the model is wrong, 2 usage, 3 the solver failed).
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "app/commands.h"
+#include "tests/support/cli_runner.h"
+#include "tests/support/test_models.h"
+
+namespace momenta {
+namespace {
+
+using testing::CliResult;
+using testing::RunMomenta;
+using testing::TempDir;
+
+// A 2 kg mass pushed by F = 6 N from v = 1 m/s: a = 3, v(1) = 4, s(1) = 2.5 (exact polynomials).
+constexpr const char* kPushedMass = R"yaml(model: PushedMass
+parameters: {F: 6}
+components:
+  force: {type: ConstantForce, f_constant: F}
+  mass: {type: Mass, m: 2, s: {start: 0, fixed: true}, v: {start: 1, fixed: true}}
+connections:
+  - [force.flange, mass.flange_a]
+experiment: {stop: 1, interval: 0.25, tolerance: 1e-8}
+outputs: [mass.a, mass.v, mass.s, "atan2(mass.v, 1)"]
+)yaml";
+
+std::vector<std::string> Lines(const std::string& text) {
+  std::vector<std::string> lines;
+  std::stringstream s(text);
+  std::string line;
+  while (std::getline(s, line)) lines.push_back(line);
+  return lines;
+}
+
+/// True when `line` is `count` comma-separated numbers.
+bool IsNumericRow(const std::string& line, size_t count) {
+  std::stringstream s(line);
+  std::string cell;
+  size_t n = 0;
+  while (std::getline(s, cell, ',')) {
+    size_t used = 0;
+    try {
+      std::stod(cell, &used);
+    } catch (const std::exception&) {
+      return false;
+    }
+    if (used != cell.size()) return false;
+    ++n;
+  }
+  return n == count;
+}
+
+/// Splits a CSV data row (no quoting in data rows) into numbers; fails the test on anything else.
+std::vector<double> Numbers(const std::string& line) {
+  std::vector<double> v;
+  std::stringstream s(line);
+  std::string cell;
+  while (std::getline(s, cell, ',')) {
+    size_t used = 0;
+    double x = 0;
+    try {
+      x = std::stod(cell, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    EXPECT_EQ(used, cell.size()) << "not a number: '" << cell << "' in '" << line << "'";
+    v.push_back(x);
+  }
+  return v;
+}
+
+bool Contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+class CliTest : public ::testing::Test {
+ protected:
+  CliResult Momenta(const std::vector<std::string>& args) { return RunMomenta(args, dir_.path()); }
+  TempDir dir_;
+};
+
+TEST_F(CliTest, SimulateWritesCsvAndPrintsFinalValues) {
+  dir_.Write("pushed.yaml", kPushedMass);
+  CliResult r = Momenta({"simulate", "pushed.yaml"});
+  ASSERT_EQ(r.exit_code, kExitOk) << r.err;
+  EXPECT_EQ(r.err, "");
+  // The default results file is <model file stem>.csv in the working directory.
+  const std::string csv = testing::ReadText(dir_.File("pushed.csv"));
+  std::vector<std::string> lines = Lines(csv);
+  ASSERT_EQ(lines.size(), 6u) << csv;  // header + t = 0, 0.25, 0.5, 0.75, 1
+  // `time`, then the outputs as written; an output with a comma is quoted.
+  EXPECT_EQ(lines[0], "time,mass.a,mass.v,mass.s,\"atan2(mass.v, 1)\"");
+  for (size_t k = 1; k < lines.size(); ++k) {
+    std::vector<double> row = Numbers(lines[k]);
+    ASSERT_EQ(row.size(), 5u) << lines[k];
+    const double t = 0.25 * (k - 1);
+    // Output times are start + k*interval to rounding; values are exact polynomials integrated
+    // at rtol 1e-8 (1e-7 on O(1)).
+    EXPECT_NEAR(row[0], t, 1e-12);
+    EXPECT_NEAR(row[1], 3, 1e-7);
+    EXPECT_NEAR(row[2], 1 + 3 * t, 1e-7);
+    EXPECT_NEAR(row[3], t + 1.5 * t * t, 1e-7);
+    EXPECT_NEAR(row[4], std::atan(1 + 3 * t), 1e-7);
+  }
+  // The summary names the results file and prints the final values (%.10g).
+  EXPECT_TRUE(Contains(r.out, "pushed.csv (5 rows)")) << r.out;
+  EXPECT_TRUE(Contains(r.out, "final values at t = 1")) << r.out;
+  EXPECT_TRUE(Contains(r.out, "mass.a = 3\n")) << r.out;
+  EXPECT_TRUE(Contains(r.out, "mass.v = 4\n")) << r.out;
+  EXPECT_TRUE(Contains(r.out, "mass.s = 2.5\n")) << r.out;
+}
+
+TEST_F(CliTest, QuietPrintsNothingAndOutChoosesTheFile) {
+  dir_.Write("pushed.yaml", kPushedMass);
+  CliResult r = Momenta({"simulate", "pushed.yaml", "-q", "-o", "elsewhere.csv"});
+  ASSERT_EQ(r.exit_code, kExitOk) << r.err;
+  EXPECT_EQ(r.out, "");
+  EXPECT_EQ(r.err, "");
+  EXPECT_TRUE(std::filesystem::exists(dir_.File("elsewhere.csv")));
+  EXPECT_FALSE(std::filesystem::exists(dir_.File("pushed.csv")));
+}
+
+TEST_F(CliTest, ParameterOverrideChangesTheResult) {
+  dir_.Write("pushed.yaml", kPushedMass);
+  // A component parameter: double the mass, half the acceleration.
+  CliResult heavy = Momenta({"simulate", "pushed.yaml", "-p", "mass.m=4", "-o", "heavy.csv"});
+  ASSERT_EQ(heavy.exit_code, kExitOk) << heavy.err;
+  EXPECT_TRUE(Contains(heavy.out, "mass.a = 1.5\n")) << heavy.out;
+  EXPECT_TRUE(Contains(heavy.out, "mass.v = 2.5\n")) << heavy.out;
+  // A model parameter, and two overrides at once.
+  CliResult both = Momenta({"simulate", "pushed.yaml", "-p", "F=-2", "--param", "mass.m=1", "-o", "both.csv"});
+  ASSERT_EQ(both.exit_code, kExitOk) << both.err;
+  EXPECT_TRUE(Contains(both.out, "mass.a = -2\n")) << both.out;
+  // The results file agrees with the summary.
+  std::vector<std::string> lines = Lines(testing::ReadText(dir_.File("both.csv")));
+  ASSERT_EQ(lines.size(), 6u);
+  // v = 1 - 2t and s = t - t^2 at t = 1; rtol 1e-8 on O(1).
+  EXPECT_NEAR(Numbers(lines.back())[2], -1, 1e-7);
+  EXPECT_NEAR(Numbers(lines.back())[3], 0, 1e-7);
+}
+
+TEST_F(CliTest, CommandLineOptionsOverrideTheExperiment) {
+  dir_.Write("pushed.yaml", kPushedMass);
+  CliResult r = Momenta({"simulate", "pushed.yaml", "--stop", "2", "--interval", "0.5", "-o", "long.csv"});
+  ASSERT_EQ(r.exit_code, kExitOk) << r.err;
+  std::vector<std::string> lines = Lines(testing::ReadText(dir_.File("long.csv")));
+  ASSERT_EQ(lines.size(), 6u);  // header + 0, 0.5, 1, 1.5, 2
+  std::vector<double> last = Numbers(lines.back());
+  EXPECT_NEAR(last[0], 2, 1e-12);
+  EXPECT_NEAR(last[2], 7, 1e-6);  // v = 1 + 3*2; rtol 1e-8 on O(10)
+}
+
+TEST_F(CliTest, OutDashWritesOnlyTheCsvToStandardOutput) {
+  dir_.Write("pushed.yaml", kPushedMass);
+  CliResult r = Momenta({"simulate", "pushed.yaml", "--out", "-"});
+  ASSERT_EQ(r.exit_code, kExitOk) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir_.File("pushed.csv")));
+  EXPECT_FALSE(std::filesystem::exists(dir_.File("-")));
+  // Standard output is then the results and nothing else, so it can be piped into a CSV reader:
+  // the header, then one numeric row per output time.
+  std::vector<std::string> lines = Lines(r.out);
+  ASSERT_FALSE(lines.empty());
+  EXPECT_EQ(lines[0], "time,mass.a,mass.v,mass.s,\"atan2(mass.v, 1)\"");
+  EXPECT_EQ(lines.size(), 6u) << "standard output:\n" << r.out;
+  for (size_t k = 1; k < lines.size(); ++k) {
+    if (!IsNumericRow(lines[k], 5)) {
+      ADD_FAILURE() << "line " << k + 1 << " of standard output is not a results row: '" << lines[k]
+                    << "' (the summary belongs on standard error, or nowhere, with --out -)";
+      break;
+    }
+  }
+}
+
+TEST_F(CliTest, CheckPrintsEachPass) {
+  dir_.Write("pushed.yaml", kPushedMass);
+  CliResult r = Momenta({"check", "pushed.yaml"});
+  ASSERT_EQ(r.exit_code, kExitOk) << r.err;
+  EXPECT_TRUE(Contains(r.out, "model PushedMass (pushed.yaml): 2 components")) << r.out;
+  // Every pass of the build (as BuildModel reports them) has its line, after the file's load.
+  testing::Built built = testing::BuildYaml(kPushedMass);
+  ASSERT_GE(built.report.passes.size(), 3u);
+  std::vector<std::string> passes = {"load"};
+  for (const auto& p : built.report.passes) passes.push_back(p.name);
+  EXPECT_EQ(passes[1], "flatten");
+  for (const auto& pass : passes) {
+    EXPECT_TRUE(Contains(r.out, "\n  " + pass + " ")) << "no pass '" << pass << "' in:\n" << r.out;
+  }
+  EXPECT_TRUE(Contains(r.out, "states (2): ")) << r.out;
+  EXPECT_TRUE(Contains(r.out, "outputs (4): mass.a, mass.v, mass.s, atan2(mass.v, 1)")) << r.out;
+  EXPECT_FALSE(std::filesystem::exists(dir_.File("pushed.csv"))) << "check must not simulate";
+  // --verbose adds the DAE in the user's names.
+  CliResult v = Momenta({"check", "-v", "pushed.yaml"});
+  ASSERT_EQ(v.exit_code, kExitOk) << v.err;
+  EXPECT_TRUE(Contains(v.out, "equations for IDA (")) << v.out;
+  EXPECT_TRUE(Contains(v.out, "initial equations (")) << v.out;
+}
+
+TEST_F(CliTest, ListShowsTheLibrary) {
+  CliResult r = Momenta({"list"});
+  ASSERT_EQ(r.exit_code, kExitOk) << r.err;
+  // Grouped by library file, one line per type with its doc sentence.
+  for (const char* part : {"components/translational.yaml\n", "components/electrical.yaml\n",
+                           "components/blocks.yaml\n", "  Mass ", "Sliding mass with inertia",
+                           "  SpringDamper ", "  Resistor ", "  Integrator ", "connectors: "}) {
+    EXPECT_TRUE(Contains(r.out, part)) << "no '" << part << "' in:\n" << r.out;
+  }
+  EXPECT_TRUE(Contains(r.out, "Flange")) << r.out;
+  EXPECT_TRUE(Contains(r.out, "Pin")) << r.out;
+}
+
+TEST_F(CliTest, ListOneComponentDescribesIt) {
+  CliResult r = Momenta({"list", "Mass"});
+  ASSERT_EQ(r.exit_code, kExitOk) << r.err;
+  for (const char* part : {"Mass: Sliding mass", "m = 1 [kg], min 0", "L = 0 [m]", "flange_a: Flange",
+                           "flange_b: Flange", "s [m]", "v [m/s]", "m*a = flange_a.f + flange_b.f"}) {
+    EXPECT_TRUE(Contains(r.out, part)) << "no '" << part << "' in:\n" << r.out;
+  }
+  CliResult c = Momenta({"list", "Flange"});
+  ASSERT_EQ(c.exit_code, kExitOk) << c.err;
+  EXPECT_TRUE(Contains(c.out, "Flange (connector)")) << c.out;
+  EXPECT_TRUE(Contains(c.out, "potential s [m]")) << c.out;
+  EXPECT_TRUE(Contains(c.out, "flow f [N]")) << c.out;
+  // A misspelt name is a usage error that suggests the closest type.
+  CliResult bad = Momenta({"list", "Mas"});
+  EXPECT_EQ(bad.exit_code, kExitUsage);
+  EXPECT_TRUE(Contains(bad.err, "'Mas'")) << bad.err;
+  EXPECT_TRUE(Contains(bad.err, "did you mean Mass")) << bad.err;
+}
+
+TEST_F(CliTest, UsageErrorsExitWithTwo) {
+  dir_.Write("pushed.yaml", kPushedMass);
+  struct Case {
+    std::vector<std::string> args;
+    std::string message;  // a fragment of what stderr must say
+  };
+  for (const Case& c : std::vector<Case>{
+           {{}, "subcommand"},
+           {{"simulate"}, "model"},
+           {{"check"}, "model"},
+           {{"simulate", "pushed.yaml", "-p", "F"}, "NAME=VALUE"},
+           {{"simulate", "pushed.yaml", "-p", "=3"}, "NAME=VALUE"},
+           {{"simulate", "pushed.yaml", "-p", "F="}, "NAME=VALUE"},
+           {{"simulate", "pushed.yaml", "-p", "F=abc"}, "'abc' is not a number"},
+           {{"check", "pushed.yaml", "-p", "F=1x"}, "'1x' is not a number"},
+           {{"simulate", "pushed.yaml", "--linear-solver", "lu"}, "lu"},
+           {{"simulate", "pushed.yaml", "--rtol", "small"}, "small"},
+           {{"simulate", "pushed.yaml", "--no-such-flag"}, "--no-such-flag"},
+       }) {
+    std::string label;
+    for (const auto& a : c.args) label += a + " ";
+    CliResult r = Momenta(c.args);
+    EXPECT_EQ(r.exit_code, kExitUsage) << "momenta " << label << "\n" << r.err;
+    EXPECT_TRUE(Contains(r.err, c.message)) << "momenta " << label << ": no '" << c.message << "' in:\n" << r.err;
+    EXPECT_FALSE(std::filesystem::exists(dir_.File("pushed.csv"))) << "momenta " << label;
+  }
+}
+
+TEST_F(CliTest, UnknownSubcommandIsAUsageErrorThatNamesIt) {
+  CliResult r = Momenta({"frobnicate", "model.yaml"});
+  EXPECT_EQ(r.exit_code, kExitUsage);
+  EXPECT_TRUE(Contains(r.err, "frobnicate")) << r.err;
+}
+
+TEST_F(CliTest, ModelErrorsExitWithOne) {
+  dir_.Write("pushed.yaml", kPushedMass);
+  // A model that is wrong in its file.
+  dir_.Write("negative.yaml", "model: Negative\ncomponents:\n  A: {type: Mass, m: -1}\n");
+  CliResult neg = Momenta({"simulate", "negative.yaml"});
+  EXPECT_EQ(neg.exit_code, kExitModel);
+  EXPECT_TRUE(Contains(neg.err, "negative.yaml:3:")) << neg.err;
+  EXPECT_FALSE(std::filesystem::exists(dir_.File("negative.csv"))) << "no results for a model error";
+  // A file that does not exist.
+  CliResult missing = Momenta({"simulate", "nowhere.yaml"});
+  EXPECT_EQ(missing.exit_code, kExitModel);
+  EXPECT_TRUE(Contains(missing.err, "nowhere.yaml")) << missing.err;
+  // A well-formed -p that names no parameter, or puts one out of its range, is the model's
+  // business (exit 1), not a usage error.
+  CliResult unknown = Momenta({"simulate", "pushed.yaml", "-p", "mass.mm=3"});
+  EXPECT_EQ(unknown.exit_code, kExitModel);
+  EXPECT_TRUE(Contains(unknown.err, "mass.mm")) << unknown.err;
+  CliResult range = Momenta({"check", "pushed.yaml", "-p", "mass.m=-3"});
+  EXPECT_EQ(range.exit_code, kExitModel);
+  EXPECT_TRUE(Contains(range.err, "mass.m")) << range.err;
+  // A stop time before the start.
+  CliResult stop = Momenta({"simulate", "pushed.yaml", "--stop", "0"});
+  EXPECT_EQ(stop.exit_code, kExitModel) << stop.err;
+  EXPECT_FALSE(std::filesystem::exists(dir_.File("pushed.csv")));
+}
+
+TEST_F(CliTest, SolverFailureExitsWithThreeAndKeepsTheRows) {
+  // x' = x^2, x(0) = 1: x = 1/(1 - t) blows up at t = 1.
+  dir_.Write("blowup.yaml", R"(model: Blowup
+define:
+  Blow:
+    variables:
+      x: {start: 1, fixed: true}
+    equations:
+      - der(x) = x^2
+components:
+  b: {type: Blow}
+experiment: {stop: 2, interval: 0.1}
+outputs: [b.x]
+)");
+  CliResult r = Momenta({"simulate", "blowup.yaml"});
+  EXPECT_EQ(r.exit_code, kExitSolver) << r.err;
+  EXPECT_TRUE(Contains(r.err, "at t = ")) << r.err;
+  EXPECT_TRUE(Contains(r.err, "b.x")) << r.err;
+  std::vector<std::string> lines = Lines(testing::ReadText(dir_.File("blowup.csv")));
+  // Rows t = 0 .. 0.9 exist (10 rows); none at or past the singularity.
+  ASSERT_GE(lines.size(), 10u);
+  EXPECT_LE(lines.size(), 11u);
+  std::vector<double> last = Numbers(lines.back());
+  EXPECT_LT(last[0], 1);
+  EXPECT_NEAR(last[1], 1 / (1 - last[0]), 1e-3 * last[1]);  // default rtol 1e-6, near a pole
+}
+
+TEST_F(CliTest, HelpAndVersionSucceed) {
+  CliResult help = Momenta({"--help"});
+  EXPECT_EQ(help.exit_code, kExitOk);
+  EXPECT_TRUE(Contains(help.out, "simulate")) << help.out;
+  CliResult version = Momenta({"--version"});
+  EXPECT_EQ(version.exit_code, kExitOk);
+  EXPECT_TRUE(Contains(version.out, "momenta")) << version.out;
+}
+
+}  // namespace
+}  // namespace momenta
