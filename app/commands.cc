@@ -223,6 +223,21 @@ int RunCheck(const CheckArgs& args) {
       o << "  0 = " << ToString(*model->pool, model->initial_exprs[k], names) << "\n      from "
         << model->initial_origin[k] << "\n";
     }
+    if (!model->conditions.empty()) {
+      o << "event conditions (" << model->conditions.size() << "), c<k> in the equations:\n";
+      for (size_t k = 0; k < model->conditions.size(); ++k) {
+        o << "  c" << k << ": " << model->conditions[k].text
+          << (model->conditions[k].time_only ? "  (time event)" : "") << "\n";
+      }
+    }
+    if (!model->discrete_equations.empty()) {
+      o << "discrete equations, evaluated at events in this order:\n";
+      for (const auto& [var, value] : model->discrete_equations) {
+        o << "  " << model->flat->variables[var.value()].name << " = " << ToString(*model->pool, value, names) << "\n";
+      }
+    }
+    for (const auto& w : model->whens) o << "when " << w.text << ": " << w.assigns.size() << " assignments, " << w.reinits.size() << " reinit\n";
+    for (const auto& im : model->impacts) o << "impact of " << im.name << ": Newton's law replaces equation " << im.mode_row << "\n";
     o << "outputs:\n";
     for (size_t k = 0; k < model->output_names.size(); ++k) {
       o << "  " << model->output_names[k] << " = " << ToString(*model->pool, model->output_exprs[k], names) << "\n";

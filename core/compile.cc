@@ -358,6 +358,7 @@ std::shared_ptr<CompiledModel> CompileModel(EquationSystem sys, const Structure&
     // Register numbers are known now: disc_base + index (the layout's fixed part).
     for (const auto& d : sys.discrete) {
       values.push_back(d.value);
+      m->discrete_equations.emplace_back(d.var, d.value);
       registers.push_back(compiler.layout().disc_base + static_cast<uint32_t>(slots.disc_of_var[d.var.value()]));
     }
     m->discrete_update = compiler.Compile(values, &registers);

@@ -53,6 +53,7 @@ struct CompiledModel {
   std::vector<VarId> discrete_vars;
   Program discrete_starts;  ///< out: their values before the first event (pre-values at start)
   Program discrete_update;  ///< stores every discrete equation's value into its register, in order
+  std::vector<std::pair<VarId, ExprId>> discrete_equations;  ///< var = value, for `check -v`
 
   // Event conditions: each relation that may switch during integration is frozen in a register
   // between events; its zero-crossing function z (a - b of the relation a op b) is monitored.

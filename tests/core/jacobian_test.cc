@@ -35,13 +35,26 @@ std::vector<double> Dense(const SparsePattern& p, const std::vector<double>& val
   return d;
 }
 
+void CheckJacobians(const std::string& file, double mode);
+
 class JacobianTest : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(JacobianTest, MatchesFiniteDifferences) {
-  Built b = testing::BuildFile(GetParam());
+  // Every discrete value and event condition 0, then every one 1: both branches of each if
+  // and both modes of each contact are checked.
+  for (double mode : {0.0, 1.0}) {
+    SCOPED_TRACE(mode == 0 ? "discrete values and conditions 0" : "discrete values and conditions 1");
+    CheckJacobians(GetParam(), mode);
+  }
+}
+
+void CheckJacobians(const std::string& file, double mode) {
+  Built b = testing::BuildFile(file);
   const CompiledModel& m = *b.model;
   ModelState state(b.model);
   state.SetParameters({});
+  std::fill(state.mutable_discrete(), state.mutable_discrete() + state.num_discrete(), mode);
+  std::fill(state.mutable_conditions(), state.mutable_conditions() + state.num_conditions(), mode);
   const size_t n = m.num_unknowns();
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> jitter(-0.3, 0.3);
@@ -72,7 +85,7 @@ TEST_P(JacobianTest, MatchesFiniteDifferences) {
       // Central differences are accurate to O(h^2) relative to the curvature: 1e-5 relative,
       // with a floor for entries near zero.
       EXPECT_NEAR(J[j * n + i], fd, 1e-5 * std::max(1.0, std::fabs(fd)))
-          << GetParam() << ": dF[" << i << "] (" << m.residual_origin[i] << ") / dy["
+          << file << ": dF[" << i << "] (" << m.residual_origin[i] << ") / dy["
           << j << "] (" << m.flat->variables[m.unknowns[j].value()].name << ")";
     }
   }
@@ -95,7 +108,7 @@ TEST_P(JacobianTest, MatchesFiniteDifferences) {
     for (size_t i = 0; i < nz; ++i) {
       double fd = (fp[i] - fm[i]) / (2 * h);
       EXPECT_NEAR(JI[j * nz + i], fd, 1e-5 * std::max(1.0, std::fabs(fd)))
-          << GetParam() << ": initialisation row " << i << ", column " << j;
+          << file << ": initialisation row " << i << ", column " << j;
     }
   }
 }
