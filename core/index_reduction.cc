@@ -54,6 +54,17 @@ void ConstrainedStates(EquationSystem* sys, IndexStats* stats) {
   const FlatSystem& flat = *sys->flat;
   std::vector<bool> diff = DifferentiatedVariables(*sys);
   Substitution& s = *sys->eliminated;
+  // How many constraints each state occurs in. Eliminating a variable that occurs in one
+  // constraint keeps every substitution local; eliminating one shared by two (a mass between two
+  // spring-dampers) would make each mass position a sum over the chain: dense expressions.
+  std::vector<uint32_t> constraint_count(sys->role.size(), 0);
+  for (const SystemEquation& eq : sys->equations) {
+    const uint8_t m = p.mask(eq.residual);
+    if ((m & (kHasDer | kHasPre | kHasInitial)) || !(m & kHasVar)) continue;
+    std::vector<ExprId> vars = CollectLeaves(p, eq.residual, kHasVar);
+    if (!std::all_of(vars.begin(), vars.end(), [&](ExprId v) { return diff[p.node(v).a]; })) continue;
+    for (ExprId v : vars) ++constraint_count[p.node(v).a];
+  }
   std::vector<SystemEquation> kept;
   bool changed = false;
   for (SystemEquation eq : sys->equations) {
@@ -70,12 +81,12 @@ void ConstrainedStates(EquationSystem* sys, IndexStats* stats) {
       kept.push_back(eq);
       continue;
     }
-    // Eliminate the variable that least wants to be a state: avoid < default < prefer, then the
-    // one declared last (relative quantities come after the bodies they relate).
+    // Eliminate the variable in the fewest constraints, then the one that least wants to be a
+    // state (avoid < default < prefer), then the one declared last.
     std::sort(vars.begin(), vars.end(), [&](ExprId a, ExprId b) {
       uint32_t va = p.node(a).a, vb = p.node(b).a;
-      return std::make_tuple(flat.variables[va].state_priority, -static_cast<int64_t>(va)) <
-             std::make_tuple(flat.variables[vb].state_priority, -static_cast<int64_t>(vb));
+      return std::make_tuple(constraint_count[va], flat.variables[va].state_priority, -static_cast<int64_t>(va)) <
+             std::make_tuple(constraint_count[vb], flat.variables[vb].state_priority, -static_cast<int64_t>(vb));
     });
     bool eliminated = false;
     for (ExprId x : vars) {

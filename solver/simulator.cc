@@ -406,7 +406,10 @@ class EventIntegrator {
   /// The earliest time in (t0, t1] at which a frozen condition no longer agrees with its
   /// relation (or an open contact's gap closes while approaching); +inf when none.
   double FirstCrossing(double t0, double t1) {
-    if (nc_ == 0 && m_.impacts.empty()) return HUGE_VAL;
+    // Nothing to watch when every condition is a scheduled time event and there are no contacts.
+    bool watch = !m_.impacts.empty();
+    for (size_t i = 0; i < nc_ && !watch; ++i) watch = !(m_.conditions[i].time_only && i < affine_.size() && affine_[i]);
+    if (!watch) return HUGE_VAL;
     double lo = t0;
     for (int s = 1; s <= kInteriorSamples + 1; ++s) {
       double ts = t0 + (t1 - t0) * s / (kInteriorSamples + 1);
