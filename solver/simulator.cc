@@ -22,6 +22,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <sstream>
 
 #include "solver/initializer.h"
@@ -95,6 +96,14 @@ std::string FlagMeaning(int flag) {
     case IDA_REP_RES_ERR: return "the residual returned non-finite values repeatedly";
     default: return "";
   }
+}
+
+/// IDA's name for a return flag (IDAGetReturnFlagName allocates; the caller frees).
+std::string FlagName(int flag) {
+  char* name = IDAGetReturnFlagName(flag);
+  std::string out = name ? name : "unknown flag";
+  std::free(name);
+  return out;
 }
 
 /// A relation's value for its zero-crossing function z = a - b.
@@ -281,7 +290,7 @@ class EventIntegrator {
     if (!data_.error.empty()) {
       msg << data_.error;
     } else {
-      msg << "IDA stopped (" << IDAGetReturnFlagName(flag) << "): " << FlagMeaning(flag);
+      msg << "IDA stopped (" << FlagName(flag) << "): " << FlagMeaning(flag);
       VectorPtr ewt = MakeVector(static_cast<sunindextype>(n_), ctx_.get());
       VectorPtr ele = MakeVector(static_cast<sunindextype>(n_), ctx_.get());
       if (IDAGetErrWeights(mem, ewt.get()) == IDA_SUCCESS && IDAGetEstLocalErrors(mem, ele.get()) == IDA_SUCCESS) {
@@ -551,7 +560,7 @@ class EventIntegrator {
     int flag = IDACalcIC(mem, IDA_YA_YDP_INIT, tout1);
     if (flag < 0) {
       throw SolverError("at t = " + Num(t) + ": no consistent restart after the event (IDACalcIC: " +
-                        std::string(IDAGetReturnFlagName(flag)) + (data_.error.empty() ? "" : ", " + data_.error) +
+                        FlagName(flag) + (data_.error.empty() ? "" : ", " + data_.error) +
                         "); the discrete values or re-initialised states contradict the equations");
     }
     CheckFlag(IDAGetConsistentIC(mem, y_vec_.get(), yp_vec_.get()), "IDAGetConsistentIC");
