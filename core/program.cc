@@ -162,72 +162,95 @@ void ProgramCompiler::EmitParamOnly(ExprId root) {
 
 Program ProgramCompiler::Compile(const std::vector<ExprId>& roots, const std::vector<uint32_t>* registers) {
   Program prog;
-  // 1. The nodes this program computes, children first, and how often each is read.
-  std::vector<uint32_t> order;
-  std::unordered_map<uint32_t, uint32_t> uses;  // node -> remaining readers
-  std::unordered_map<uint32_t, uint32_t> reg;   // node -> temporary register
+  // Per-node scratch (remaining readers, temporary register, visit state) indexed by node id and
+  // reused across calls: a stamp marks what this call wrote, so nothing needs clearing.
+  if (stamp_.size() < pool_.size()) {
+    const size_t size = pool_.size() + pool_.size() / 2;
+    stamp_.resize(size, 0);
+    uses_.resize(size);
+    reg_.resize(size);
+    state_.resize(size);
+  }
+  const uint32_t stamp = ++current_stamp_;
+  auto fresh = [&](uint32_t id) {
+    if (stamp_[id] != stamp) {
+      stamp_[id] = stamp;
+      uses_[id] = 0;
+      state_[id] = 0;
+    }
+  };
   auto computed = [&](uint32_t id) {
     const Node& n = pool_.node(ExprId(id));
     return !IsLeaf(n.op) && n.op != Op::kConst && !pool_.IsParamOnly(ExprId(id));
   };
+  // 1. The nodes this program computes, children first, and how often each is read; after each
+  //    root, a marker (its index with kTempFlag) for the register-store mode.
+  std::vector<uint32_t> order;
   {
-    std::unordered_map<uint32_t, uint8_t> state;
     std::vector<uint32_t> stack;
-    for (const ExprId& root : roots) {
-      if (computed(root.value())) ++uses[root.value()];
-      stack.push_back(root.value());
+    for (size_t k = 0; k < roots.size(); ++k) {
+      const uint32_t root = roots[k].value();
+      if (computed(root)) {
+        fresh(root);
+        ++uses_[root];
+      }
+      stack.push_back(root);
       while (!stack.empty()) {
         uint32_t id = stack.back();
-        uint8_t& s = state[id];
-        if (s == 2 || !computed(id)) {
+        fresh(id);
+        if (state_[id] == 2 || !computed(id)) {
           stack.pop_back();
           continue;
         }
         const Node& n = pool_.node(ExprId(id));
         int arity = Arity(n.op);
-        if (s == 0) {
-          s = 1;
+        if (state_[id] == 0) {
+          state_[id] = 1;
           uint32_t kids[3] = {n.a, n.b, n.c};
-          for (int k = arity - 1; k >= 0; --k) {
-            if (computed(kids[k])) {
-              ++uses[kids[k]];
-              if (state[kids[k]] == 0) stack.push_back(kids[k]);
-            }
+          for (int j = arity - 1; j >= 0; --j) {
+            if (!computed(kids[j])) continue;
+            fresh(kids[j]);
+            ++uses_[kids[j]];
+            if (state_[kids[j]] == 0) stack.push_back(kids[j]);
           }
           continue;
         }
-        s = 2;
+        state_[id] = 2;
         stack.pop_back();
         order.push_back(id);
       }
-      // A marker: root k's turn is over (leaf roots are stored here in register mode).
-      order.push_back(kTempFlag | static_cast<uint32_t>(&root - roots.data()));
+      order.push_back(kTempFlag | static_cast<uint32_t>(k));
     }
   }
-  // 2. Emit with register reuse.
+  // 2. Emit, reusing a temporary as soon as its last reader has run; roots are stored as soon as
+  //    they are computed.
   std::vector<uint32_t> free_regs;
   uint32_t num_temps = 0;
   auto operand = [&](uint32_t child) -> uint32_t {
-    if (computed(child)) return kTempFlag | reg.at(child);
+    if (computed(child)) return kTempFlag | reg_[child];
     const Node& n = pool_.node(ExprId(child));
     if (n.op != Op::kConst && IsLeaf(n.op)) return LeafRegister(ExprId(child));
     return ParamOnlyRegister(ExprId(child));
   };
   auto release = [&](uint32_t child) {
-    if (!computed(child)) return;
-    if (--uses[child] == 0) free_regs.push_back(reg.at(child));
+    if (computed(child) && --uses_[child] == 0) free_regs.push_back(reg_[child]);
   };
-  // Roots are stored as soon as they are computed, so their registers free up early.
   std::unordered_map<uint32_t, std::vector<uint32_t>> root_slots;
   for (size_t k = 0; k < roots.size(); ++k) {
     if (computed(roots[k].value())) root_slots[roots[k].value()].push_back(static_cast<uint32_t>(k));
   }
+  auto store = [&](uint32_t k, uint32_t src) {
+    if (registers) {
+      prog.code().push_back({kStoreRegister, (*registers)[k], src, 0, 0});
+    } else {
+      prog.code().push_back({kStore, k, src, 0, 0});
+    }
+  };
   for (uint32_t id : order) {
     if (id & kTempFlag) {
+      // A root's turn is over: a leaf or parameter-only root is stored here.
       uint32_t k = id & ~kTempFlag;
-      if (registers && !computed(roots[k].value())) {
-        prog.code().push_back({kStoreRegister, (*registers)[k], operand(roots[k].value()), 0, 0});
-      }
+      if (!computed(roots[k].value())) store(k, operand(roots[k].value()));
       continue;
     }
     const Node& n = pool_.node(ExprId(id));
@@ -246,26 +269,16 @@ Program ProgramCompiler::Compile(const std::vector<ExprId>& roots, const std::ve
     } else {
       dst = num_temps++;
     }
-    reg[id] = dst;
+    reg_[id] = dst;
     in.dst = kTempFlag | dst;
     prog.code().push_back(in);
     auto slots = root_slots.find(id);
     if (slots != root_slots.end()) {
       for (uint32_t k : slots->second) {
-        if (registers) {
-          prog.code().push_back({kStoreRegister, (*registers)[k], kTempFlag | dst, 0, 0});
-        } else {
-          prog.code().push_back({kStore, k, kTempFlag | dst, 0, 0});
-        }
+        store(k, kTempFlag | dst);
         release(id);
       }
     }
-  }
-  // Roots that are leaves or parameter-only read their global register.
-  for (size_t k = 0; k < roots.size(); ++k) {
-    uint32_t id = roots[k].value();
-    if (computed(id) || registers) continue;
-    prog.code().push_back({kStore, static_cast<uint32_t>(k), operand(id), 0, 0});
   }
   max_temps_ = std::max(max_temps_, num_temps);
   return prog;

@@ -78,6 +78,10 @@ class ProgramCompiler {
   std::vector<std::pair<uint32_t, double>> constants_;
   Program params_;
   uint32_t max_temps_ = 0;
+  // Compile()'s per-node scratch, reused across calls (see Compile).
+  std::vector<uint32_t> stamp_, uses_, reg_;
+  std::vector<uint8_t> state_;
+  uint32_t current_stamp_ = 0;
 };
 
 /// The flag marking a temporary register before Finish() places them.
