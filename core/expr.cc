@@ -226,6 +226,12 @@ ExprId ExprPool::Const(double v) {
   return Intern(n);
 }
 
+bool ExprPool::IsTruthValued(ExprId id) const {
+  const Node& n = node(id);
+  if (n.op == Op::kConst) return n.value == 0.0 || n.value == 1.0;
+  return IsBooleanOp(n.op);
+}
+
 bool ExprPool::IsConst(ExprId id, double v) const {
   const Node& n = node(id);
   return n.op == Op::kConst && n.value == v;
@@ -251,7 +257,7 @@ ExprId ExprPool::Neg(ExprId a) {
 ExprId ExprPool::Unary(Op op, ExprId a) {
   if (op == Op::kNeg) return Neg(a);
   if (IsConst(a)) return Const(ApplyUnary(op, ConstValue(a)));
-  if (op == Op::kNot && node(a).op == Op::kNot) return ExprId(node(a).a);
+  if (op == Op::kNot && node(a).op == Op::kNot && IsTruthValued(ExprId(node(a).a))) return ExprId(node(a).a);
   Node m;
   m.op = op;
   m.a = a.value();
@@ -263,7 +269,8 @@ ExprId ExprPool::Binary(Op op, ExprId a, ExprId b, uint8_t flags) {
   if (ca && cb) {
     double va = ConstValue(a), vb = ConstValue(b);
     // x/0 and 0^-1 stay symbolic so the error surfaces at run time with the equation's name.
-    if (!(op == Op::kDiv && vb == 0.0)) return Const(ApplyBinary(op, va, vb));
+    bool singular = (op == Op::kDiv && vb == 0.0) || (op == Op::kPow && va == 0.0 && vb < 0.0);
+    if (!singular) return Const(ApplyBinary(op, va, vb));
   }
   switch (op) {
     case Op::kAdd:
@@ -301,12 +308,13 @@ ExprId ExprPool::Binary(Op op, ExprId a, ExprId b, uint8_t flags) {
       if (IsConst(b, 0)) return one_;
       break;
     case Op::kAnd:
-      if (IsConst(a)) return ConstValue(a) != 0 ? b : zero_;
-      if (IsConst(b)) return ConstValue(b) != 0 ? a : zero_;
+      // The shortcuts keep an operand as the result only when it is already 0 or 1.
+      if (IsConst(a) && (ConstValue(a) == 0 || IsTruthValued(b))) return ConstValue(a) != 0 ? b : zero_;
+      if (IsConst(b) && (ConstValue(b) == 0 || IsTruthValued(a))) return ConstValue(b) != 0 ? a : zero_;
       break;
     case Op::kOr:
-      if (IsConst(a)) return ConstValue(a) != 0 ? one_ : b;
-      if (IsConst(b)) return ConstValue(b) != 0 ? one_ : a;
+      if (IsConst(a) && (ConstValue(a) != 0 || IsTruthValued(b))) return ConstValue(a) != 0 ? one_ : b;
+      if (IsConst(b) && (ConstValue(b) != 0 || IsTruthValued(a))) return ConstValue(b) != 0 ? one_ : a;
       break;
     default:
       break;

@@ -109,6 +109,8 @@ class ExprPool {
   size_t size() const { return nodes_.size(); }
 
   bool IsConst(ExprId id) const { return op(id) == Op::kConst; }
+  /// The value is 0 or 1 by construction (a relation, and/or/not, or the constants 0 and 1).
+  bool IsTruthValued(ExprId id) const;
   bool IsConst(ExprId id, double v) const;
   double ConstValue(ExprId id) const { return node(id).value; }
   /// No variables, derivatives, pre-values, time or initial(): a function of parameters only.

@@ -404,6 +404,7 @@ bool AffineWalk(ExprPool* pool, ExprId root, size_t max_terms, AffineForm* out) 
   ExprPool& p = *pool;
   thread_local std::vector<std::pair<ExprId, double>> stack;
   stack.assign(1, {root, 1.0});
+  std::unordered_map<uint32_t, size_t> index;  // leaf -> term, once there are many terms
   while (!stack.empty()) {
     auto [e, scale] = stack.back();
     stack.pop_back();
@@ -415,16 +416,29 @@ bool AffineWalk(ExprPool* pool, ExprId root, size_t max_terms, AffineForm* out) 
     switch (n.op) {
       case Op::kVar:
       case Op::kDer: {
+        // A linear scan while the form is short (the common case), a map beyond that.
         bool found = false;
-        for (auto& t : out->terms) {
-          if (t.first == e) {
-            t.second += scale;
+        if (out->terms.size() <= 8) {
+          for (auto& t : out->terms) {
+            if (t.first == e) {
+              t.second += scale;
+              found = true;
+              break;
+            }
+          }
+        } else {
+          if (index.empty()) {
+            for (size_t k = 0; k < out->terms.size(); ++k) index.emplace(out->terms[k].first.value(), k);
+          }
+          auto it = index.find(e.value());
+          if (it != index.end()) {
+            out->terms[it->second].second += scale;
             found = true;
-            break;
           }
         }
         if (!found) {
           if (out->terms.size() >= max_terms) return false;
+          if (!index.empty()) index.emplace(e.value(), out->terms.size());
           out->terms.emplace_back(e, scale);
         }
         break;
@@ -476,9 +490,40 @@ bool DecomposeAffine(ExprPool* pool, ExprId e, size_t max_terms, AffineForm* out
   return true;
 }
 
+namespace {
+/// True when `e` is affine in `leaf`: it occurs only through sums, differences, negation, products
+/// with factors free of it, quotients by such factors, and if-branches (never in a condition,
+/// relation, sign, abs, min or max, whose derivative vanishes without the function being linear).
+bool IsAffineIn(const ExprPool& p, ExprId e, ExprId leaf, int depth = 0) {
+  if (e == leaf) return true;
+  if (!ContainsLeaf(p, e, leaf)) return true;
+  if (depth > 200) return false;
+  const Node& n = p.node(e);
+  switch (n.op) {
+    case Op::kAdd:
+    case Op::kSub:
+      return IsAffineIn(p, ExprId(n.a), leaf, depth + 1) && IsAffineIn(p, ExprId(n.b), leaf, depth + 1);
+    case Op::kNeg:
+      return IsAffineIn(p, ExprId(n.a), leaf, depth + 1);
+    case Op::kMul:
+      if (!ContainsLeaf(p, ExprId(n.a), leaf)) return IsAffineIn(p, ExprId(n.b), leaf, depth + 1);
+      if (!ContainsLeaf(p, ExprId(n.b), leaf)) return IsAffineIn(p, ExprId(n.a), leaf, depth + 1);
+      return false;
+    case Op::kDiv:
+      return !ContainsLeaf(p, ExprId(n.b), leaf) && IsAffineIn(p, ExprId(n.a), leaf, depth + 1);
+    case Op::kIf:
+      return !ContainsLeaf(p, ExprId(n.a), leaf) && IsAffineIn(p, ExprId(n.b), leaf, depth + 1) &&
+             IsAffineIn(p, ExprId(n.c), leaf, depth + 1);
+    default:
+      return false;
+  }
+}
+}  // namespace
+
 ExprId SolveFor(ExprPool* pool, ExprId residual, ExprId leaf, bool param_coefficient_ok,
                 ExprId* coefficient) {
   ExprPool& p = *pool;
+  if (!IsAffineIn(p, residual, leaf)) return ExprId();
   ExprId a = PartialDerivative(pool, residual, leaf);
   if (p.IsConst(a)) {
     if (p.ConstValue(a) == 0.0 || !std::isfinite(p.ConstValue(a))) return ExprId();
@@ -498,6 +543,14 @@ ExprId SolveFor(ExprPool* pool, ExprId residual, ExprId leaf, bool param_coeffic
 // Printing
 
 namespace {
+
+int Precedence(Op op);
+
+int Precedence(const ExprPool& pool, ExprId e) {
+  // A negative number prints with a leading minus: it binds like unary minus.
+  if (pool.IsConst(e) && pool.ConstValue(e) < 0) return 8;
+  return Precedence(pool.op(e));
+}
 
 int Precedence(Op op) {
   switch (op) {
@@ -523,19 +576,21 @@ std::string FormatNumber(double v) {
 }
 
 void Print(const ExprPool& pool, ExprId e, const ExprNamer& names, int depth, std::string* out) {
-  if (depth > 60) {
+  if (depth > 60 || out->size() > 4000) {
     *out += "…";
     return;
   }
   const Node& n = pool.node(e);
   auto child = [&](uint32_t c, int min_prec) {
-    bool paren = Precedence(pool.op(ExprId(c))) < min_prec;
+    bool paren = Precedence(pool, ExprId(c)) < min_prec;
     if (paren) *out += "(";
     Print(pool, ExprId(c), names, depth + 1, out);
     if (paren) *out += ")";
   };
   switch (n.op) {
-    case Op::kConst: *out += FormatNumber(n.value); return;
+    case Op::kConst:
+      *out += FormatNumber(n.value);
+      return;
     case Op::kVar: *out += names.var ? names.var(n.a) : "x" + std::to_string(n.a); return;
     case Op::kDer:
       *out += "der(" + (names.var ? names.var(n.a) : "x" + std::to_string(n.a)) + ")";
@@ -575,7 +630,9 @@ void Print(const ExprPool& pool, ExprId e, const ExprNamer& names, int depth, st
     return;
   }
   bool right_assoc = n.op == Op::kPow;
-  child(n.a, right_assoc ? prec + 1 : prec);
+  // Relations do not chain: both operands of one are parenthesised if they are relations.
+  bool relation = IsRelation(n.op);
+  child(n.a, right_assoc || relation ? prec + 1 : prec);
   *out += " ";
   *out += OpName(n.op);
   *out += " ";

@@ -176,20 +176,44 @@ class Flattener {
     return Evaluate(pool(), e, lv);
   }
 
-  /// A model parameter's value, following its binding through other model parameters.
-  double ModelParamValue(ParamId id, int depth) {
-    const FlatParameter& p = flat_.parameters[id.value()];
-    auto ov = overrides_.find(p.name);
-    if (ov != overrides_.end()) return ov->second;
-    if (depth > 100) throw ModelError(p.loc, "the parameters' bindings form a cycle through " + p.name);
-    std::vector<double> values(spec_.parameters.size(), 0.0);
-    for (ExprId pe : CollectLeaves(pool(), p.binding, kHasParam)) {
-      uint32_t q = pool().node(pe).a;
-      values[q] = ModelParamValue(ParamId(q), depth + 1);
+  /// A model parameter's value, following its binding through other model parameters (each
+  /// evaluated once; a binding that reaches itself is a cycle).
+  double ModelParamValue(ParamId id, int /*depth*/) {
+    const size_t n = spec_.parameters.size();
+    if (param_state_.size() != n) {
+      param_state_.assign(n, 0);
+      param_value_.assign(n, 0.0);
     }
-    LeafValues lv;
-    lv.params = values.data();
-    return Evaluate(pool(), p.binding, lv);
+    std::vector<std::pair<uint32_t, bool>> stack{{id.value(), false}};
+    while (!stack.empty()) {
+      auto [q, expanded] = stack.back();
+      stack.pop_back();
+      if (param_state_[q] == 2) continue;
+      const FlatParameter& p = flat_.parameters[q];
+      auto ov = overrides_.find(p.name);
+      if (ov != overrides_.end()) {
+        param_value_[q] = ov->second;
+        param_state_[q] = 2;
+        continue;
+      }
+      std::vector<ExprId> deps = CollectLeaves(pool(), p.binding, kHasParam);
+      if (!expanded) {
+        if (param_state_[q] == 1) throw ModelError(p.loc, "the parameters' bindings form a cycle through " + p.name);
+        param_state_[q] = 1;
+        stack.push_back({q, true});
+        for (ExprId pe : deps) {
+          uint32_t d = pool().node(pe).a;
+          if (param_state_[d] == 1) throw ModelError(flat_.parameters[d].loc, "the parameters' bindings form a cycle through " + flat_.parameters[d].name);
+          if (param_state_[d] == 0) stack.push_back({d, false});
+        }
+        continue;
+      }
+      LeafValues lv;
+      lv.params = param_value_.data();
+      param_value_[q] = Evaluate(pool(), p.binding, lv);
+      param_state_[q] = 2;
+    }
+    return param_value_[id.value()];
   }
 
   int64_t StructuralInteger(const Ast& a, const std::string& text, const SourceLoc& loc,
@@ -1215,6 +1239,8 @@ class Flattener {
   std::vector<double> model_values_;  ///< model parameters' values for structural expressions
   std::map<std::string, double> structural_;
   const ComponentSpec* current_component_ = nullptr;  ///< for messages about its type
+  std::vector<uint8_t> param_state_;  ///< model parameters: 0 new, 1 being evaluated, 2 done
+  std::vector<double> param_value_;
 };
 
 }  // namespace

@@ -1,6 +1,7 @@
 #include "core/parser.h"
 
 #include <cctype>
+#include <cmath>
 #include <cstdlib>
 #include <map>
 #include <sstream>
@@ -47,13 +48,31 @@ class Lexer {
       char c = text_[i];
       if (std::isdigit(static_cast<unsigned char>(c)) ||
           (c == '.' && i + 1 < text_.size() && std::isdigit(static_cast<unsigned char>(text_[i + 1])))) {
-        const char* start = text_.c_str() + i;
-        char* end = nullptr;
-        t.number = std::strtod(start, &end);
-        size_t len = static_cast<size_t>(end - start);
+        // Decimal only: digits, a point, digits, an exponent (strtod alone would take 0x10).
+        size_t j = i;
+        auto digits = [&] {
+          while (j < text_.size() && std::isdigit(static_cast<unsigned char>(text_[j]))) ++j;
+        };
+        digits();
+        if (j < text_.size() && text_[j] == '.') {
+          ++j;
+          digits();
+        }
+        if (j < text_.size() && (text_[j] == 'e' || text_[j] == 'E')) {
+          size_t k = j + 1;
+          if (k < text_.size() && (text_[k] == '+' || text_[k] == '-')) ++k;
+          if (k < text_.size() && std::isdigit(static_cast<unsigned char>(text_[k]))) {
+            j = k;
+            digits();
+          }
+        }
         t.kind = Tok::kNumber;
-        t.text = text_.substr(i, len);
-        i += len;
+        t.text = text_.substr(i, j - i);
+        t.number = std::strtod(t.text.c_str(), nullptr);
+        if (!std::isfinite(t.number)) {
+          throw ModelError(loc_.Shifted(static_cast<int>(i)), "number out of range '" + t.text + "'");
+        }
+        i = j;
         if (i < text_.size() && (std::isalpha(static_cast<unsigned char>(text_[i])) || text_[i] == '_')) {
           throw ModelError(loc_.Shifted(static_cast<int>(i)),
                            "malformed number '" + t.text + text_[i] + "'");

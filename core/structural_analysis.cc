@@ -116,6 +116,14 @@ Structure AnalyseStructure(const EquationSystem& sys) {
       higher_index = pm.size == ne;
     }
     if (higher_index) {
+      // The states a constraint involves count only through their derivatives in the matching
+      // graph; name every variable of those equations instead.
+      over_vars.clear();
+      for (uint32_t r : over_rows) {
+        for (uint32_t k = pencil.row_start[r]; k < pencil.row_start[r + 1]; ++k) over_vars.push_back(var_of_col[pencil.cols[k]]);
+      }
+      std::sort(over_vars.begin(), over_vars.end());
+      over_vars.erase(std::unique(over_vars.begin(), over_vars.end()), over_vars.end());
       msg << file << ": " << sys.flat->model_name
           << " has structural index above 1: these equations constrain states that are also "
              "integrated, so the derivatives of the states are over-determined:"
