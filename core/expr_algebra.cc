@@ -215,42 +215,7 @@ ExprId ReplaceNodes(ExprPool* pool, ExprId root, const std::unordered_map<uint32
 }
 
 ExprId ReplaceLeaf(ExprPool* pool, ExprId root, ExprId leaf, ExprId value) {
-  ExprPool& p = *pool;
-  const uint8_t mask = MaskOfLeaf(p.op(leaf));
-  thread_local std::unordered_map<uint32_t, ExprId> memo;
-  thread_local std::vector<uint32_t> stack;
-  ResetScratch(&memo);
-  stack.assign(1, root.value());
-  while (!stack.empty()) {
-    uint32_t id = stack.back();
-    if (memo.count(id)) {
-      stack.pop_back();
-      continue;
-    }
-    const Node n = p.node(ExprId(id));
-    if (id == leaf.value() || !(n.mask & mask) || IsLeaf(n.op)) {
-      memo.emplace(id, id == leaf.value() ? value : ExprId(id));
-      stack.pop_back();
-      continue;
-    }
-    int arity = Arity(n.op);
-    bool ready = true;
-    if (arity >= 1 && !memo.count(n.a)) { stack.push_back(n.a); ready = false; }
-    if (arity >= 2 && !memo.count(n.b)) { stack.push_back(n.b); ready = false; }
-    if (arity >= 3 && !memo.count(n.c)) { stack.push_back(n.c); ready = false; }
-    if (!ready) continue;
-    stack.pop_back();
-    ExprId r;
-    if (arity == 1) {
-      r = p.Unary(n.op, memo.at(n.a));
-    } else if (arity == 2) {
-      r = p.Binary(n.op, memo.at(n.a), memo.at(n.b), n.flags);
-    } else {
-      r = p.If(memo.at(n.a), memo.at(n.b), memo.at(n.c));
-    }
-    memo.emplace(id, r);
-  }
-  return memo.at(root.value());
+  return ReplaceNodes(pool, root, {{leaf.value(), value}}, MaskOfLeaf(pool->op(leaf)));
 }
 
 // ---------------------------------------------------------------------------------------------

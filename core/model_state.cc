@@ -45,6 +45,11 @@ void ModelState::SetParameters(const ParameterOverrides& overrides) {
   }
 }
 
+void ModelState::RunAt(const Program& program, double t, const double* y, const double* yp, double* out) {
+  Load(t, y, yp);
+  program.Run(regs_.data(), out);
+}
+
 void ModelState::Load(double t, const double* y, const double* yp) {
   const RegisterLayout& L = model_->layout;
   regs_[RegisterLayout::kTime] = t;
@@ -54,8 +59,7 @@ void ModelState::Load(double t, const double* y, const double* yp) {
 }
 
 void ModelState::Residual(double t, const double* y, const double* yp, double* out) {
-  Load(t, y, yp);
-  model_->residual.Run(regs_.data(), out);
+  RunAt(model_->residual, t, y, yp, out);
 }
 
 void ModelState::Jacobian(double t, double cj, const double* y, const double* yp, double* values) {
@@ -65,8 +69,7 @@ void ModelState::Jacobian(double t, double cj, const double* y, const double* yp
 }
 
 void ModelState::Outputs(double t, const double* y, const double* yp, double* out) {
-  Load(t, y, yp);
-  model_->outputs.Run(regs_.data(), out);
+  RunAt(model_->outputs, t, y, yp, out);
 }
 
 void ModelState::StartDiscrete() {
@@ -86,13 +89,11 @@ void ModelState::SavePre(const double* y) {
 }
 
 void ModelState::ZeroCrossings(double t, const double* y, const double* yp, double* out) {
-  Load(t, y, yp);
-  model_->zero_crossings.Run(regs_.data(), out);
+  RunAt(model_->zero_crossings, t, y, yp, out);
 }
 
 void ModelState::ZeroCrossingRates(double t, const double* y, const double* yp, double* out) {
-  Load(t, y, yp);
-  model_->zero_crossing_rates.Run(regs_.data(), out);
+  RunAt(model_->zero_crossing_rates, t, y, yp, out);
 }
 
 void ModelState::UpdateDiscrete(double t, const double* y, const double* yp) {
@@ -101,23 +102,19 @@ void ModelState::UpdateDiscrete(double t, const double* y, const double* yp) {
 }
 
 void ModelState::WhenConditions(double t, const double* y, const double* yp, double* out) {
-  Load(t, y, yp);
-  model_->when_conditions.Run(regs_.data(), out);
+  RunAt(model_->when_conditions, t, y, yp, out);
 }
 
 void ModelState::WhenValues(double t, const double* y, const double* yp, double* out) {
-  Load(t, y, yp);
-  model_->when_values.Run(regs_.data(), out);
+  RunAt(model_->when_values, t, y, yp, out);
 }
 
 void ModelState::ImpactValues(double t, const double* y, const double* yp, double* out) {
-  Load(t, y, yp);
-  model_->impact_values.Run(regs_.data(), out);
+  RunAt(model_->impact_values, t, y, yp, out);
 }
 
 void ModelState::ImpactGradients(double t, const double* y, const double* yp, double* out) {
-  Load(t, y, yp);
-  model_->impact_gradients.Run(regs_.data(), out);
+  RunAt(model_->impact_gradients, t, y, yp, out);
 }
 
 void ModelState::JacobianParts(double t, const double* y, const double* yp, double* dfdy,

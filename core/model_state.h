@@ -54,6 +54,8 @@ class ModelState {
 
  private:
   void Load(double t, const double* y, const double* yp);
+  /// Loads (t, y, y') and runs `program` into `out`.
+  void RunAt(const Program& program, double t, const double* y, const double* yp, double* out);
   void LoadZ(double t, const double* z);
 
   std::shared_ptr<const CompiledModel> model_;
