@@ -20,6 +20,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -186,6 +187,7 @@ struct Problem {
 
 struct RunResult {
   double setup_s = 0, solve_s = 0;
+  double setup_cpu_s = 0, solve_cpu_s = 0;  // CPU time of the process (robust on a shared machine)
   long steps = 0, res_evals = 0, jac_evals = 0, nonlin_iters = 0, lin_setups = 0, err_test_fails = 0,
        nonlin_conv_fails = 0;
   double final0 = 0, final1 = 0, t_end = 0;
@@ -195,11 +197,19 @@ inline double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
+// CPU time used by this process so far (user + system), in seconds.
+inline double cpu_seconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
 // One integration from 0 to opt.stop with output requests every opt.interval.
 inline RunResult run_once(const Options& opt, Problem& p) {
   RunResult r;
   const double t0 = 0.0;
   const auto start_setup = std::chrono::steady_clock::now();
+  const double cpu_setup = cpu_seconds();
 
   Context ctx;
   const sunindextype N = p.size();
@@ -228,8 +238,10 @@ inline RunResult run_once(const Options& opt, Problem& p) {
   check(IDASetStopTime(mem, opt.stop), "IDASetStopTime");
   check(IDASetMaxNumSteps(mem, 1000000), "IDASetMaxNumSteps");
   r.setup_s = seconds_since(start_setup);
+  r.setup_cpu_s = cpu_seconds() - cpu_setup;
 
   const auto start_solve = std::chrono::steady_clock::now();
+  const double cpu_solve = cpu_seconds();
   double tret = t0;
   for (long k = 1;; ++k) {
     const double tout = std::min(t0 + k * opt.interval, opt.stop);
@@ -238,6 +250,7 @@ inline RunResult run_once(const Options& opt, Problem& p) {
     if (flag == IDA_TSTOP_RETURN || tout >= opt.stop) break;
   }
   r.solve_s = seconds_since(start_solve);
+  r.solve_cpu_s = cpu_seconds() - cpu_solve;
 
   check(IDAGetNumSteps(mem, &r.steps), "IDAGetNumSteps");
   check(IDAGetNumResEvals(mem, &r.res_evals), "IDAGetNumResEvals");
@@ -273,16 +286,21 @@ inline int run_benchmark(const Options& opt, Problem& p) {
   for (int k = 0; k < opt.repeat; ++k) {
     RunResult r = run_once(opt, p);
     std::printf(
-        "run=%d setup_s=%.6f solve_s=%.6f steps=%ld res_evals=%ld jac_evals=%ld nonlin_iters=%ld "
-        "lin_setups=%ld err_test_fails=%ld nonlin_conv_fails=%ld t=%.10g %s=%.12g %s=%.12g\n",
-        k + 1, r.setup_s, r.solve_s, r.steps, r.res_evals, r.jac_evals, r.nonlin_iters, r.lin_setups,
-        r.err_test_fails, r.nonlin_conv_fails, r.t_end, p.final_name(0), r.final0, p.final_name(1), r.final1);
+        "run=%d setup_s=%.6f solve_s=%.6f setup_cpu_s=%.6f solve_cpu_s=%.6f steps=%ld res_evals=%ld "
+        "jac_evals=%ld nonlin_iters=%ld lin_setups=%ld err_test_fails=%ld nonlin_conv_fails=%ld t=%.10g "
+        "%s=%.12g %s=%.12g\n",
+        k + 1, r.setup_s, r.solve_s, r.setup_cpu_s, r.solve_cpu_s, r.steps, r.res_evals, r.jac_evals,
+        r.nonlin_iters, r.lin_setups, r.err_test_fails, r.nonlin_conv_fails, r.t_end, p.final_name(0), r.final0, p.final_name(1), r.final1);
     std::fflush(stdout);
     runs.push_back(r);
   }
-  std::printf("median setup_s=%.6f solve_s=%.6f steps=%.0f res_evals=%.0f jac_evals=%.0f %s=%.12g %s=%.12g\n",
+  std::printf(
+      "median setup_s=%.6f solve_s=%.6f setup_cpu_s=%.6f solve_cpu_s=%.6f steps=%.0f res_evals=%.0f jac_evals=%.0f "
+      "%s=%.12g %s=%.12g\n",
               median_of(runs, [](const RunResult& r) { return r.setup_s; }),
               median_of(runs, [](const RunResult& r) { return r.solve_s; }),
+              median_of(runs, [](const RunResult& r) { return r.setup_cpu_s; }),
+              median_of(runs, [](const RunResult& r) { return r.solve_cpu_s; }),
               median_of(runs, [](const RunResult& r) { return r.steps; }),
               median_of(runs, [](const RunResult& r) { return r.res_evals; }),
               median_of(runs, [](const RunResult& r) { return r.jac_evals; }), p.final_name(0),
