@@ -474,8 +474,16 @@ class EventIntegrator {
     return hi;
   }
 
-  /// Time of the next affine time event after t_ (+inf when none).
+  /// Time of the next affine time event after t_ (+inf when none). Parameters are fixed during a
+  /// run, so the answer changes only when an event has been handled (or it has been reached).
   double NextTimeEvent() {
+    if (!time_events_dirty_ && t_ < next_time_event_) return next_time_event_;
+    time_events_dirty_ = false;
+    next_time_event_ = ComputeNextTimeEvent();
+    return next_time_event_;
+  }
+
+  double ComputeNextTimeEvent() {
     if (affine_.size() != nc_) affine_.assign(nc_, false);
     double best = HUGE_VAL;
     if (nc_ == 0) return best;
@@ -498,6 +506,7 @@ class EventIntegrator {
   // One event at time t, from the left-limit values in y_, yp_.
 
   void DoEvent(double t, bool time_event) {
+    time_events_dirty_ = true;
     ++stats_->events;
     if (time_event) ++stats_->time_events;
     CheckChattering(t);
@@ -764,6 +773,8 @@ class EventIntegrator {
   long num_intervals_ = 0, next_grid_ = 1;
   bool has_events_ = false, sparse_ = false;
   double t_ = 0, last_event_time_ = -HUGE_VAL;
+  double next_time_event_ = HUGE_VAL;
+  bool time_events_dirty_ = true;
   int close_events_ = 0;
   std::vector<double> y_, yp_, z_, zscale_, outputs_, impact_values_;
   std::vector<bool> when_state_, affine_;
