@@ -7,7 +7,6 @@
 
 #include <gtest/gtest.h>
 
-#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <cmath>
@@ -315,31 +314,23 @@ TEST_F(ExprAlgebraTest, DecomposeAffineOf100000TermSum) {
   EXPECT_DOUBLE_EQ(Eval(form.offset, {}), 100 * 1.5);
 }
 
-TEST_F(ExprAlgebraTest, DecomposeAffineIsLinearInTheNumberOfTerms) {
-  // Every term wanted: n distinct leaves with coefficient 1. A linear-time walk costs about what
-  // CollectLeaves costs on the same sum; merging each leaf into the terms found so far by a linear
-  // scan costs n^2/2 comparisons (n = 100 000 takes seconds, a minute under ASan, so the suite
-  // uses n = 30 000 and compares against CollectLeaves rather than a wall-clock limit).
+TEST_F(ExprAlgebraTest, DecomposeAffineHandlesAManyTermSum) {
+  // A flow sum over a large connection set: 30 000 distinct leaves, each with coefficient 1, plus
+  // one leaf repeated (coefficient 2) and one cancelled (x - x). Speed is the benchmarks' business
+  // (no timing here); a quadratic merge of the terms would make this test take seconds.
   const uint32_t n = 30000;
-  ExprId distinct = pool.Var(VarId(0u));
-  for (uint32_t k = 1; k < n; ++k) distinct = pool.Add(distinct, pool.Var(VarId(k)));
-  using Clock = std::chrono::steady_clock;
-  double reference = 1e9;
-  for (int rep = 0; rep < 3; ++rep) {
-    auto t0 = Clock::now();
-    size_t leaves = CollectLeaves(pool, distinct, kHasVar).size();
-    reference = std::min(reference, std::chrono::duration<double>(Clock::now() - t0).count());
-    ASSERT_EQ(leaves, n);
-  }
-  auto t0 = Clock::now();
+  ExprId sum = pool.Var(VarId(0u));
+  for (uint32_t k = 1; k < n; ++k) sum = pool.Add(sum, pool.Var(VarId(k)));
+  sum = pool.Add(sum, pool.Var(VarId(7u)));
+  sum = pool.Sub(pool.Add(sum, pool.Var(VarId(n + 1))), pool.Var(VarId(n + 1)));
   AffineForm form;
-  ASSERT_TRUE(DecomposeAffine(&pool, distinct, n, &form));
-  double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  ASSERT_TRUE(DecomposeAffine(&pool, sum, n + 2, &form));
   ASSERT_EQ(form.terms.size(), n);
-  for (const auto& t : form.terms) ASSERT_EQ(t.second, 1.0);
-  EXPECT_LT(seconds, 15 * reference + 0.005)
-      << "DecomposeAffine took " << seconds << " s on " << n << " distinct terms; CollectLeaves took "
-      << reference << " s";
+  for (const auto& t : form.terms) {
+    ASSERT_EQ(t.second, pool.node(t.first).a == 7u ? 2.0 : 1.0) << "leaf " << pool.node(t.first).a;
+  }
+  // With a cap below the number of terms it refuses.
+  EXPECT_FALSE(DecomposeAffine(&pool, sum, n - 1, &form));
 }
 
 TEST_F(ExprAlgebraTest, SolveForLinear) {
