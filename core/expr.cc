@@ -107,7 +107,7 @@ const char* OpName(Op op) {
 
 namespace {
 
-constexpr uint32_t kEmpty = 0xffffffffu;
+constexpr uint64_t kEmptySlot = ~0ull;
 
 uint64_t HashNode(const Node& n) {
   uint64_t bits;
@@ -123,6 +123,12 @@ uint64_t HashNode(const Node& n) {
   return h;
 }
 
+/// The 32-bit tag stored in the table; also the slot index source.
+uint32_t Tag(const Node& n) {
+  uint64_t h = HashNode(n);
+  return static_cast<uint32_t>(h ^ (h >> 32));
+}
+
 bool SameNode(const Node& x, const Node& y) {
   return x.op == y.op && x.a == y.a && x.b == y.b && x.c == y.c && x.flags == y.flags &&
          std::memcmp(&x.value, &y.value, sizeof x.value) == 0;
@@ -136,7 +142,7 @@ bool IsCommutative(Op op) {
 }  // namespace
 
 ExprPool::ExprPool() {
-  table_.assign(1024, kEmpty);
+  table_.assign(1024, kEmptySlot);
   Node z;
   z.op = Op::kConst;
   zero_ = Intern(z);
@@ -146,24 +152,29 @@ ExprPool::ExprPool() {
 }
 
 void ExprPool::Grow() {
-  std::vector<uint32_t> old;
+  std::vector<uint64_t> old;
   old.swap(table_);
-  table_.assign(old.size() * 2, kEmpty);
+  table_.assign(old.size() * 2, kEmptySlot);
   const size_t mask = table_.size() - 1;
-  for (uint32_t id : old) {
-    if (id == kEmpty) continue;
-    size_t slot = HashNode(nodes_[id]) & mask;
-    while (table_[slot] != kEmpty) slot = (slot + 1) & mask;
-    table_[slot] = id;
+  for (uint64_t entry : old) {
+    if (entry == kEmptySlot) continue;
+    size_t slot = static_cast<uint32_t>(entry >> 32) & mask;
+    while (table_[slot] != kEmptySlot) slot = (slot + 1) & mask;
+    table_[slot] = entry;
   }
 }
 
 ExprId ExprPool::Intern(const Node& n) {
   if ((table_used_ + 1) * 2 > table_.size()) Grow();
   const size_t mask = table_.size() - 1;
-  size_t slot = HashNode(n) & mask;
-  while (table_[slot] != kEmpty) {
-    if (SameNode(nodes_[table_[slot]], n)) return ExprId(table_[slot]);
+  const uint32_t tag = Tag(n);
+  size_t slot = tag & mask;
+  while (table_[slot] != kEmptySlot) {
+    const uint64_t entry = table_[slot];
+    if (static_cast<uint32_t>(entry >> 32) == tag) {
+      const uint32_t id = static_cast<uint32_t>(entry);
+      if (SameNode(nodes_[id], n)) return ExprId(id);
+    }
     slot = (slot + 1) & mask;
   }
   Node stored = n;
@@ -190,7 +201,7 @@ ExprId ExprPool::Intern(const Node& n) {
   }
   uint32_t id = static_cast<uint32_t>(nodes_.size());
   nodes_.push_back(stored);
-  table_[slot] = id;
+  table_[slot] = (static_cast<uint64_t>(tag) << 32) | id;
   ++table_used_;
   return ExprId(id);
 }
@@ -200,9 +211,13 @@ ExprId ExprPool::FindLeaf(Op op, uint32_t payload) const {
   n.op = op;
   n.a = payload;
   const size_t mask = table_.size() - 1;
-  size_t slot = HashNode(n) & mask;
-  while (table_[slot] != kEmpty) {
-    if (SameNode(nodes_[table_[slot]], n)) return ExprId(table_[slot]);
+  const uint32_t tag = Tag(n);
+  size_t slot = tag & mask;
+  while (table_[slot] != kEmptySlot) {
+    const uint64_t entry = table_[slot];
+    if (static_cast<uint32_t>(entry >> 32) == tag && SameNode(nodes_[static_cast<uint32_t>(entry)], n)) {
+      return ExprId(static_cast<uint32_t>(entry));
+    }
     slot = (slot + 1) & mask;
   }
   return ExprId();

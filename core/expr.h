@@ -125,7 +125,9 @@ class ExprPool {
   void Grow();
 
   std::vector<Node> nodes_;
-  std::vector<uint32_t> table_;  ///< open-addressing hash table of node ids (kInvalid = empty)
+  /// Open-addressing hash table: each slot holds (hash tag << 32) | node id, or kEmptySlot. The
+  /// tag spares a probe the node comparison (a cache miss) unless it is a likely match.
+  std::vector<uint64_t> table_;
   size_t table_used_ = 0;
   ExprId zero_, one_, minus_one_, time_;
 };
