@@ -8,7 +8,6 @@
 #include "core/causalization.h"
 #include "core/compile.h"
 #include "core/discrete_partition.h"
-#include "core/graph.h"
 #include "core/index_reduction.h"
 #include "core/pruning.h"
 #include "core/structural_analysis.h"

@@ -162,7 +162,7 @@ class Flattener {
     if (pool().IsConst(e)) return pool().ConstValue(e);
     if (model_values_.empty() && !spec_.parameters.empty()) {
       model_values_.resize(spec_.parameters.size());
-      for (size_t k = 0; k < spec_.parameters.size(); ++k) model_values_[k] = ModelParamValue(ParamId(k), 0);
+      for (size_t k = 0; k < spec_.parameters.size(); ++k) model_values_[k] = ModelParamValue(ParamId(k));
     }
     for (ExprId leaf : CollectLeaves(pool(), e, kHasParam)) {
       uint32_t id = pool().node(leaf).a;
@@ -178,7 +178,7 @@ class Flattener {
 
   /// A model parameter's value, following its binding through other model parameters (each
   /// evaluated once; a binding that reaches itself is a cycle).
-  double ModelParamValue(ParamId id, int /*depth*/) {
+  double ModelParamValue(ParamId id) {
     const size_t n = spec_.parameters.size();
     if (param_state_.size() != n) {
       param_state_.assign(n, 0);
@@ -464,8 +464,8 @@ class Flattener {
     L.discrete.assign(L.vars.size(), false);
     for (size_t k = 0; k < L.vars.size(); ++k) L.discrete[k] = L.vars[k].type != ValueType::kReal;
     auto local_var = [&](const std::string& name, const SourceLoc& loc, const std::string& what) {
-      auto it = L.var_index.find(name);
-      if (it == L.var_index.end()) {
+      auto found = L.var_index.find(name);
+      if (found == L.var_index.end()) {
         throw ModelError(loc, "unknown variable '" + name + "' in " + what + " of " + type->name +
                                   " (valid variables: " + JoinNames([&] {
                                     std::vector<std::string> v;
@@ -473,7 +473,7 @@ class Flattener {
                                     return v;
                                   }()) + ")");
       }
-      return it->second;
+      return found->second;
     };
     for (const auto& w : type->whens) {
       TypeLayout::WhenTemplate wt;
@@ -491,19 +491,19 @@ class Flattener {
       L.whens.push_back(std::move(wt));
     }
     for (const auto& im : type->impacts) {
-      TypeLayout::ImpactTemplate it;
-      it.gap = MakeTemplate(L, *im.gap, im.gap_text, im.loc, false);
-      it.velocity = MakeTemplate(L, *im.velocity, im.velocity_text, im.loc, false);
-      it.restitution = MakeTemplate(L, *im.restitution, im.restitution_text, im.loc, true);
-      it.v_small = MakeTemplate(L, *im.v_small, im.v_small_text, im.loc, true);
-      it.release = MakeTemplate(L, *im.release, im.release_text, im.loc, false);
-      it.force = local_var(im.force, im.loc, "impact");
-      it.contact = local_var(im.contact, im.loc, "impact");
-      if (L.vars[it.contact].type != ValueType::kBoolean) {
+      TypeLayout::ImpactTemplate tmpl;
+      tmpl.gap = MakeTemplate(L, *im.gap, im.gap_text, im.loc, false);
+      tmpl.velocity = MakeTemplate(L, *im.velocity, im.velocity_text, im.loc, false);
+      tmpl.restitution = MakeTemplate(L, *im.restitution, im.restitution_text, im.loc, true);
+      tmpl.v_small = MakeTemplate(L, *im.v_small, im.v_small_text, im.loc, true);
+      tmpl.release = MakeTemplate(L, *im.release, im.release_text, im.loc, false);
+      tmpl.force = local_var(im.force, im.loc, "impact");
+      tmpl.contact = local_var(im.contact, im.loc, "impact");
+      if (L.vars[tmpl.contact].type != ValueType::kBoolean) {
         throw ModelError(im.loc, "the impact contact of " + type->name + " must be a Boolean variable (type: Boolean)");
       }
-      L.discrete[it.contact] = true;
-      L.impacts.push_back(std::move(it));
+      L.discrete[tmpl.contact] = true;
+      L.impacts.push_back(std::move(tmpl));
     }
     CheckLocalBalance(L);
     const TypeLayout& ref = *layout;
