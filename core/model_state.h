@@ -38,6 +38,8 @@ class ModelState {
   double* mutable_discrete() { return regs_.data() + model_->layout.disc_base; }
   /// Discrete values before the first event (and their pre-values).
   void StartDiscrete();
+  /// Sets initial() for the programs run next (the initialisation programs set it themselves).
+  void set_initial(bool on) { regs_[RegisterLayout::kInitial] = on ? 1.0 : 0.0; }
   /// pre := current values of y and of the discrete variables.
   void SavePre(const double* y);
   void ZeroCrossings(double t, const double* y, const double* yp, double* out);

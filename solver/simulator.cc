@@ -197,11 +197,31 @@ class EventIntegrator {
       if (!changed) break;
       if (iter == 50) throw SolverError("at t = " + Num(opt_.start) + ": the initial discrete values do not settle (the conditions switch back and forth)");
     }
+    // When-clauses at the start: a clause fires only when its condition is true because of
+    // initial() (`when initial() then …`); one already true for other reasons waits for an edge.
     when_state_.resize(m_.whens.size());
     if (!m_.whens.empty()) {
-      std::vector<double> w(m_.whens.size());
-      state_->WhenConditions(opt_.start, y_.data(), yp_.data(), w.data());
-      for (size_t k = 0; k < w.size(); ++k) when_state_[k] = w[k] != 0;
+      std::vector<double> now(m_.whens.size()), at_init(m_.whens.size());
+      state_->WhenConditions(opt_.start, y_.data(), yp_.data(), now.data());
+      state_->set_initial(true);
+      state_->WhenConditions(opt_.start, y_.data(), yp_.data(), at_init.data());
+      state_->set_initial(false);
+      std::vector<double> values;
+      double* d = state_->mutable_discrete();
+      for (size_t k = 0; k < now.size(); ++k) {
+        when_state_[k] = now[k] != 0;
+        if (at_init[k] == 0 || now[k] != 0) continue;
+        if (values.empty()) {
+          size_t count = 0;
+          for (const auto& w : m_.whens) count += w.assigns.size() + w.reinits.size();
+          values.resize(count);
+          state_->set_initial(true);
+          state_->WhenValues(opt_.start, y_.data(), yp_.data(), values.data());
+          state_->set_initial(false);
+        }
+        for (const auto& [disc, slot] : m_.whens[k].assigns) d[disc] = values[slot];
+        for (const auto& [y, slot] : m_.whens[k].reinits) y_[y] = values[slot];
+      }
     }
     state_->SavePre(y_.data());
     stats_->init_seconds = Elapsed(t0);

@@ -148,6 +148,32 @@ outputs: [x]
   }
 }
 
+TEST(EventTest, WhenInitialFiresAtTheStartOnly) {
+  // `when initial()` runs once at the start; a clause whose condition is already true at the
+  // start (x >= 0) waits for an edge and never fires here.
+  Built b = testing::BuildYaml(R"yaml(
+model: InitialWhen
+parameters: {k: 3}
+variables:
+  x: {start: 0, fixed: true}
+  a: {start: -1}
+  b: {start: -1}
+equations:
+  - der(x) = 1
+when:
+  - when: initial()
+    then: ["a = 2*k"]
+  - when: x >= 0
+    then: ["b = 5"]
+experiment: {stop: 1, tolerance: 1e-8, interval: 0.5}
+outputs: [a, b]
+)yaml");
+  Trajectory tr = testing::RunDefault(b);
+  EXPECT_EQ(tr.Column("a", 0), 6.0);
+  EXPECT_EQ(tr.Column("a", tr.t.size() - 1), 6.0);
+  EXPECT_EQ(tr.Column("b", tr.t.size() - 1), -1.0);
+}
+
 TEST(EventTest, NoEventRelationsMakeNoEvents) {
   Built b = testing::BuildYaml(R"yaml(
 model: Smooth
