@@ -63,37 +63,55 @@ ParameterOverrides ParseOverrides(const std::vector<std::string>& pairs) {
   return out;
 }
 
-int RunSimulate(const SimulateArgs& args) {
+/// What both simulate and check start from: the built model and its parameter values.
+struct LoadedModel {
+  std::shared_ptr<const CompiledModel> model;
+  std::unique_ptr<ModelState> state;
+  BuildReport report;
   ParameterOverrides overrides;
+  double load_s = 0, build_s = 0;
+};
+
+/// Parses -p, loads, builds and sets the parameters; returns an exit code (kExitOk on success)
+/// after printing what went wrong.
+int LoadAndBuild(const std::string& path, const std::vector<std::string>& params, LoadedModel* out) {
   try {
-    overrides = ParseOverrides(args.params);
+    out->overrides = ParseOverrides(params);
   } catch (const std::invalid_argument& e) {
     std::cerr << "momenta: " << e.what() << "\n";
     return kExitUsage;
   }
-  std::shared_ptr<const CompiledModel> model;
-  BuildReport report;
-  double load_s = 0, build_s = 0;
-  std::unique_ptr<ModelState> state;
-  SimulationOptions opt;
   try {
     auto t0 = Clock::now();
-    ModelSpec spec = LoadModelFile(args.model);
-    load_s = Since(t0);
+    ModelSpec spec = LoadModelFile(path);
+    out->load_s = Since(t0);
     auto t1 = Clock::now();
-    model = BuildModel(spec, BuiltinLibrary(), overrides, &report);
-    build_s = Since(t1);
-    state = std::make_unique<ModelState>(model);
-    state->SetParameters(overrides);
-    opt = OptionsFromExperiment(model->experiment);
-    if (args.stop >= 0) opt.stop = args.stop;
-    if (args.rtol > 0) opt.rtol = args.rtol;
-    if (args.atol > 0) opt.atol = args.atol;
-    if (args.interval > 0) opt.interval = args.interval;
-    if (!args.linear_solver.empty()) opt.linear_solver = args.linear_solver;
-    if (!(opt.stop > opt.start)) throw ModelError(args.model + ": the stop time must be after the start time " + FormatDouble(opt.start));
+    out->model = BuildModel(spec, BuiltinLibrary(), out->overrides, &out->report);
+    out->build_s = Since(t1);
+    out->state = std::make_unique<ModelState>(out->model);
+    out->state->SetParameters(out->overrides);
   } catch (const ModelError& e) {
     std::cerr << e.what() << "\n";
+    return kExitModel;
+  }
+  return kExitOk;
+}
+
+int RunSimulate(const SimulateArgs& args) {
+  LoadedModel loaded;
+  if (int code = LoadAndBuild(args.model, args.params, &loaded); code != kExitOk) return code;
+  const std::shared_ptr<const CompiledModel>& model = loaded.model;
+  const BuildReport& report = loaded.report;
+  const double load_s = loaded.load_s, build_s = loaded.build_s;
+  ModelState* state = loaded.state.get();
+  SimulationOptions opt = OptionsFromExperiment(model->experiment);
+  if (args.stop >= 0) opt.stop = args.stop;
+  if (args.rtol > 0) opt.rtol = args.rtol;
+  if (args.atol > 0) opt.atol = args.atol;
+  if (args.interval > 0) opt.interval = args.interval;
+  if (!args.linear_solver.empty()) opt.linear_solver = args.linear_solver;
+  if (!(opt.stop > opt.start)) {
+    std::cerr << args.model << ": the stop time must be after the start time " << FormatDouble(opt.start) << "\n";
     return kExitModel;
   }
   for (const auto& w : report.warnings) std::cerr << args.model << ": warning: " << w << "\n";
@@ -112,7 +130,7 @@ int RunSimulate(const SimulateArgs& args) {
   int code = kExitOk;
   std::string failure;
   try {
-    Simulate(state.get(), opt, [&](double t, const std::vector<double>& v) {
+    Simulate(state, opt, [&](double t, const std::vector<double>& v) {
       csv->Row(t, v);
       last = v;
       last_t = t;
@@ -163,27 +181,11 @@ int RunSimulate(const SimulateArgs& args) {
 }
 
 int RunCheck(const CheckArgs& args) {
-  ParameterOverrides overrides;
-  try {
-    overrides = ParseOverrides(args.params);
-  } catch (const std::invalid_argument& e) {
-    std::cerr << "momenta: " << e.what() << "\n";
-    return kExitUsage;
-  }
-  BuildReport report;
-  std::shared_ptr<const CompiledModel> model;
-  double load_s = 0;
-  try {
-    auto t0 = Clock::now();
-    ModelSpec spec = LoadModelFile(args.model);
-    load_s = Since(t0);
-    model = BuildModel(spec, BuiltinLibrary(), overrides, &report);
-    ModelState state(model);
-    state.SetParameters(overrides);
-  } catch (const ModelError& e) {
-    std::cerr << e.what() << "\n";
-    return kExitModel;
-  }
+  LoadedModel loaded;
+  if (int code = LoadAndBuild(args.model, args.params, &loaded); code != kExitOk) return code;
+  const std::shared_ptr<const CompiledModel>& model = loaded.model;
+  const BuildReport& report = loaded.report;
+  const double load_s = loaded.load_s;
   std::ostream& o = std::cout;
   o << "model " << model->flat->model_name << " (" << args.model << "): " << report.num_components
     << " components, " << report.num_parameters << " parameters\n";

@@ -207,20 +207,12 @@ class EventIntegrator {
       state_->WhenConditions(opt_.start, y_.data(), yp_.data(), at_init.data());
       state_->set_initial(false);
       std::vector<double> values;
-      double* d = state_->mutable_discrete();
       for (size_t k = 0; k < now.size(); ++k) {
         when_state_[k] = now[k] != 0;
         if (at_init[k] == 0 || now[k] != 0) continue;
-        if (values.empty()) {
-          size_t count = 0;
-          for (const auto& w : m_.whens) count += w.assigns.size() + w.reinits.size();
-          values.resize(count);
-          state_->set_initial(true);
-          state_->WhenValues(opt_.start, y_.data(), yp_.data(), values.data());
-          state_->set_initial(false);
-        }
-        for (const auto& [disc, slot] : m_.whens[k].assigns) d[disc] = values[slot];
-        for (const auto& [y, slot] : m_.whens[k].reinits) y_[y] = values[slot];
+        state_->set_initial(true);
+        RunWhen(k, opt_.start, &values);
+        state_->set_initial(false);
       }
     }
     state_->SavePre(y_.data());
@@ -370,12 +362,7 @@ class EventIntegrator {
       const bool at_time_event = flag == IDA_TSTOP_RETURN && tret == t_event;
       EmitGrid(tret, !at_time_event);  // an event's own rows cover its time
       t_ = tret;
-      if (flag == IDA_TSTOP_RETURN && tret < opt_.stop) {
-        y_.assign(yv, yv + n_);
-        yp_.assign(ypv, ypv + n_);
-        DoEvent(tret, true);
-      } else if (flag == IDA_TSTOP_RETURN && tret >= opt_.stop && t_event <= opt_.stop) {
-        // A time event exactly at the stop time: the right limit ends the run.
+      if (at_time_event) {  // (one exactly at the stop time gives the run's last row)
         y_.assign(yv, yv + n_);
         yp_.assign(ypv, ypv + n_);
         DoEvent(tret, true);
@@ -656,24 +643,29 @@ class EventIntegrator {
     state_->WhenConditions(t, y_.data(), yp_.data(), cond.data());
     std::vector<double> values;
     bool fired = false;
-    double* d = state_->mutable_discrete();
     for (size_t k = 0; k < m_.whens.size(); ++k) {
       bool now = cond[k] != 0;
       bool edge = now && !when_state_[k];
       when_state_[k] = now;
       if (!edge) continue;
-      if (values.empty()) {
-        size_t count = 0;
-        for (const auto& w : m_.whens) count += w.assigns.size() + w.reinits.size();
-        values.resize(count);
-        state_->WhenValues(t, y_.data(), yp_.data(), values.data());
-      }
-      const auto& w = m_.whens[k];
-      for (const auto& [disc, slot] : w.assigns) d[disc] = values[slot];
-      for (const auto& [y, slot] : w.reinits) y_[y] = values[slot];
+      RunWhen(k, t, &values);
       fired = true;
     }
     return fired;
+  }
+
+  /// Executes when-clause k: its assignments and reinit(). `values` holds every statement's value,
+  /// computed at the first clause that runs in this round (all read the same pre-values).
+  void RunWhen(size_t k, double t, std::vector<double>* values) {
+    if (values->empty()) {
+      size_t count = 0;
+      for (const auto& w : m_.whens) count += w.assigns.size() + w.reinits.size();
+      values->resize(count);
+      state_->WhenValues(t, y_.data(), yp_.data(), values->data());
+    }
+    double* d = state_->mutable_discrete();
+    for (const auto& [disc, slot] : m_.whens[k].assigns) d[disc] = (*values)[slot];
+    for (const auto& [y, slot] : m_.whens[k].reinits) y_[y] = (*values)[slot];
   }
 
   // -------------------------------------------------------------------------------------------
