@@ -1,6 +1,9 @@
 #pragma once
 /// Infix parser for momenta's equation language (docs/FORMAT.md). Precedence, lowest first:
 /// if-then-else, or, and, not, relations, + -, * /, unary minus, ^ (right-associative).
+///
+/// The parser recurses only into nested constructs (parentheses, call arguments, subscripts,
+/// if-expressions); chains of one operator are collected by loops into one node (see ast.h).
 
 #include <string>
 
@@ -8,6 +11,13 @@
 #include "core/error.h"
 
 namespace momenta {
+
+/// The deepest nesting an expression may have: parentheses, function calls, subscripts,
+/// if-expressions, unary minus, `not` and the exponents of a power chain each add one level; the
+/// operands of one chain (`a + b - c`, `a * b`, `a and b`, `elseif` branches) do not. Deeper input
+/// is a ModelError "expression nested deeper than 1000 levels" at the offending column, instead of
+/// a stack overflow in the parser or in a pass that walks the tree.
+constexpr int kMaxExpressionDepth = 1000;
 
 /// Parses one expression. `loc` is where the text starts in the user's file; errors are
 /// ModelErrors at the offending column.
