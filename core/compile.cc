@@ -244,6 +244,11 @@ std::shared_ptr<CompiledModel> CompileModel(EquationSystem sys, const Structure&
   }
 
   // Event conditions, from everything that is evaluated.
+  // A discrete variable is constant between events: its derivative in a crossing's rate is zero.
+  Substitution discrete_rate(&p);
+  for (uint32_t v = 0; v < flat.variables.size(); ++v) {
+    if (flat.variables[v].discrete) discrete_rate.Set(p.Der(VarId(v)), p.Zero());
+  }
   ConditionTable conds(&p, names);
   auto collect_all = [&](auto&& fn) {
     for (ExprId& e : m->residual_exprs) fn(e);
@@ -269,6 +274,7 @@ std::shared_ptr<CompiledModel> CompileModel(EquationSystem sys, const Structure&
     m->conditions.push_back({rel.op, time_only, conds.Text(r)});
     z.push_back(zr);
     ExprId rate = TimeDerivative(&p, zr);
+    if (rate.valid()) rate = discrete_rate.Apply(rate);
     dz.push_back(rate.valid() ? rate : p.Zero());
   }
   collect_all([&](ExprId& e) { e = conds.Replace(e); });
