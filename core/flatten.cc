@@ -315,8 +315,9 @@ class Flattener {
   /// Builds an expression of the model scope.
   ExprId ModelExpr(const Ast& a, const std::string& text, const SourceLoc& loc,
                    const std::pair<std::string, double>* loop, bool allow_variables) {
-    return BuildExpr(a, text, loc, [&](const Ast& name) {
-      return ModelName(name, loc, loop, allow_variables, text);
+    const std::string quoted = Excerpt(text, 0);  // messages quote the text
+    return BuildExpr(a, quoted, loc, [&](const Ast& name) {
+      return ModelName(name, loc, loop, allow_variables, quoted);
     }, allow_variables);
   }
 
@@ -575,8 +576,9 @@ class Flattener {
 
   Template EquationTemplate(const TypeLayout& L, const EquationDecl& e) {
     Template t;
-    int32_t lhs = AddTemplate(L, *e.ast.lhs, e.text, e.loc, false, &t);
-    int32_t rhs = AddTemplate(L, *e.ast.rhs, e.text, e.loc, false, &t);
+    const std::string quoted = Excerpt(e.text, 0);  // messages quote the text
+    int32_t lhs = AddTemplate(L, *e.ast.lhs, quoted, e.loc, false, &t);
+    int32_t rhs = AddTemplate(L, *e.ast.rhs, quoted, e.loc, false, &t);
     TNode n;
     n.kind = TNode::kOp;
     n.op = Op::kSub;
@@ -590,7 +592,7 @@ class Flattener {
   Template MakeTemplate(const TypeLayout& L, const Ast& a, const std::string& text,
                         const SourceLoc& loc, bool params_only) {
     Template t;
-    t.root = AddTemplate(L, a, text, loc, params_only, &t);
+    t.root = AddTemplate(L, a, Excerpt(text, 0), loc, params_only, &t);
     return t;
   }
 
@@ -766,7 +768,7 @@ class Flattener {
         case TNode::kDerOf:
           r = TimeDerivative(&p, scratch_[n.a]);
           if (!r.valid()) {
-            throw ModelError(loc, "second derivatives are not supported, in '" + text + "' of " + path);
+            throw ModelError(loc, "second derivatives are not supported, in '" + Excerpt(text, 0) + "' of " + path);
           }
           break;
         case TNode::kOp: {

@@ -128,7 +128,8 @@ class Lexer {
   const SourceLoc& loc_;
 };
 
-/// The text quoted in a message: all of it when short, otherwise the part around `column`.
+}  // namespace
+
 std::string Excerpt(const std::string& text, int column) {
   constexpr size_t kHalf = 60;
   if (text.size() <= 2 * kHalf) return text;
@@ -137,6 +138,8 @@ std::string Excerpt(const std::string& text, int column) {
   size_t to = std::min(text.size(), from + 2 * kHalf);
   return (from > 0 ? "…" : "") + text.substr(from, to - from) + (to < text.size() ? "…" : "");
 }
+
+namespace {
 
 class Parser {
  public:

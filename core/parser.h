@@ -29,6 +29,10 @@ AstEquation ParseEquation(const std::string& text, const SourceLoc& loc);
 /// Parses a dotted, possibly subscripted name such as `R[i+1].p` (connection ends, outputs).
 AstPtr ParseName(const std::string& text, const SourceLoc& loc);
 
+/// The text to quote in a message: all of it when short, otherwise about 120 characters around
+/// `column` (0-based), elided with "…", so a 100 000-term expression does not flood the message.
+std::string Excerpt(const std::string& text, int column);
+
 /// The built-in functions and their argument counts, for messages.
 bool IsKnownFunction(const std::string& name, int* arity);
 std::string KnownFunctionList();
