@@ -107,15 +107,15 @@ TEST(ParserTest, NestingUpToTheLimitParses) {
 
 TEST(ParserTest, NestingPastTheLimitIsAnErrorAtItsColumn) {
   const int n = kMaxExpressionDepth;
-  const std::string limit = "expression nested deeper than 1000 levels";
-  // The parenthesis that opens level 1001 is at offset 999; the text starts at column 7.
+  const std::string limit = "expression nested deeper than 256 levels";
+  // The parenthesis that opens level 257 is at offset 255; the text starts at column 7.
   std::string msg = ParseError(Repeat("(", n) + "x" + Repeat(")", n));
-  EXPECT_EQ(Prefix(msg), "m.yaml:3:1007: ") << msg;
+  EXPECT_EQ(Prefix(msg), "m.yaml:3:263: ") << msg;
   EXPECT_NE(msg.find(limit), std::string::npos) << msg;
   EXPECT_NE(msg.find("split it with intermediate variables or parameters"), std::string::npos) << msg;
   // The quoted text is an excerpt around that column.
   EXPECT_LT(msg.size(), 300u) << msg;
-  // Level 1001 of a chain of signs is its first sign.
+  // Level 257 of a chain of signs is its first sign.
   msg = ParseError(Repeat("-", n) + "x");
   EXPECT_EQ(Prefix(msg), "m.yaml:3:7: ") << msg;
   EXPECT_NE(msg.find(limit), std::string::npos) << msg;
