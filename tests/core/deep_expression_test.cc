@@ -15,6 +15,7 @@
 #include "core/expr_eval.h"
 #include "core/flat_system.h"
 #include "core/model_spec.h"
+#include "core/parser.h"
 #include "tests/support/test_models.h"
 
 namespace momenta {
@@ -114,6 +115,32 @@ outputs: [d.x]
   ASSERT_FALSE(tr.t.empty());
   EXPECT_EQ(tr.t.back(), 1.0);
   EXPECT_NEAR(tr.Column("d.x", tr.t.size() - 1), std::exp(-1.0), 1e-6);
+}
+
+std::string Repeat(const std::string& s, int n) {
+  std::string out;
+  for (int k = 0; k < n; ++k) out += s;
+  return out;
+}
+
+TEST(DeepExpressionTest, NestingAtTheLimitGoesThroughEveryPass) {
+  // der(x) = -(-(…-(x)…)) with 255 signs, each in parentheses: -x; x(0) = k = ((…(1)…)); the
+  // output nests 255 abs().
+  const int n = kMaxExpressionDepth - 1;
+  testing::Built b = testing::BuildYaml(R"(model: Nested
+define:
+  Decay:
+    parameters: {k: {value: ")" + Repeat("(", n) + "1" + Repeat(")", n) + R"("}}
+    variables: {x: {start: k, fixed: true}}
+    equations: ["der(x) = )" + Repeat("-(", n) + "x" + Repeat(")", n) + R"("]
+components:
+  d: {type: Decay}
+experiment: {stop: 1, tolerance: 1e-8}
+outputs: [")" + Repeat("abs(", n) + "d.x" + Repeat(")", n) + R"("]
+)");
+  testing::Trajectory tr = testing::RunDefault(b);
+  ASSERT_FALSE(tr.t.empty());
+  EXPECT_NEAR(tr.values.back().at(0), std::exp(-1.0), 1e-6);
 }
 
 TEST(DeepExpressionTest, ElseifChainBuildsAndPicksTheFirstTrueBranch) {
