@@ -24,6 +24,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <sstream>
+#include <stdexcept>
 
 #include "solver/initializer.h"
 #include "solver/jacobian_fill.h"
@@ -87,7 +88,7 @@ double Elapsed(std::chrono::steady_clock::time_point since) {
 std::string FlagMeaning(int flag) {
   switch (flag) {
     case IDA_TOO_MUCH_WORK: return "too many steps without reaching the next output time";
-    case IDA_TOO_MUCH_ACC: return "the requested accuracy cannot be reached";
+    case IDA_TOO_MUCH_ACC: return "the requested accuracy is finer than the solution's rounding errors";
     case IDA_ERR_FAIL: return "the error test failed repeatedly (a discontinuity or a singularity?)";
     case IDA_CONV_FAIL: return "Newton's method failed to converge repeatedly";
     case IDA_LSETUP_FAIL:
@@ -121,6 +122,10 @@ bool RelationHolds(Op op, double z) {
 /// Samples of the zero-crossing functions inside each step: the end and three interior points.
 constexpr int kInteriorSamples = 3;
 
+/// IDASetMaxNumSteps' meaning for runs that step one at a time: at most this many steps between
+/// two output rows.
+constexpr long kMaxStepsPerRow = 500000;
+
 class EventIntegrator {
  public:
   EventIntegrator(ModelState* state, const SimulationOptions& opt, const RowCallback& row,
@@ -128,11 +133,21 @@ class EventIntegrator {
       : state_(state), m_(state->model()), opt_(opt), row_(row), stats_(stats) {
     n_ = m_.num_unknowns();
     nc_ = m_.conditions.size();
-    interval_ = opt.interval > 0 ? opt.interval : (opt.stop - opt.start) / 500.0;
+    interval_ = opt.interval == 0 ? (opt.stop - opt.start) / 500.0 : opt.interval;
     outputs_.resize(m_.output_names.size());
     has_events_ = nc_ > 0 || !m_.whens.empty() || !m_.impacts.empty();
     sparse_ = opt.linear_solver == "klu" || (opt.linear_solver == "auto" && n_ > kDenseLimit);
     stats_->linear_solver = sparse_ ? "klu" : "dense";
+    // The grid must be finite before its size is cast (an infinite stop would never end).
+    if (!(std::isfinite(opt.start) && std::isfinite(opt.stop) && opt.stop > opt.start)) {
+      throw std::invalid_argument("the stop time " + Num(opt.stop) + " is not a finite time after the start time " + Num(opt.start));
+    }
+    if (!(interval_ > 0 && std::isfinite(interval_))) {
+      throw std::invalid_argument("the output interval " + Num(interval_) + " is not a positive finite number");
+    }
+    if (std::string grid = OutputGridProblem(opt.start, opt.stop, interval_); !grid.empty()) {
+      throw std::invalid_argument("the output interval " + Num(interval_) + ": " + grid);
+    }
     num_intervals_ = static_cast<long>(std::ceil((opt.stop - opt.start) / interval_ - 1e-9));
     z_.resize(nc_);
     zscale_.assign(nc_, 1.0);
@@ -146,9 +161,10 @@ class EventIntegrator {
       if (has_events_) {
         RunStateless();
       } else {
-        for (long k = 1; k <= num_intervals_; ++k) Emit(GridTime(k), nullptr, nullptr);
+        for (long k = 1; k <= num_intervals_ && !Interrupted(opt_.start + (k - 1) * interval_); ++k) {
+          Emit(GridTime(k), nullptr, nullptr);
+        }
       }
-      stats_->final_time = opt_.stop;
       stats_->integrate_seconds = Elapsed(t_run_);
       return;
     }
@@ -168,9 +184,25 @@ class EventIntegrator {
  private:
   double GridTime(long k) const { return k >= num_intervals_ ? opt_.stop : opt_.start + k * interval_; }
 
+  /// Whether the run has been asked to stop (SimulationOptions::interrupt); records where it was.
+  bool Interrupted(double t) {
+    if (!opt_.interrupt || !opt_.interrupt->load(std::memory_order_relaxed)) return false;
+    if (!stats_->interrupted) {
+      stats_->interrupted = true;
+      stats_->interrupted_at = t;
+    }
+    return true;
+  }
+
   void Emit(double t, const double* y, const double* yp) {
     state_->Outputs(t, y, yp, outputs_.data());
-    row_(t, outputs_);
+    Row(t, outputs_);
+  }
+
+  /// Gives out a row, unless the run has been interrupted (then no row follows a gap).
+  void Row(double t, const std::vector<double>& values) {
+    if (stats_->interrupted) return;
+    row_(t, values);
     stats_->final_time = t;
   }
 
@@ -265,7 +297,7 @@ class EventIntegrator {
                            static_cast<sunindextype>(m_.jacobian_pattern.nnz()), sparse_, ctx_.get());
     CheckFlag(IDASetLinearSolver(mem, ls_.solver.get(), ls_.matrix.get()), "IDASetLinearSolver");
     CheckFlag(IDASetJacFn(mem, Jacobian), "IDASetJacFn");
-    CheckFlag(IDASetMaxNumSteps(mem, 500000), "IDASetMaxNumSteps");
+    CheckFlag(IDASetMaxNumSteps(mem, kMaxStepsPerRow), "IDASetMaxNumSteps");
     CheckFlag(IDASetStopTime(mem, opt_.stop), "IDASetStopTime");
     abstol_ = std::move(abstol);
   }
@@ -301,6 +333,19 @@ class EventIntegrator {
     msg << "at t = " << t_fail << ": ";
     if (!data_.error.empty()) {
       msg << data_.error;
+    } else if (flag == IDA_ILL_INPUT) {
+      // Tolerances below double precision make IDA's step size vanish, and its own message then
+      // blames the stop time: name the tolerance instead. Otherwise IDA's message says which input.
+      const double atol = opt_.atol > 0 ? opt_.atol : opt_.rtol;
+      msg << "IDA rejected its input (IDA_ILL_INPUT): ";
+      if (!(opt_.rtol >= kMinRelTolerance)) {
+        msg << "the relative tolerance " << opt_.rtol << " is below what double precision resolves (use at least 1e-15)";
+      } else if (!(atol >= kMinAbsTolerance)) {
+        msg << "the absolute tolerance " << atol << " is below the smallest normal double (2.2e-308)";
+      } else {
+        msg << (data_.last_message.empty() ? "no reason given" : data_.last_message) << " (rtol " << opt_.rtol
+            << ", atol " << atol << ")";
+      }
     } else {
       msg << "IDA stopped (" << FlagName(flag) << "): " << FlagMeaning(flag);
       VectorPtr ewt = MakeVector(static_cast<sunindextype>(n_), ctx_.get());
@@ -318,22 +363,31 @@ class EventIntegrator {
         msg << ". The largest local error is in " << m_.flat->DescribeVariable(m_.unknowns[worst])
             << ", governed by " << m_.residual_origin[worst];
       }
-      msg << ". Try a tighter tolerance (--rtol), check the parameters of that component, or "
-             "look for a singularity in its equations.";
+      if (flag == IDA_TOO_MUCH_ACC) {
+        msg << ". Loosen the tolerance (a larger --rtol or --atol): double precision cannot deliver this one.";
+      } else {
+        msg << ". Try a tighter tolerance (--rtol), check the parameters of that component, or "
+               "look for a singularity in its equations.";
+      }
     }
     throw SolverError(msg.str());
   }
 
+  /// One step at a time to the stop time (the steps IDA_NORMAL would take to each output time),
+  /// the output rows interpolated within each step, so an interrupt is seen after every step.
   void RunWithoutEvents() {
     void* mem = ida_.get();
-    double* yv = N_VGetArrayPointer(y_vec_.get());
-    double* ypv = N_VGetArrayPointer(yp_vec_.get());
-    for (long k = 1; k <= num_intervals_; ++k) {
-      double tout = GridTime(k), tret = 0;
-      int flag = IDASolve(mem, tout, &tret, y_vec_.get(), yp_vec_.get(), IDA_NORMAL);
+    long steps_since_row = 0;
+    while (t_ < opt_.stop && !Interrupted(t_)) {
+      double tret = 0;
+      int flag = IDASolve(mem, opt_.stop, &tret, y_vec_.get(), yp_vec_.get(), IDA_ONE_STEP);
       if (flag < 0) Fail(flag);
-      t_ = tout;
-      Emit(tout, yv, ypv);
+      // IDA_NORMAL's guard: this many steps without reaching the next output time is too many.
+      const long before = next_grid_;
+      EmitGrid(tret, /*inclusive=*/true);
+      steps_since_row = next_grid_ != before ? 0 : steps_since_row + 1;
+      if (steps_since_row >= kMaxStepsPerRow) Fail(IDA_TOO_MUCH_WORK);
+      t_ = tret;
     }
   }
 
@@ -344,7 +398,7 @@ class EventIntegrator {
     void* mem = ida_.get();
     double* yv = N_VGetArrayPointer(y_vec_.get());
     double* ypv = N_VGetArrayPointer(yp_vec_.get());
-    while (t_ < opt_.stop) {
+    while (t_ < opt_.stop && !Interrupted(t_)) {
       double t_event = NextTimeEvent();
       double tstop = std::min(opt_.stop, t_event);
       CheckFlag(IDASetStopTime(mem, tstop), "IDASetStopTime");
@@ -376,7 +430,7 @@ class EventIntegrator {
     t_ = opt_.start;
     next_grid_ = 1;
     const double h = interval_ / 8;
-    while (t_ < opt_.stop) {
+    while (t_ < opt_.stop && !Interrupted(t_)) {
       double t_event = NextTimeEvent();
       double t_next = std::min({opt_.stop, t_event, t_ + h});
       double t_cross = FirstCrossing(t_, t_next);
@@ -394,7 +448,7 @@ class EventIntegrator {
 
   /// Grid rows up to `t` (and at t when inclusive), interpolated within the last step.
   void EmitGrid(double t, bool inclusive) {
-    while (next_grid_ <= num_intervals_) {
+    while (next_grid_ <= num_intervals_ && !Interrupted(t)) {
       double tg = GridTime(next_grid_);
       if (tg > t || (!inclusive && tg >= t)) break;
       if (tg <= last_event_time_) {  // already written as an event's rows
@@ -529,9 +583,8 @@ class EventIntegrator {
     t_ = t;
     state_->Outputs(t, y_.data(), yp_.data(), outputs_.data());
     if (outputs_ != left || stats_->impacts != impacts_before) {
-      row_(t, left);
-      row_(t, outputs_);
-      stats_->final_time = t;
+      Row(t, left);
+      Row(t, outputs_);
       last_event_time_ = t;
     }
   }
