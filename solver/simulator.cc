@@ -26,6 +26,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "solver/crossing_model.h"
 #include "solver/initializer.h"
 #include "solver/jacobian_fill.h"
 #include "solver/sundials_support.h"
@@ -121,6 +122,10 @@ bool RelationHolds(Op op, double z) {
 
 /// Samples of the zero-crossing functions inside each step: the end and three interior points.
 constexpr int kInteriorSamples = 3;
+
+/// Extra samples per step where the cubic models of the crossing functions point to a dip, and
+/// how often an interval may be split.
+constexpr int kMaxRefinements = 32, kMaxDepth = 12;
 
 /// IDASetMaxNumSteps' meaning for runs that step one at a time: at most this many steps between
 /// two output rows.
@@ -474,20 +479,95 @@ class EventIntegrator {
   }
 
   /// The earliest time in (t0, t1] at which a frozen condition no longer agrees with its
-  /// relation (or an open contact's gap closes while approaching); +inf when none.
+  /// relation (or an open contact's gap closes while approaching); +inf when none. The crossing
+  /// functions are sampled at the end and interior points of the step; between two samples each is
+  /// modelled by the cubic through its values and time derivatives, and where that cubic dips more
+  /// than halfway to zero the function is sampled at the dip and the interval split.
   double FirstCrossing(double t0, double t1) {
     // Nothing to watch when every condition is a scheduled time event and there are no contacts.
     bool watch = !m_.impacts.empty();
     for (size_t i = 0; i < nc_ && !watch; ++i) watch = !(m_.conditions[i].time_only && i < affine_.size() && affine_[i]);
     if (!watch) return HUGE_VAL;
+    const bool model = !modelled_.empty();
+    if (model && !(sample_valid_ && sample_.t == t0)) {
+      Interpolate(t0);
+      state_->ZeroCrossings(t0, y_.data(), yp_.data(), z_.data());
+      TakeSample(t0, &sample_);
+    }
+    refinements_left_ = kMaxRefinements;
     double lo = t0;
     for (int s = 1; s <= kInteriorSamples + 1; ++s) {
       double ts = t0 + (t1 - t0) * s / (kInteriorSamples + 1);
       if (s == kInteriorSamples + 1) ts = t1;
-      if (Crossed(ts)) return Locate(lo, ts);
+      if (Crossed(ts)) {
+        sample_valid_ = false;
+        return Locate(lo, ts);
+      }
+      if (model) {
+        TakeSample(ts, &next_sample_);
+        if (double tc = Excursion(sample_, next_sample_, 0); tc < HUGE_VAL) {
+          sample_valid_ = false;
+          return tc;
+        }
+        std::swap(sample_, next_sample_);
+      }
       lo = ts;
     }
+    sample_valid_ = model;  // the next step starts where this one ended
     return HUGE_VAL;
+  }
+
+  /// The crossing functions and their time derivatives at one time.
+  struct Sample {
+    double t = 0;
+    std::vector<double> z, dz;
+  };
+
+  /// Whether condition i is watched with a cubic model: it has a time derivative, is not an
+  /// equality, and is not scheduled as a time event.
+  bool Modelled(size_t i) const {
+    const auto& c = m_.conditions[i];
+    return c.has_rate && c.op != Op::kEq && c.op != Op::kNe && !(c.time_only && i < affine_.size() && affine_[i]);
+  }
+
+  /// *s := the sample at t, from z_ (computed at t) and y_, yp_ (interpolated at t).
+  void TakeSample(double t, Sample* s) {
+    s->t = t;
+    s->z.assign(z_.begin(), z_.end());
+    s->dz.resize(nc_);
+    state_->ZeroCrossingRates(t, y_.data(), yp_.data(), s->dz.data());
+  }
+
+  /// A crossing between samples a and b that the cubic models of the crossing functions point to:
+  /// its located time, or +inf. Where a model dips more than halfway from its nearer end to zero,
+  /// the functions are sampled at the dip: crossed there, the crossing is located before it;
+  /// otherwise both halves are examined the same way (at most kMaxRefinements samples per step).
+  double Excursion(const Sample& a, const Sample& b, int depth) {
+    const double h = b.t - a.t;
+    if (depth >= kMaxDepth || refinements_left_ <= 0 || !(h > 1e-14 * std::max(1.0, std::fabs(b.t)))) return HUGE_VAL;
+    const double* c = state_->conditions();
+    double tau = HUGE_VAL;
+    for (size_t i : modelled_) {
+      // u = side * z is positive on the side the frozen condition is on; crossing makes it negative.
+      const Op op = m_.conditions[i].op;
+      const bool holds_when_positive = op == Op::kGt || op == Op::kGe;
+      const double side = (c[i] != 0) == holds_when_positive ? 1.0 : -1.0;
+      const double ua = side * a.z[i], ub = side * b.z[i], va = side * a.dz[i] * h, vb = side * b.dz[i] * h;
+      const double level = 0.5 * std::max(0.0, std::min(ua, ub)) - Band(i);
+      // The cubic lies above its Bezier control points ua, ua + va/3, ub - vb/3, ub: most
+      // intervals are cleared by those alone.
+      if (std::min(ua + va / 3, ub - vb / 3) >= level) continue;
+      auto dip = HermiteInteriorMinimum(ua, va, ub, vb);
+      if (dip && dip->value < level) tau = std::min(tau, dip->tau);
+    }
+    if (tau == HUGE_VAL) return HUGE_VAL;
+    --refinements_left_;
+    const double tm = a.t + tau * h;
+    if (Crossed(tm)) return Locate(a.t, tm);
+    Sample m;
+    TakeSample(tm, &m);
+    if (double tc = Excursion(a, m, depth + 1); tc < HUGE_VAL) return tc;
+    return Excursion(m, b, depth + 1);
   }
 
   /// Whether, at time t (interpolated), some condition or contact has switched.
@@ -541,6 +621,11 @@ class EventIntegrator {
     if (!time_events_dirty_ && t_ < next_time_event_) return next_time_event_;
     time_events_dirty_ = false;
     next_time_event_ = ComputeNextTimeEvent();
+    // Which conditions the crossing models watch follows from which are scheduled.
+    modelled_.clear();
+    for (size_t i = 0; i < nc_; ++i) {
+      if (Modelled(i)) modelled_.push_back(i);
+    }
     return next_time_event_;
   }
 
@@ -568,6 +653,7 @@ class EventIntegrator {
 
   void DoEvent(double t, bool time_event) {
     time_events_dirty_ = true;
+    sample_valid_ = false;  // the conditions and discrete values change
     ++stats_->events;
     if (time_event) ++stats_->time_events;
     CheckChattering(t);
@@ -841,6 +927,11 @@ class EventIntegrator {
   double next_time_event_ = HUGE_VAL;
   bool time_events_dirty_ = true;
   int close_events_ = 0;
+  std::vector<size_t> modelled_;  ///< conditions watched with a cubic model (see Modelled)
+  Sample sample_;       ///< the crossing functions at the end of the last step
+  Sample next_sample_;  ///< at the next sample time (kept to reuse its storage)
+  bool sample_valid_ = false;
+  int refinements_left_ = 0;
   std::vector<double> y_, yp_, z_, zscale_, outputs_, impact_values_;
   std::vector<bool> when_state_, affine_;
   SolverStats base_;
