@@ -44,7 +44,9 @@ using RowCallback = std::function<void(double t, const std::vector<double>& outp
 /// Events (docs/FORMAT.md, "Events"): between events every relation outside noEvent() keeps the
 /// value it had after the last event; its zero-crossing function is watched on IDA's interpolant at
 /// the end of each step and at interior points, so a sign change inside a step is not missed
-/// however large the step. The event is located by the Illinois method on the interpolant;
+/// however large the step; between samples it is modelled by the cubic through its values and time
+/// derivatives, and sampled again where that cubic dips more than halfway to zero, so a crossing
+/// there and back between samples is found too (README, "Events and impacts", says when). The event is located by the Illinois method on the interpolant;
 /// relations of time alone that are affine in it (Step, Ramp, startTime) are hit exactly as IDA
 /// stop times. At an event: a left-limit output row; impacts are resolved one contact at a time
 /// (the fastest approaching first) until none approaches; the event iteration updates conditions
