@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "app/commands.h"
+#include "tests/app/cli_support.h"
 #include "tests/support/cli_runner.h"
 #include "tests/support/test_models.h"
 
@@ -17,6 +18,8 @@ namespace momenta {
 namespace {
 
 using testing::CliResult;
+using testing::IsNumericRow;
+using testing::Lines;
 using testing::RunMomenta;
 using testing::TempDir;
 
@@ -31,32 +34,6 @@ connections:
 experiment: {stop: 1, interval: 0.25, tolerance: 1e-8}
 outputs: [mass.a, mass.v, mass.s, "atan2(mass.v, 1)"]
 )yaml";
-
-std::vector<std::string> Lines(const std::string& text) {
-  std::vector<std::string> lines;
-  std::stringstream s(text);
-  std::string line;
-  while (std::getline(s, line)) lines.push_back(line);
-  return lines;
-}
-
-/// True when `line` is `count` comma-separated numbers.
-bool IsNumericRow(const std::string& line, size_t count) {
-  std::stringstream s(line);
-  std::string cell;
-  size_t n = 0;
-  while (std::getline(s, cell, ',')) {
-    size_t used = 0;
-    try {
-      std::stod(cell, &used);
-    } catch (const std::exception&) {
-      return false;
-    }
-    if (used != cell.size()) return false;
-    ++n;
-  }
-  return n == count;
-}
 
 /// Splits a CSV data row (no quoting in data rows) into numbers; fails the test on anything else.
 std::vector<double> Numbers(const std::string& line) {

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "app/commands.h"
-#include "tests/app/cli_process.h"
+#include "tests/app/cli_support.h"
 #include "tests/support/cli_runner.h"
 #include "tests/support/test_models.h"
 

@@ -6,28 +6,21 @@
 
 #include <chrono>
 #include <cmath>
-#include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
 
-#include "tests/app/cli_process.h"
+#include "tests/app/cli_support.h"
 #include "tests/support/cli_runner.h"
 #include "tests/support/test_models.h"
 
 namespace momenta {
 namespace {
 
+using testing::IsNumericRow;
+using testing::Lines;
 using testing::MomentaProcess;
 using testing::TempDir;
-
-std::vector<std::string> Lines(const std::string& text) {
-  std::vector<std::string> lines;
-  std::stringstream s(text);
-  std::string line;
-  while (std::getline(s, line)) lines.push_back(line);
-  return lines;
-}
 
 /// The number after `prefix` in `text` (NaN when absent).
 double NumberAfter(const std::string& text, const std::string& prefix) {
@@ -74,18 +67,9 @@ void InterruptAndCheck(int signal_number, int expected_exit) {
   const std::string text = testing::ReadText(dir.File("out.csv"));
   EXPECT_EQ(text.back(), '\n') << "the file ends inside a row";
   for (size_t k = 1; k < lines.size(); ++k) {
-    std::stringstream s(lines[k]);
-    std::string cell;
-    size_t cells = 0;
-    while (std::getline(s, cell, ',')) {
-      size_t used = 0;
-      EXPECT_NO_THROW(std::stod(cell, &used)) << "line " << k + 1 << ": " << lines[k];
-      EXPECT_EQ(used, cell.size()) << "line " << k + 1 << ": " << lines[k];
-      ++cells;
-    }
-    EXPECT_EQ(cells, 3u) << "line " << k + 1 << " is not a complete row: " << lines[k];
-    if (k + 1 == lines.size()) EXPECT_EQ(std::stod(lines[k]), last_t) << lines[k];
+    EXPECT_TRUE(IsNumericRow(lines[k], 3)) << "line " << k + 1 << " is not a complete row: " << lines[k];
   }
+  EXPECT_EQ(std::stod(lines.back()), last_t) << lines.back();
 }
 
 TEST(InterruptTest, SigintKeepsEveryCompleteRowAndExitsWith130) { InterruptAndCheck(SIGINT, 130); }

@@ -1,7 +1,8 @@
 #pragma once
-// The real `momenta` binary as a child process (fork/exec) that a test can signal, and wait for
-// with a deadline, so a hang fails the test instead of blocking it. Standard output and standard
-// error go to files in the process's own temporary directory.
+// For the tests of the real `momenta` binary: the binary as a child process (fork/exec) that a
+// test can signal, and wait for with a deadline, so a hang fails the test instead of blocking it
+// (standard output and standard error go to files in the process's own temporary directory); and
+// reading its CSV text.
 
 #include <fcntl.h>
 #include <signal.h>
@@ -9,6 +10,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -16,6 +18,33 @@
 #include "tests/support/cli_runner.h"
 
 namespace momenta::testing {
+
+/// The lines of `text`, without their line ends.
+inline std::vector<std::string> Lines(const std::string& text) {
+  std::vector<std::string> lines;
+  std::stringstream s(text);
+  std::string line;
+  while (std::getline(s, line)) lines.push_back(line);
+  return lines;
+}
+
+/// True when `line` is `count` comma-separated numbers.
+inline bool IsNumericRow(const std::string& line, size_t count) {
+  std::stringstream s(line);
+  std::string cell;
+  size_t n = 0;
+  while (std::getline(s, cell, ',')) {
+    size_t used = 0;
+    try {
+      std::stod(cell, &used);
+    } catch (const std::exception&) {
+      return false;
+    }
+    if (used != cell.size()) return false;
+    ++n;
+  }
+  return n == count;
+}
 
 class MomentaProcess {
  public:
