@@ -2,6 +2,7 @@
 // (yaml-cpp marks are 0-based; we add 1), the user's path, what was expected, and the valid keys.
 
 #include <yaml-cpp/depthguard.h>
+#include <yaml-cpp/eventhandler.h>
 #include <yaml-cpp/yaml.h>
 
 #include <cctype>
@@ -605,27 +606,64 @@ void CheckDuplicateKeys(const YAML::Node& root, const std::string& file, const s
   }
 }
 
-/// The 1-based line of the `---` that starts the document whose content begins at `mark`.
-int DocumentStartLine(const std::string& text, const YAML::Mark& mark) {
-  int line = 0, found = 0;
-  for (size_t at = 0; at < text.size() && (mark.line < 0 || line <= mark.line); ++line) {
-    size_t end = text.find('\n', at);
-    if (end == std::string::npos) end = text.size();
-    if (text.compare(at, 3, "---") == 0 &&
-        (at + 3 == end || text[at + 3] == ' ' || text[at + 3] == '\t' || text[at + 3] == '\r')) {
-      found = line + 1;
-    }
-    at = end + 1;
+/// Counts the documents of a YAML stream, stopping at the start of the second: yaml-cpp's LoadAll
+/// would read them all, and loops for ever (allocating) on a ',' where a document should start,
+/// which its parser never consumes (yaml-cpp 0.7: the input ",").
+class DocumentCounter : public YAML::EventHandler {
+ public:
+  /// Thrown at the start of a second document; `stuck` if it starts where the first did.
+  struct SecondDocument {
+    YAML::Mark mark;
+    bool stuck;
+  };
+
+  int count() const { return count_; }
+
+  void OnDocumentStart(const YAML::Mark& mark) override {
+    if (++count_ == 2) throw SecondDocument{mark, mark.pos == first_.pos};
+    first_ = mark;
   }
-  return found;
-}
+  void OnDocumentEnd() override {}
+  void OnNull(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnAlias(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnScalar(const YAML::Mark&, const std::string&, YAML::anchor_t, const std::string&) override {}
+  void OnSequenceStart(const YAML::Mark&, const std::string&, YAML::anchor_t,
+                       YAML::EmitterStyle::value) override {}
+  void OnSequenceEnd() override {}
+  void OnMapStart(const YAML::Mark&, const std::string&, YAML::anchor_t, YAML::EmitterStyle::value) override {}
+  void OnMapEnd() override {}
+
+ private:
+  int count_ = 0;
+  YAML::Mark first_;
+};
 
 /// Reads the single YAML document of a file. An empty file, a second document (`---`), YAML
 /// nested deeper than yaml-cpp reads, and a key given twice in one mapping are errors.
 YAML::Node ParseYaml(const std::string& text, const std::string& file, const std::string& what) {
-  std::vector<YAML::Node> docs;
+  YAML::Node root;
   try {
-    docs = YAML::LoadAll(text);
+    // First the documents are counted (the first one read as events), then the first is loaded.
+    std::istringstream stream(text);
+    YAML::Parser parser(stream);
+    DocumentCounter counter;
+    try {
+      while (parser.HandleNextDocument(counter)) {
+      }
+    } catch (const DocumentCounter::SecondDocument& second) {
+      if (second.stuck) {
+        throw ModelError(MarkLoc(file, second.mark),
+                         "YAML syntax error: unexpected '" + text.substr(second.mark.pos, 1) + "'");
+      }
+      throw ModelError(MarkLoc(file, second.mark),
+                       "a second YAML document starts here; a " + what + " holds one document");
+    }
+    if (counter.count() == 0) {
+      bool blank = text.find_first_not_of(" \t\r\n") == std::string::npos;
+      throw ModelError(SourceLoc(file), "the " + what + " is empty" +
+                                            (blank ? "" : " (it holds only comments)"));
+    }
+    root = YAML::Load(text);
   } catch (const YAML::DeepRecursion& e) {
     throw ModelError(MarkLoc(file, e.mark),
                      "YAML nested too deeply: lists and mappings nested hundreds of levels deep are "
@@ -633,19 +671,8 @@ YAML::Node ParseYaml(const std::string& text, const std::string& file, const std
   } catch (const YAML::Exception& e) {
     throw ModelError(MarkLoc(file, e.mark), "YAML syntax error: " + e.msg);
   }
-  if (docs.empty()) {
-    bool blank = text.find_first_not_of(" \t\r\n") == std::string::npos;
-    throw ModelError(SourceLoc(file), "the " + what + " is empty" +
-                                          (blank ? "" : " (it holds only comments)"));
-  }
-  if (docs.size() > 1) {
-    SourceLoc loc = MarkLoc(file, docs[1].Mark());
-    if (int line = DocumentStartLine(text, docs[1].Mark())) loc = SourceLoc(file, line, 1);
-    throw ModelError(loc, "a second YAML document ('---') starts here; a " + what +
-                              " holds one document");
-  }
-  CheckDuplicateKeys(docs[0], file, what);
-  return docs[0];
+  CheckDuplicateKeys(root, file, what);
+  return root;
 }
 
 }  // namespace

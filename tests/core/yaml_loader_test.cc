@@ -127,11 +127,19 @@ outputs: [a.s, b.s]
 
 TEST(YamlLoaderTest, SecondDocumentIsAnError) {
   std::string msg = LoadError("model: One\ncomponents: {a: {type: Mass}}\n---\nmodel: Two\n");
-  EXPECT_EQ(msg, "test.yaml:3:1: a second YAML document ('---') starts here; a model file holds one document");
+  EXPECT_EQ(msg, "test.yaml:3:1: a second YAML document starts here; a model file holds one document");
   // An empty second document too; a leading '---' and a closing '...' are one document.
   msg = LoadError("---\nmodel: One\n---\n");
   EXPECT_NE(msg.find("test.yaml:3:1: a second YAML document"), std::string::npos) << msg;
   EXPECT_EQ(LoadError("---\nmodel: One\n...\n"), "");
+}
+
+TEST(YamlLoaderTest, StrayCommaIsASyntaxErrorNotAnEndlessStream) {
+  // Found by fuzzing: yaml-cpp's LoadAll loops for ever, allocating, on ',' where a document
+  // starts; Load reads it as an empty document.
+  EXPECT_EQ(LoadError(","), "test.yaml:1:1: YAML syntax error: unexpected ','");
+  EXPECT_EQ(LoadError(",\x95"), "test.yaml:1:1: YAML syntax error: unexpected ','");
+  EXPECT_EQ(LoadError("model: A\n...\n,\n"), "test.yaml:3:1: a second YAML document starts here; a model file holds one document");
 }
 
 TEST(YamlLoaderTest, EmptyFile) {
