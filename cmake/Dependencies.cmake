@@ -14,7 +14,10 @@
 # Options / cache variables:
 #   MOMENTA_BUILD_TESTS          (ON)  find GTest, enable_testing()
 #   MOMENTA_BUILD_BENCH          (ON)  find Google Benchmark
-#   MOMENTA_SANITIZE             (OFF) ASan + UBSan on everything defined after this file
+#   MOMENTA_SANITIZE             (OFF) ASan + UBSan (with float-cast-overflow, which GCC's
+#                                      'undefined' leaves out) on everything defined after this file
+#   MOMENTA_BUILD_FUZZ           (OFF) the libFuzzer target in fuzz/ (clang only; implies the
+#                                      sanitizers and adds libFuzzer's coverage instrumentation)
 #   MOMENTA_SUNDIALS_ROOT        optimised SUNDIALS prefix made by scripts/setup.sh
 #   MOMENTA_USE_SYSTEM_SUNDIALS  (OFF) ignore MOMENTA_SUNDIALS_ROOT, use the system SUNDIALS
 # Sets MOMENTA_SUNDIALS_OPTIMIZED (ON/OFF) and MOMENTA_SUNDIALS_VERSION in the including scope.
@@ -24,12 +27,22 @@ include_guard(GLOBAL)
 option(MOMENTA_BUILD_TESTS "Build the unit tests (needs GTest)" ON)
 option(MOMENTA_BUILD_BENCH "Build the benchmarks (needs Google Benchmark)" ON)
 option(MOMENTA_SANITIZE "Build with AddressSanitizer and UndefinedBehaviorSanitizer" OFF)
+option(MOMENTA_BUILD_FUZZ "Build the libFuzzer target in fuzz/ (needs clang; implies the sanitizers)" OFF)
 option(MOMENTA_USE_SYSTEM_SUNDIALS "Use the system SUNDIALS even if the optimised build exists" OFF)
 
 # ---- Sanitizers: compile and link flags of every target defined after this point -------------
-if(MOMENTA_SANITIZE)
-  set(_momenta_san_flags -fsanitize=address,undefined -fno-omit-frame-pointer
-                         -fno-sanitize-recover=undefined)
+# float-cast-overflow: a double converted to an integer type it does not fit (1e300 to int64_t).
+if(MOMENTA_BUILD_FUZZ)
+  if(NOT CMAKE_CXX_COMPILER_ID MATCHES "Clang")
+    message(FATAL_ERROR "momenta: MOMENTA_BUILD_FUZZ needs clang (libFuzzer): configure a separate "
+                        "build directory with CC=clang CXX=clang++, e.g. build-fuzz/ (scripts/fuzz.sh)")
+  endif()
+  # Coverage instrumentation for libFuzzer everywhere; the fuzz target itself links the driver.
+  add_compile_options(-fsanitize=fuzzer-no-link -Wno-unknown-warning-option)
+endif()
+if(MOMENTA_SANITIZE OR MOMENTA_BUILD_FUZZ)
+  set(_momenta_san_flags -fsanitize=address,undefined,float-cast-overflow -fno-omit-frame-pointer
+                         -fno-sanitize-recover=undefined,float-cast-overflow)
   add_compile_options(${_momenta_san_flags})
   add_link_options(${_momenta_san_flags})
   list(JOIN _momenta_san_flags " " _momenta_san_text)

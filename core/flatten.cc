@@ -8,18 +8,62 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <functional>
+#include <optional>
 #include <sstream>
 #include <unordered_map>
 
 #include "core/expr_chain.h"
 #include "core/expr_eval.h"
 #include "core/flat_system.h"
+#include "core/memory_budget.h"
 #include "core/parser.h"
 
 namespace momenta {
 
 namespace {
+
+// ---------------------------------------------------------------------------------------------
+// Numbers in messages
+
+/// `v` as written in a file: a whole number below 1e15 in full (100000), anything else in the
+/// shortest text that reads back as v (1e300, 2.5).
+std::string NumberText(double v) {
+  char buf[40];
+  if (std::fabs(v) < 1e15 && v == std::floor(v)) {
+    std::snprintf(buf, sizeof buf, "%.0f", v);
+    return buf;
+  }
+  for (int digits = 1; digits <= 17; ++digits) {
+    std::snprintf(buf, sizeof buf, "%.*g", digits, v);
+    if (std::strtod(buf, nullptr) == v || !std::isfinite(v)) break;
+  }
+  // 1e+300 -> 1e300, 1e-05 -> 1e-5
+  std::string s = buf;
+  size_t e = s.find('e');
+  if (e != std::string::npos) {
+    std::string mantissa = s.substr(0, e), exponent = s.substr(e + 1);
+    bool negative = exponent[0] == '-';
+    exponent.erase(0, exponent.find_first_not_of("+-0"));
+    s = mantissa + "e" + (negative ? "-" : "") + exponent;
+  }
+  return s;
+}
+
+/// "1 equation", "2 equations".
+std::string Counted(size_t n, const char* noun) {
+  return std::to_string(n) + " " + noun + (n == 1 ? "" : "s");
+}
+
+/// A memory size for messages: "512 MiB", "1.3 GiB", "8.7e293 GiB".
+std::string ByteText(double bytes) {
+  const bool gib = bytes >= 1024.0 * 1024 * 1024;
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.2g", bytes / (gib ? 1024.0 * 1024 * 1024 : 1024.0 * 1024));
+  return NumberText(std::strtod(buf, nullptr)) + (gib ? " GiB" : " MiB");
+}
 
 // ---------------------------------------------------------------------------------------------
 // Type layouts and equation templates
@@ -217,13 +261,15 @@ class Flattener {
     return param_value_[id.value()];
   }
 
-  int64_t StructuralInteger(const Ast& a, const std::string& text, const SourceLoc& loc,
-                            const std::pair<std::string, double>* loop, const std::string& what) {
+  /// A structural value that must be a whole number (a count, an index, a range bound). It stays
+  /// a double: callers compare it with their limits before converting it to an integer.
+  double StructuralWhole(const Ast& a, const std::string& text, const SourceLoc& loc,
+                         const std::pair<std::string, double>* loop, const std::string& what) {
     double v = StructuralValue(a, text, loc, loop);
     if (!std::isfinite(v) || v != std::floor(v)) {
-      throw ModelError(loc, what + " must be a whole number, found " + std::to_string(v));
+      throw ModelError(loc, what + " must be a whole number, found " + NumberText(v));
     }
-    return static_cast<int64_t>(v);
+    return v;
   }
 
   // -------------------------------------------------------------------------------------------
@@ -304,9 +350,9 @@ class Flattener {
       throw ModelError(loc, seg.name + " is an array of " + std::to_string(arr.count) +
                                 " components; name one element, e.g. " + seg.name + "[1]");
     }
-    int64_t k = StructuralInteger(*seg.index, AstToString(*seg.index), loc, loop, "an index");
-    if (k < 1 || k > static_cast<int64_t>(arr.count)) {
-      throw ModelError(loc, seg.name + "[" + std::to_string(k) + "] is out of range 1.." +
+    double k = StructuralWhole(*seg.index, AstToString(*seg.index), loc, loop, "an index");
+    if (k < 1 || k > arr.count) {
+      throw ModelError(loc, seg.name + "[" + NumberText(k) + "] is out of range 1.." +
                                 std::to_string(arr.count) + " in '" + text + "'");
     }
     return arr.first_instance + static_cast<uint32_t>(k - 1);
@@ -561,13 +607,12 @@ class Flattener {
     size_t flows = 0;
     for (const auto& v : L.vars) flows += v.is_flow;
     if (equations == unknowns) return;
-    auto count = [](size_t n, const char* noun) { return std::to_string(n) + " " + noun + (n == 1 ? "" : "s"); };
     const ComponentSpec* user = current_component_;
     std::string who = user ? user->name + " (" + type->name + ")" : type->name;
     throw ModelError(user ? user->loc : type->loc,
-                     who + " is not balanced: it has " + count(equations, "equation") + " for " +
-                         count(unknowns, "unknown") + " (" + count(L.vars.size(), "variable") +
-                         ", less " + count(flows, "flow variable") +
+                     who + " is not balanced: it has " + Counted(equations, "equation") + " for " +
+                         Counted(unknowns, "unknown") + " (" + Counted(L.vars.size(), "variable") +
+                         ", less " + Counted(flows, "flow variable") +
                          " of its connectors, signal inputs and variables set by when-clauses); " +
                          (equations > unknowns ? "remove the extra equation or add the variable it determines"
                                                : "add an equation for each variable nothing determines") +
@@ -829,13 +874,8 @@ class Flattener {
       current_component_ = &c;
       const TypeLayout& L = Layout(type);
       ComponentArray arr{s, static_cast<uint32_t>(flat_.instances.size()), 1, c.count != nullptr};
-      if (c.count) {
-        int64_t n = StructuralInteger(*c.count, AstToString(*c.count), c.loc, nullptr, "count of " + c.name);
-        if (n < 1 || n > 50000000) {
-          throw ModelError(c.loc, "count of " + c.name + " must be between 1 and 50000000, found " + std::to_string(n));
-        }
-        arr.count = static_cast<uint32_t>(n);
-      }
+      if (c.count) arr.count = ArrayCount(c, L);
+      planned_bytes_ += EstimatedBytes(L);
       // Which modifiers set parameters and which set start values.
       std::vector<const Modifier*> param_mod(type->parameters.size(), nullptr);
       std::vector<const Modifier*> var_mod(L.vars.size(), nullptr);
@@ -869,6 +909,45 @@ class Flattener {
       }
       arrays_[c.name] = arr;
     }
+  }
+
+  /// Estimated bytes of one instance of a type through the build (core/memory_budget.h).
+  static double EstimatedBytes(const TypeLayout& L) {
+    size_t nodes = 0;
+    for (const auto* list : {&L.equations, &L.initial_equations, &L.param_defaults, &L.starts}) {
+      for (const Template& t : *list) nodes += t.nodes.size();
+    }
+    return EstimatedComponentBytes(L.vars.size(), L.type->parameters.size(), nodes);
+  }
+
+  /// The value of `count:`: a whole number of at least 1 whose components fit, with the rest of
+  /// the model, in the memory budget (and in momenta's 32-bit indices) — checked before any of
+  /// them is made, so an impossible count is refused at once.
+  uint32_t ArrayCount(const ComponentSpec& c, const TypeLayout& L) {
+    std::string text = AstToString(*c.count);
+    std::string what = "count of " + c.name;
+    double n = StructuralWhole(*c.count, text, c.loc, nullptr, what);
+    std::string value = NumberText(n);
+    if (value != text) what += " ('" + text + "')";
+    if (n < 1) throw ModelError(c.loc, what + " must be at least 1, found " + value);
+    double bytes = planned_bytes_ + n * EstimatedBytes(L);
+    if (!budget_) budget_ = BuildMemoryBudget();
+    if (bytes > budget_->bytes) {
+      throw ModelError(c.loc, what + " is " + value + ": " + value + " " + L.type->name + " components (" +
+                                  Counted(L.vars.size(), "variable") + ", " +
+                                  Counted(L.type->parameters.size(), "parameter") + " each) need about " +
+                                  ByteText(bytes) + " of memory to build, more than the budget of " +
+                                  ByteText(budget_->bytes) + " (" + budget_->source + ")");
+    }
+    // Instances, variables and parameters are numbered with 32-bit indices.
+    double ids = std::max({static_cast<double>(flat_.instances.size()), static_cast<double>(flat_.variables.size()),
+                           static_cast<double>(flat_.parameters.size())}) +
+                 n * static_cast<double>(std::max({L.vars.size(), L.type->parameters.size(), size_t{1}}));
+    if (ids >= 2147483648.0) {
+      throw ModelError(c.loc, what + " is " + value + ": more components, variables or parameters than " +
+                                  "momenta numbers (2^31)");
+    }
+    return static_cast<uint32_t>(n);
   }
 
   void AddInstance(const ComponentSpec& c, const TypeLayout& L, const std::string& path,
@@ -1042,6 +1121,29 @@ class Flattener {
     return x;
   }
 
+  /// The number of connections `for: i in a:b` makes, b - a + 1 (none if b < a), and a. Both
+  /// bounds are whole numbers, and a range makes at most as many connections as the model has
+  /// connectors (a longer one could only repeat them), so 1:1e9 is refused at once.
+  size_t LoopLength(const ConnectionSpec& c, double* from) {
+    const SourceLoc& loc = c.loop_loc.known() ? c.loop_loc : c.loc;
+    std::string range = "the range of 'for: " +
+                        (c.loop_text.empty() ? c.loop_var + " in " + AstToString(*c.loop_from) + ":" +
+                                                   AstToString(*c.loop_to)
+                                             : c.loop_text) +
+                        "'";
+    *from = StructuralWhole(*c.loop_from, AstToString(*c.loop_from), loc, nullptr, "the start of " + range);
+    double to = StructuralWhole(*c.loop_to, AstToString(*c.loop_to), loc, nullptr, "the end of " + range);
+    double n = to - *from + 1;
+    if (n <= 0) return 0;
+    const size_t connectors = slot_instance_.size();
+    if (n > static_cast<double>(connectors)) {
+      throw ModelError(loc, range + " makes " + NumberText(n) + " connections, more than the model's " +
+                                std::to_string(connectors) + " connectors can need; a range runs over " +
+                                "the elements of an array, e.g. i in 1:n");
+    }
+    return static_cast<size_t>(n);
+  }
+
   void Connections() {
     parent_.resize(slot_instance_.size());
     for (uint32_t k = 0; k < parent_.size(); ++k) parent_[k] = k;
@@ -1072,10 +1174,10 @@ class Flattener {
         join(ResolveEnd(*c.a, c.a_text, c.a_loc, nullptr), ResolveEnd(*c.b, c.b_text, c.b_loc, nullptr));
         continue;
       }
-      int64_t from = StructuralInteger(*c.loop_from, AstToString(*c.loop_from), c.loc, nullptr, "a loop bound");
-      int64_t to = StructuralInteger(*c.loop_to, AstToString(*c.loop_to), c.loc, nullptr, "a loop bound");
-      for (int64_t k = from; k <= to; ++k) {
-        std::pair<std::string, double> loop{c.loop_var, static_cast<double>(k)};
+      double from = 0;
+      size_t iterations = LoopLength(c, &from);
+      for (size_t k = 0; k < iterations; ++k) {
+        std::pair<std::string, double> loop{c.loop_var, from + static_cast<double>(k)};
         join(ResolveEnd(*c.a, c.a_text, c.a_loc, &loop), ResolveEnd(*c.b, c.b_text, c.b_loc, &loop));
       }
     }
@@ -1286,6 +1388,8 @@ class Flattener {
   std::unordered_map<std::string, ParamId> model_param_;
   std::unordered_map<std::string, VarId> model_var_;
   std::unordered_map<std::string, ComponentArray> arrays_;
+  double planned_bytes_ = 0;                ///< estimated memory of the components so far
+  std::optional<MemoryBudget> budget_;      ///< read when the first count is checked
   std::unordered_map<const ComponentType*, std::unique_ptr<TypeLayout>> layouts_;
   std::vector<InstanceData> instance_data_;
   std::vector<uint32_t> slot_instance_;  ///< connector slot -> instance

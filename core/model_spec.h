@@ -34,6 +34,8 @@ struct ConnectionSpec {
   std::string a_text, b_text;
   std::string loop_var;  ///< empty unless `for:`
   AstPtr loop_from, loop_to;
+  std::string loop_text;  ///< the `for:` text, e.g. "i in 1:n-1"
+  SourceLoc loop_loc;     ///< where the `for:` text starts
   SourceLoc loc, a_loc, b_loc;
 };
 

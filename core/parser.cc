@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <map>
 #include <sstream>
@@ -20,6 +21,28 @@ const std::map<std::string, int>& Functions() {
       {"reinit", 2},
   };
   return kFunctions;
+}
+
+/// The character starting at text[at] for a message: 'c', a whole UTF-8 sequence as 'ü' (U+00FC),
+/// or a byte that starts none as byte 0xC3.
+std::string QuotedCharacter(const std::string& text, size_t at) {
+  const auto lead = static_cast<unsigned char>(text[at]);
+  if (lead < 0x80) return std::string("'") + text[at] + "'";
+  size_t len = lead >= 0xF0 && lead < 0xF5 ? 4 : lead >= 0xE0 ? 3 : lead >= 0xC2 ? 2 : 0;
+  uint32_t code = len == 2 ? lead & 0x1F : len == 3 ? lead & 0x0F : lead & 0x07;
+  bool ok = len > 0 && lead < 0xF5 && at + len <= text.size();
+  for (size_t k = 1; ok && k < len; ++k) {
+    const auto cont = static_cast<unsigned char>(text[at + k]);
+    ok = (cont & 0xC0) == 0x80;
+    code = (code << 6) | (cont & 0x3F);
+  }
+  char hex[16];
+  if (!ok) {
+    std::snprintf(hex, sizeof hex, "0x%02X", lead);
+    return std::string("byte ") + hex + " (not UTF-8 text)";
+  }
+  std::snprintf(hex, sizeof hex, "U+%04X", code);
+  return "'" + text.substr(at, len) + "' (" + hex + ")";
 }
 
 enum class Tok { kEnd, kNumber, kIdent, kOp, kLParen, kRParen, kLBracket, kRBracket, kComma, kDot };
@@ -115,7 +138,7 @@ class Lexer {
               break;
             default:
               throw ModelError(loc_.Shifted(t.column),
-                               std::string("unexpected character '") + c + "'");
+                               "unexpected character " + QuotedCharacter(text_, i - 1));
           }
         }
       }

@@ -1,12 +1,18 @@
 // Reading model and library files with yaml-cpp. Every error names the file, line and column
 // (yaml-cpp marks are 0-based; we add 1), the user's path, what was expected, and the valid keys.
 
+#include <yaml-cpp/depthguard.h>
+#include <yaml-cpp/eventhandler.h>
 #include <yaml-cpp/yaml.h>
 
+#include <cctype>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
+#include <utility>
 
 #include "core/model_spec.h"
 #include "core/parser.h"
@@ -14,6 +20,10 @@
 namespace momenta {
 
 namespace {
+
+/// Larger model files are refused before they are read whole (a model is a few kilobytes; the
+/// largest benchmark model is under 2 KiB).
+constexpr size_t kMaxModelFileBytes = size_t{256} << 20;
 
 class Reader {
  public:
@@ -94,7 +104,26 @@ class Reader {
     std::string s = Scalar(n, what);
     CheckFinite(n, s, what);
     if (s.empty()) Fail(n, what + " is empty");
-    return ParseExpression(s, TextLoc(n));
+    try {
+      return ParseExpression(s, TextLoc(n));
+    } catch (const ModelError& e) {
+      // The parser names the place and the text; add whose value it is (spring.c).
+      bool phrase = what.find(" of ") != std::string::npos;
+      throw ModelError(std::string(e.what()) + " (in " + (phrase ? "the " : "") + what + ")");
+    }
+  }
+
+  /// The key of a component, parameter or variable the model's expressions refer to: a name as
+  /// the expression parser reads it (ASCII letters, digits and '_', not starting with a digit).
+  std::string Name(const YAML::Node& key, const std::string& what) const {
+    std::string s = Scalar(key, what);
+    bool ok = !s.empty() && !std::isdigit(static_cast<unsigned char>(s[0]));
+    for (char c : s) ok = ok && (std::isalnum(static_cast<unsigned char>(c)) || c == '_');
+    if (!ok) {
+      Fail(key, what + " '" + s + "' is not a name: use ASCII letters, digits and '_', " +
+                    "not starting with a digit");
+    }
+    return s;
   }
 
   std::optional<double> OptionalNumber(const YAML::Node& map, const char* key,
@@ -419,6 +448,8 @@ class Reader {
         // for: i in 1:n-1
         std::string spec = Scalar(n["for"], "for");
         SourceLoc loc = TextLoc(n["for"]);
+        c.loop_text = spec;
+        c.loop_loc = loc;
         size_t in = spec.find(" in ");
         size_t colon = spec.find(':', in == std::string::npos ? 0 : in);
         if (in == std::string::npos || colon == std::string::npos) {
@@ -458,7 +489,7 @@ class Reader {
     if (root["parameters"] && !root["parameters"].IsNull()) {
       ExpectMap(root["parameters"], "parameters");
       for (auto it = root["parameters"].begin(); it != root["parameters"].end(); ++it) {
-        m.parameters.push_back(Parameter(it->first.as<std::string>(), it->second, m.name));
+        m.parameters.push_back(Parameter(Name(it->first, "parameter"), it->second, m.name));
       }
     }
     if (root["define"] && !root["define"].IsNull()) {
@@ -468,7 +499,7 @@ class Reader {
     if (root["components"] && !root["components"].IsNull()) {
       ExpectMap(root["components"], "components");
       for (auto it = root["components"].begin(); it != root["components"].end(); ++it) {
-        m.components.push_back(ComponentEntry(it->first.as<std::string>(), it->second));
+        m.components.push_back(ComponentEntry(Name(it->first, "component"), it->second));
       }
     }
     if (root["connections"] && !root["connections"].IsNull()) {
@@ -478,7 +509,7 @@ class Reader {
     if (root["variables"] && !root["variables"].IsNull()) {
       ExpectMap(root["variables"], "variables");
       for (auto it = root["variables"].begin(); it != root["variables"].end(); ++it) {
-        m.variables.push_back(Variable(it->first.as<std::string>(), it->second, m.name));
+        m.variables.push_back(Variable(Name(it->first, "variable"), it->second, m.name));
       }
     }
     if (root["equations"]) m.equations = Equations(root["equations"], "the model's equations");
@@ -545,25 +576,128 @@ class Reader {
   std::string file_;
 };
 
-YAML::Node ParseYaml(const std::string& text, const std::string& file) {
-  try {
-    return YAML::Load(text);
-  } catch (const YAML::Exception& e) {
-    SourceLoc loc;
-    loc.set_file(file);
-    if (e.mark.line >= 0) {
-      loc.line = e.mark.line + 1;
-      loc.column = e.mark.column + 1;
-    }
-    throw ModelError(loc, "YAML syntax error: " + e.msg);
+SourceLoc MarkLoc(const std::string& file, const YAML::Mark& mark) {
+  SourceLoc loc;
+  loc.set_file(file);
+  if (mark.line >= 0) {
+    loc.line = mark.line + 1;
+    loc.column = mark.column + 1;
   }
+  return loc;
+}
+
+/// yaml-cpp keeps every pair of a mapping and looks a key up by its first occurrence, so a key
+/// given twice would silently lose its second value: report it, with both places. The walk is
+/// iterative and visits a node reached through several aliases once (alias bombs stay linear).
+void CheckDuplicateKeys(const YAML::Node& root, const std::string& file, const std::string& what) {
+  std::vector<std::pair<YAML::Node, std::string>> stack{{root, ""}};
+  std::set<size_t> visited;  // positions of the collections walked
+  while (!stack.empty()) {
+    auto [node, path] = stack.back();
+    stack.pop_back();
+    if (!node.IsMap() && !node.IsSequence()) continue;
+    int pos = node.Mark().pos;
+    if (pos >= 0 && !visited.insert(static_cast<size_t>(pos)).second) continue;
+    // The children, walked in the order of the file (pushed last to first).
+    std::vector<std::pair<YAML::Node, std::string>> children;
+    if (node.IsSequence()) {
+      for (size_t k = 0; k < node.size(); ++k) {
+        children.push_back({node[k], path + "[" + std::to_string(k + 1) + "]"});
+      }
+    } else {
+      std::map<std::string, YAML::Mark> first;
+      for (auto it = node.begin(); it != node.end(); ++it) {
+        if (!it->first.IsScalar()) continue;
+        const std::string& key = it->first.Scalar();
+        auto [at, inserted] = first.emplace(key, it->first.Mark());
+        if (!inserted) {
+          throw ModelError(MarkLoc(file, it->first.Mark()),
+                           "'" + key + "' is given twice in " + (path.empty() ? "the " + what : path) +
+                               " (first at line " + std::to_string(at->second.line + 1) +
+                               ", column " + std::to_string(at->second.column + 1) +
+                               "); remove one of them");
+        }
+        children.push_back({it->second, path.empty() ? key : path + "." + key});
+      }
+    }
+    stack.insert(stack.end(), children.rbegin(), children.rend());
+  }
+}
+
+/// Counts the documents of a YAML stream, stopping at the start of the second: yaml-cpp's LoadAll
+/// would read them all, and loops for ever (allocating) on a ',' where a document should start,
+/// which its parser never consumes (yaml-cpp 0.7: the input ",").
+class DocumentCounter : public YAML::EventHandler {
+ public:
+  /// Thrown at the start of a second document; `stuck` if it starts where the first did.
+  struct SecondDocument {
+    YAML::Mark mark;
+    bool stuck;
+  };
+
+  int count() const { return count_; }
+
+  void OnDocumentStart(const YAML::Mark& mark) override {
+    if (++count_ == 2) throw SecondDocument{mark, mark.pos == first_.pos};
+    first_ = mark;
+  }
+  void OnDocumentEnd() override {}
+  void OnNull(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnAlias(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnScalar(const YAML::Mark&, const std::string&, YAML::anchor_t, const std::string&) override {}
+  void OnSequenceStart(const YAML::Mark&, const std::string&, YAML::anchor_t,
+                       YAML::EmitterStyle::value) override {}
+  void OnSequenceEnd() override {}
+  void OnMapStart(const YAML::Mark&, const std::string&, YAML::anchor_t, YAML::EmitterStyle::value) override {}
+  void OnMapEnd() override {}
+
+ private:
+  int count_ = 0;
+  YAML::Mark first_;
+};
+
+/// Reads the single YAML document of a file. An empty file, a second document (`---`), YAML
+/// nested deeper than yaml-cpp reads, and a key given twice in one mapping are errors.
+YAML::Node ParseYaml(const std::string& text, const std::string& file, const std::string& what) {
+  YAML::Node root;
+  try {
+    // First the documents are counted (the first one read as events), then the first is loaded.
+    std::istringstream stream(text);
+    YAML::Parser parser(stream);
+    DocumentCounter counter;
+    try {
+      while (parser.HandleNextDocument(counter)) {
+      }
+    } catch (const DocumentCounter::SecondDocument& second) {
+      if (second.stuck) {
+        throw ModelError(MarkLoc(file, second.mark),
+                         "YAML syntax error: unexpected '" + text.substr(second.mark.pos, 1) + "'");
+      }
+      throw ModelError(MarkLoc(file, second.mark),
+                       "a second YAML document starts here; a " + what + " holds one document");
+    }
+    if (counter.count() == 0) {
+      bool blank = text.find_first_not_of(" \t\r\n") == std::string::npos;
+      throw ModelError(SourceLoc(file), "the " + what + " is empty" +
+                                            (blank ? "" : " (it holds only comments)"));
+    }
+    root = YAML::Load(text);
+  } catch (const YAML::DeepRecursion& e) {
+    throw ModelError(MarkLoc(file, e.mark),
+                     "YAML nested too deeply: lists and mappings nested hundreds of levels deep are "
+                     "not read (a " + what + " needs a few levels)");
+  } catch (const YAML::Exception& e) {
+    throw ModelError(MarkLoc(file, e.mark), "YAML syntax error: " + e.msg);
+  }
+  CheckDuplicateKeys(root, file, what);
+  return root;
 }
 
 }  // namespace
 
 ModelSpec LoadModelString(const std::string& yaml, const std::string& file_name) {
   Reader reader(file_name);
-  YAML::Node root = ParseYaml(yaml, file_name);
+  YAML::Node root = ParseYaml(yaml, file_name, "model file");
   try {
     return reader.Model(root);
   } catch (const YAML::Exception& e) {
@@ -578,16 +712,29 @@ ModelSpec LoadModelString(const std::string& yaml, const std::string& file_name)
 }
 
 ModelSpec LoadModelFile(const std::string& path) {
-  std::ifstream in(path);
+  // A directory opens as a stream on Linux and reads as nothing; a device may never end.
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) {
+    throw ModelError(path + ": is a directory, not a model file");
+  }
+  std::ifstream in(path, std::ios::binary);
   if (!in) throw ModelError(path + ": cannot open the model file");
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  return LoadModelString(buffer.str(), path);
+  std::string text;
+  char chunk[1 << 16];
+  while (in.read(chunk, sizeof chunk) || in.gcount() > 0) {
+    text.append(chunk, static_cast<size_t>(in.gcount()));
+    if (text.size() > kMaxModelFileBytes) {
+      throw ModelError(path + ": the model file is larger than " +
+                       std::to_string(kMaxModelFileBytes >> 20) + " MiB; a model is a short text");
+    }
+  }
+  if (in.bad()) throw ModelError(path + ": cannot read the model file");
+  return LoadModelString(text, path);
 }
 
 void LoadLibraryString(const std::string& yaml, const std::string& file_name, Library* library) {
   Reader reader(file_name);
-  YAML::Node root = ParseYaml(yaml, file_name);
+  YAML::Node root = ParseYaml(yaml, file_name, "library file");
   reader.LibraryEntries(root, library, nullptr, false);
 }
 

@@ -42,7 +42,9 @@ fi
 
 # ---------------------------------------------------------------------------------------------
 # 1. Debian packages. SUNDIALS' source build needs cmake, a C compiler, SuiteSparse (KLU) and
-#    dpkg-dev (for 'apt-get source'); the rest are the project's own build dependencies.
+#    dpkg-dev (for 'apt-get source'); the rest are the project's own build dependencies. clang
+#    builds the fuzz target (scripts/fuzz.sh); its libFuzzer, ASan and UBSan runtimes are in
+#    libclang-rt-14-dev, which clang only recommends (and --no-install-recommends skips).
 # ---------------------------------------------------------------------------------------------
 PACKAGES=(
   build-essential cmake
@@ -50,6 +52,7 @@ PACKAGES=(
   libeigen3-dev libyaml-cpp-dev libcli11-dev
   libgtest-dev libbenchmark-dev
   dpkg-dev
+  clang libclang-rt-14-dev
 )
 
 is_installed() { dpkg-query -W -f='${Status}' "$1" 2>/dev/null | grep -q 'install ok installed'; }

@@ -2,11 +2,13 @@
 # momenta: the project's test command (what CI runs after scripts/setup.sh).
 #
 #   1. Release build in build/ and its tests;
-#   2. ASan + UBSan build (RelWithDebInfo, no benchmarks) in build-asan/ and its tests.
-# A build failure stops at once; a test failure is remembered, the next stage still runs, and
-# the script exits non-zero at the end.
+#   2. ASan + UBSan build (RelWithDebInfo, no benchmarks) in build-asan/ and its tests;
+#   3. a minute of fuzzing model loading and building (scripts/fuzz.sh: clang, build-fuzz/).
+# A build failure stops at once; a test failure or a fuzz finding is remembered, the next stage
+# still runs, and the script exits non-zero at the end.
 #
-# Environment: MOMENTA_JOBS (default 2) parallel jobs; MOMENTA_SKIP_ASAN=1 skips stage 2.
+# Environment: MOMENTA_JOBS (default 2) parallel jobs; MOMENTA_SKIP_ASAN=1 skips stage 2;
+# MOMENTA_SKIP_FUZZ=1 skips stage 3; MOMENTA_FUZZ_SECONDS (default 60) its fuzzing time.
 set -euo pipefail
 
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
@@ -54,6 +56,24 @@ else
   else
     end "FAILED"
     failed+=("ASan/UBSan tests")
+  fi
+fi
+
+# ---- 3. Fuzzing ------------------------------------------------------------------------------
+if [[ "${MOMENTA_SKIP_FUZZ:-0}" == 1 ]]; then
+  log "MOMENTA_SKIP_FUZZ=1: skipping the fuzz stage"
+else
+  begin "fuzz model loading and building (build-fuzz/, ${MOMENTA_FUZZ_SECONDS:-60} s)"
+  fuzz_status=0
+  MOMENTA_JOBS="$JOBS" bash scripts/fuzz.sh "${MOMENTA_FUZZ_SECONDS:-60}" || fuzz_status=$?
+  if ((fuzz_status == 0)); then
+    end "nothing found"
+  elif ((fuzz_status == 1)); then
+    end "FOUND inputs that crash, hang or exhaust memory"
+    failed+=("fuzzing")
+  else
+    end "FAILED to build or run"
+    failed+=("fuzz build")
   fi
 fi
 

@@ -1,0 +1,29 @@
+#pragma once
+/// How much memory building and simulating a model may take, and what a component costs: sizes
+/// given by the model (`count:`) are checked against this before anything is allocated, so a
+/// count that cannot fit is refused at once with the estimate, instead of the process being
+/// killed (or swapping) half-way through flattening.
+
+#include <cstddef>
+#include <string>
+
+namespace momenta {
+
+struct MemoryBudget {
+  double bytes = 0;
+  std::string source;  ///< where the figure comes from, for messages
+};
+
+/// The budget: MOMENTA_MEMORY_MB if set (a positive number of MiB), otherwise the memory the
+/// system reports available (MemAvailable in /proc/meminfo, or the cgroup's remaining limit if
+/// that is lower), otherwise the physical memory.
+MemoryBudget BuildMemoryBudget();
+
+/// Bytes one component instance takes through the build (flat variables and equations, their
+/// expressions, the simplified and compiled model), from its type's size. Calibrated on the
+/// benchmark models (bench/RESULTS.md: the RC ladder with n = 100 000, i.e. 200 002 components
+/// and 1.2 million variables, peaks at 0.98 GB in `momenta check`).
+double EstimatedComponentBytes(size_t num_variables, size_t num_parameters,
+                               size_t num_expression_nodes);
+
+}  // namespace momenta
