@@ -268,8 +268,9 @@ std::shared_ptr<CompiledModel> CompileModel(EquationSystem sys, const Structure&
     bool time_only = !(p.mask(zr) & (kHasVar | kHasDer | kHasPre | kHasCond | kHasInitial));
     m->conditions.push_back({rel.op, time_only, conds.Text(r)});
     z.push_back(zr);
-    ExprId rate = TimeDerivative(&p, zr);
-    dz.push_back(rate.valid() ? rate : p.Zero());
+    // A crossing function that reads der() has no rate available here (it would need second
+    // derivatives): its rate is taken as zero.
+    dz.push_back((p.mask(zr) & kHasDer) ? p.Zero() : TimeDerivative(&p, zr));
   }
   collect_all([&](ExprId& e) { e = conds.Replace(e); });
   const uint32_t nc = static_cast<uint32_t>(conds.size());
