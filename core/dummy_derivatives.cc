@@ -21,9 +21,23 @@ constexpr size_t kDenseLimit = 200;
 /// A pivot must be at least this fraction of its row's largest entry.
 constexpr double kPivotFraction = 0.1;
 
+/// A state set switches when its current choice's pivot falls below this fraction of the best.
+constexpr double kSwitchFraction = 0.5;
+/// Dynamic sets are made for blocks of at most this many equations (symbolic determinants).
+constexpr size_t kDynamicMaxRows = 3;
+
 struct Candidate {
   uint32_t var, order;
   bool operator==(const Candidate& o) const { return var == o.var && order == o.order; }
+};
+
+/// A block whose best choice of dummy derivatives depends on where the motion is: all its
+/// candidates become dummy derivatives, and one new state, equal to the lower derivative of the
+/// candidate currently selected, carries the block's degree of freedom.
+struct DynamicSet {
+  std::vector<uint32_t> rows;    ///< indices into sys.equations
+  std::vector<Candidate> cands;  ///< derivatives der^k(v); the set state is one der^(k-1)(v)
+  uint32_t start_choice = 0;     ///< the candidate that stays a state at the start values
 };
 uint64_t Key(uint32_t v, uint32_t k) { return (static_cast<uint64_t>(v) << 32) | k; }
 
@@ -43,7 +57,7 @@ class LevelChoice {
 
   /// Chooses |rows| candidates; returns them. `choices` gets a line where there was a choice.
   std::vector<Candidate> Choose(const std::vector<uint32_t>& rows, const std::vector<Candidate>& cands,
-                                std::vector<std::string>* choices) {
+                                std::vector<std::string>* choices, std::vector<DynamicSet>* sets) {
     rows_ = &rows;
     // Each row's candidate columns.
     std::unordered_map<uint64_t, uint32_t> col_of;
@@ -93,6 +107,19 @@ class LevelChoice {
       if (comp_rows.size() <= kDenseLimit) chosen = ChooseByPivoting(comp_rows, comp_cols, row_cols, cands);
       if (chosen.size() < comp_rows.size()) chosen = ChooseByStructure(comp_rows, comp_cols, row_cols, cands);
       if (chosen.size() < comp_rows.size()) Fail(rows, comp_rows, comp_cols, cands);
+      if (IsDynamic(comp_rows, comp_cols, row_cols)) {
+        // Every candidate becomes a dummy; the set's state follows the best pivot during the run.
+        DynamicSet set;
+        for (uint32_t r : comp_rows) set.rows.push_back(rows[r]);
+        for (uint32_t c : comp_cols) {
+          if (std::find(chosen.begin(), chosen.end(), c) == chosen.end()) set.start_choice = static_cast<uint32_t>(set.cands.size());
+          set.cands.push_back(cands[c]);
+          selected.push_back(cands[c]);
+        }
+        choices->push_back(DescribeDynamic(set));
+        sets->push_back(std::move(set));
+        continue;
+      }
       if (comp_cols.size() > comp_rows.size()) choices->push_back(DescribeChoice(comp_cols, chosen, cands));
       for (uint32_t c : chosen) selected.push_back(cands[c]);
     }
@@ -186,6 +213,31 @@ class LevelChoice {
 
   std::string Name(const Candidate& c) const { return DerName(sys_.flat->variables[c.var].name, c.order); }
 
+  /// One state among the candidates of a small block whose pivots depend on the motion.
+  bool IsDynamic(const std::vector<uint32_t>& comp_rows, const std::vector<uint32_t>& comp_cols,
+                 const std::vector<std::vector<std::pair<uint32_t, ExprId>>>& row_cols) const {
+    if (comp_cols.size() != comp_rows.size() + 1 || comp_rows.size() > kDynamicMaxRows) return false;
+    for (uint32_t r : comp_rows) {
+      ExprId res = sys_.equations[(*rows_)[r]].residual;
+      for (auto [c, leaf] : row_cols[r]) {
+        if (!p_.IsParamOnly(PartialDerivative(&p_, res, leaf))) return true;
+      }
+    }
+    return false;
+  }
+
+  std::string DescribeDynamic(const DynamicSet& set) const {
+    std::ostringstream s;
+    s << "dynamic: one of {";
+    for (size_t k = 0; k < set.cands.size(); ++k) {
+      const Candidate& c = set.cands[k];
+      s << (k ? ", " : "") << DerName(sys_.flat->variables[c.var].name, c.order - 1);
+    }
+    s << "} is a state, chosen during the run by the largest pivot (at the start: "
+      << DerName(sys_.flat->variables[set.cands[set.start_choice].var].name, set.cands[set.start_choice].order - 1) << ")";
+    return s.str();
+  }
+
   std::string DescribeChoice(const std::vector<uint32_t>& comp_cols, const std::vector<uint32_t>& chosen,
                              const std::vector<Candidate>& cands) const {
     std::ostringstream s;
@@ -215,6 +267,125 @@ class LevelChoice {
   const std::vector<uint32_t>* rows_ = nullptr;  ///< the level's equations (indices into sys_.equations)
 };
 
+/// if sel == 1 then values[0] else if sel == 2 then values[1] … else values[n-1].
+ExprId Choice(ExprPool* pool, ExprId sel, const std::vector<ExprId>& values) {
+  ExprPool& p = *pool;
+  ExprId e = values.back();
+  for (size_t k = values.size() - 1; k-- > 0;) {
+    e = p.If(p.NoEvent(p.Binary(Op::kEq, sel, p.Const(static_cast<double>(k + 1)))), values[k], e);
+  }
+  return e;
+}
+
+/// Determinant of a small square matrix of expressions, by cofactors.
+ExprId Determinant(ExprPool* pool, const std::vector<std::vector<ExprId>>& a) {
+  ExprPool& p = *pool;
+  const size_t n = a.size();
+  if (n == 1) return a[0][0];
+  ExprId det = p.Zero();
+  for (size_t j = 0; j < n; ++j) {
+    std::vector<std::vector<ExprId>> minor;
+    for (size_t i = 1; i < n; ++i) {
+      std::vector<ExprId> row;
+      for (size_t c = 0; c < n; ++c) {
+        if (c != j) row.push_back(a[i][c]);
+      }
+      minor.push_back(row);
+    }
+    ExprId term = p.Mul(a[0][j], Determinant(pool, minor));
+    det = (j % 2 == 0) ? p.Add(det, term) : p.Sub(det, term);
+  }
+  return det;
+}
+
+/// Makes a state set: the state `stateSetK.x` = the lower derivative of the selected candidate,
+/// its derivative = the selected candidate, and a when-clause that switches the selection (and
+/// reinitialises the state) when the current choice's pivot |det| falls below kSwitchFraction of
+/// the best one's. Expressions are in the candidates' derivative leaves; the dummy-derivative
+/// substitution that follows rewrites them.
+void AddStateSet(EquationSystem* sys, const DynamicSet& set, size_t number) {
+  ExprPool& p = *sys->pool;
+  const std::string prefix = "stateSet" + std::to_string(number);
+  const FlatVariable& first = sys->flat->variables[set.cands[0].var];
+  const InstanceId instance = first.instance;
+  const SourceLoc loc = first.loc;
+  const size_t n = set.cands.size();
+  // The candidates, their lower derivatives and the pivot of each choice.
+  std::vector<ExprId> der, lower, pivot;
+  for (const Candidate& c : set.cands) {
+    der.push_back(p.Der(VarId(c.var), c.order));
+    lower.push_back(c.order == 1 ? p.Var(VarId(c.var)) : p.Der(VarId(c.var), c.order - 1));
+  }
+  std::vector<std::vector<ExprId>> jac;
+  for (uint32_t r : set.rows) {
+    std::vector<ExprId> row;
+    for (ExprId d : der) row.push_back(PartialDerivative(&p, sys->equations[r].residual, d));
+    jac.push_back(row);
+  }
+  for (size_t j = 0; j < n; ++j) {
+    std::vector<std::vector<ExprId>> rest;
+    for (const auto& row : jac) {
+      std::vector<ExprId> r;
+      for (size_t c = 0; c < n; ++c) {
+        if (c != j) r.push_back(row[c]);
+      }
+      rest.push_back(r);
+    }
+    pivot.push_back(p.Unary(Op::kAbs, Determinant(&p, rest)));
+  }
+  // The selection (Integer, 1-based) and the state.
+  FlatVariable sel_var;
+  sel_var.name = prefix + ".select";
+  sel_var.type = ValueType::kInteger;
+  sel_var.discrete = true;
+  sel_var.start = p.Const(static_cast<double>(set.start_choice + 1));
+  sel_var.instance = instance;
+  sel_var.loc = loc;
+  VarId sel = sys->AddVariable(std::move(sel_var), p.Const(static_cast<double>(set.start_choice + 1)));
+  FlatVariable state_var;
+  state_var.name = prefix + ".x";
+  state_var.nominal = first.nominal;
+  state_var.instance = instance;
+  state_var.loc = loc;
+  VarId state = sys->AddVariable(std::move(state_var), sys->guess[set.cands[set.start_choice].var]);
+  std::string candidates;
+  for (size_t k = 0; k < n; ++k) {
+    const Candidate& c = set.cands[k];
+    candidates += (k ? ", " : "") + DerName(sys->flat->variables[c.var].name, c.order - 1);
+  }
+  auto equation = [&](ExprId residual, const std::string& text) {
+    FlatEquation fe;
+    fe.residual = residual;
+    fe.origin = EquationOrigin::kModel;
+    fe.instance = instance;
+    fe.text = text;
+    fe.loc = loc;
+    sys->AddEquation(std::move(fe));
+  };
+  ExprId sel_now = p.Var(sel);
+  equation(p.Sub(p.Var(state), Choice(&p, sel_now, lower)), prefix + ".x = the selected one of " + candidates);
+  equation(p.Sub(p.Der(state), Choice(&p, sel_now, der)), "der(" + prefix + ".x) = der(the selected one of " + candidates + ")");
+  // Switch to the best pivot when the current one is much worse.
+  ExprId best = pivot[0];
+  for (size_t j = 1; j < n; ++j) best = p.Binary(Op::kMax, best, pivot[j]);
+  ExprId argmax = p.Const(static_cast<double>(n));
+  for (size_t j = n - 1; j-- > 0;) {
+    ExprId others = p.Zero();
+    for (size_t k = j + 1; k < n; ++k) others = p.Binary(Op::kMax, others, pivot[k]);
+    argmax = p.If(p.NoEvent(p.Binary(Op::kGe, pivot[j], others)), p.Const(static_cast<double>(j + 1)), argmax);
+  }
+  FlatWhen w;
+  w.condition = p.Binary(Op::kLt, Choice(&p, p.Pre(sel), pivot), p.Mul(p.Const(kSwitchFraction), best));
+  w.assigns.push_back({sel, argmax});
+  w.reinits.push_back({state, Choice(&p, argmax, lower)});
+  w.instance = instance;
+  w.text = "the pivot of " + prefix + "'s choice among " + candidates + " falls below half the best";
+  w.loc = loc;
+  FlatSystem& flat = sys->MutableFlat();
+  flat.whens.push_back(w);
+  sys->whens.push_back({w.condition, w.assigns, w.reinits, static_cast<uint32_t>(flat.whens.size() - 1)});
+}
+
 }  // namespace
 
 StateSelection SelectDummyDerivatives(EquationSystem* sys, const DifferentiatedSystem& d,
@@ -242,8 +413,9 @@ StateSelection SelectDummyDerivatives(EquationSystem* sys, const DifferentiatedS
   }
   std::vector<uint32_t> lowest_dummy(nv, UINT32_MAX);
   LevelChoice chooser(sys, params, start);
+  std::vector<DynamicSet> sets;
   while (!rows.empty()) {
-    std::vector<Candidate> chosen = chooser.Choose(rows, cands, &out.choices);
+    std::vector<Candidate> chosen = chooser.Choose(rows, cands, &out.choices, &sets);
     cands.clear();
     for (const Candidate& c : chosen) {
       lowest_dummy[c.var] = std::min(lowest_dummy[c.var], c.order);
@@ -294,6 +466,7 @@ StateSelection SelectDummyDerivatives(EquationSystem* sys, const DifferentiatedS
       s.Set(p.Der(VarId(v), highest_kept), p.Der(prev));
     }
   }
+  for (size_t k = 0; k < sets.size(); ++k) AddStateSet(sys, sets[k], k + 1);
   if (s.size() == 0) return out;
   sys->ApplySubstitution(&s);
   for (auto [der_prev, w] : links) {
