@@ -189,6 +189,20 @@ TEST(CartesianPendulum, OverTheTopTenTurns) {
   EXPECT_GE(tr.stats.events, 40);
 }
 
+// One degree of freedom fixed (vx) of two: the position's start value is taken, with a warning
+// naming the variable the user would fix (x), not the internal state set.
+TEST(CartesianPendulum, MissingFixedPositionTakesItsStartValue) {
+  std::string yaml = PendulumYaml(0.3, 2);
+  const std::string fixed_x = "x: {start: L*sin(theta0), fixed: true}";
+  yaml.replace(yaml.find(fixed_x), fixed_x.size(), "x: {start: L*sin(theta0)}");
+  Built b = testing::BuildYaml(yaml);
+  ASSERT_EQ(b.report.warnings.size(), 1u);
+  EXPECT_NE(b.report.warnings[0].find("no fixed start value determines p.x;"), std::string::npos) << b.report.warnings[0];
+  Trajectory tr = testing::RunDefault(b);
+  EXPECT_NEAR(tr.values[0][tr.Index("p.x")], 1.5 * std::sin(0.3), 1e-12);
+  EXPECT_NEAR(tr.values[0][tr.Index("p.y")], -1.5 * std::cos(0.3), 1e-9);
+}
+
 TEST(SecondDerivatives, HarmonicOscillatorInSecondOrderForm) {
   // der(der(x)) = -w^2 x becomes der(x) = der(x)_state, der(der(x)_state) = -w^2 x.
   const double w = 3;
