@@ -1,6 +1,11 @@
 #pragma once
 /// The syntax tree of one equation or expression as the user wrote it, before names are resolved.
 /// Parsed once per component type and shared by every instance.
+///
+/// A chain of one kind of operator is one node however long it is — the terms of `a - b + c`, the
+/// factors of `a * b / c`, the operands of `a and b and c`, the branches of an elseif chain — so
+/// the tree's height grows with nesting only, which the parser bounds (kMaxExpressionDepth), and
+/// every recursive walk over a tree stays shallow.
 
 #include <memory>
 #include <string>
@@ -18,13 +23,18 @@ struct NameSegment {
 };
 
 struct Ast {
-  enum class Kind { kNumber, kBool, kName, kCall, kUnary, kBinary, kIf };
+  enum class Kind { kNumber, kBool, kName, kCall, kUnary, kBinary, kSum, kProduct, kIf };
   Kind kind = Kind::kNumber;
   double number = 0;                ///< kNumber, kBool (0/1)
   std::vector<NameSegment> path;    ///< kName
-  std::string op;                   ///< kCall: function name; kUnary/kBinary: operator text
-  std::vector<AstPtr> args;         ///< operands; kIf: cond, then, else
+  /// kCall: function name; kUnary: "-" or "not"; kBinary: the operator ("and" and "or" take any
+  /// number of operands, the others two); kSum, kProduct: the operator before each operand, one
+  /// character each ('+' or '-', '*' or '/'; the first is '+' or '*').
+  std::string op;
+  /// Operands. kIf: cond1, value1, cond2, value2, …, else-value (an elseif chain is one node).
+  std::vector<AstPtr> args;
   int column = 0;                   ///< 0-based offset of the construct in its source text
+  int height = 1;                   ///< levels of nesting, this node included (a leaf is 1)
 
   /// The dotted name as written, e.g. "R[i].p" (subscripts re-printed from the tree).
   std::string PathText() const;
@@ -35,6 +45,7 @@ struct AstEquation {
   AstPtr lhs, rhs;
 };
 
+/// Fully parenthesised text of the tree: chains print left-associated, "((a - b) + c)".
 std::string AstToString(const Ast& a);
 
 }  // namespace momenta

@@ -40,9 +40,15 @@ EquationSystem Causalize(EquationSystem sys, Structure* st, CausalStats* stats) 
     if (!algebraic_eq[k]) continue;
     uint32_t v = static_cast<uint32_t>(st->var_of_equation[k]);
     if (sys.flat->variables[v].type != ValueType::kReal || keep[v]) continue;
-    ExprId r = s.Apply(sys.equations[k].residual);
+    // Solved as written, the earlier solutions left in place for the final substitution to
+    // resolve: substituting first would copy a chain of n equations, each referring to the
+    // previous one, n times (quadratic). Only when the coefficient of v involves variables solved
+    // earlier (it may then become a number or a parameter) is the substituted form needed.
     ExprId coefficient;
-    ExprId value = SolveFor(&p, r, p.Var(VarId(v)), true, &coefficient);
+    ExprId value = SolveFor(&p, sys.equations[k].residual, p.Var(VarId(v)), true, &coefficient);
+    if (!value.valid()) {
+      value = SolveFor(&p, s.Apply(sys.equations[k].residual), p.Var(VarId(v)), true, &coefficient);
+    }
     if (!value.valid()) continue;
     s.Set(p.Var(VarId(v)), value);
     ExprId pre = p.FindLeaf(Op::kPre, v);

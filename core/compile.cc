@@ -277,6 +277,11 @@ std::shared_ptr<CompiledModel> CompileModel(EquationSystem sys, const Structure&
   }
 
   // Event conditions, from everything that is evaluated.
+  // A discrete variable is constant between events: its derivative in a crossing's rate is zero.
+  Substitution discrete_rate(&p);
+  for (uint32_t v = 0; v < flat.variables.size(); ++v) {
+    if (flat.variables[v].discrete) discrete_rate.Set(p.Der(VarId(v)), p.Zero());
+  }
   ConditionTable conds(&p, names);
   auto collect_all = [&](auto&& fn) {
     for (ExprId& e : m->residual_exprs) fn(e);
@@ -303,7 +308,8 @@ std::shared_ptr<CompiledModel> CompileModel(EquationSystem sys, const Structure&
     z.push_back(zr);
     // A crossing function that reads der() has no rate available here (it would need second
     // derivatives): its rate is taken as zero.
-    dz.push_back((p.mask(zr) & kHasDer) ? p.Zero() : TimeDerivative(&p, zr));
+    ExprId rate = (p.mask(zr) & kHasDer) ? p.Zero() : discrete_rate.Apply(TimeDerivative(&p, zr));
+    dz.push_back(rate);
   }
   collect_all([&](ExprId& e) { e = conds.Replace(e); });
   const uint32_t nc = static_cast<uint32_t>(conds.size());

@@ -6,10 +6,37 @@
 
 namespace momenta {
 
+namespace {
+
+/// A discrete variable is constant between events and has no derivative: der() of one (written,
+/// or through der(expr)) is the model's mistake, reported with its equation.
+void CheckNoDerivativeOfDiscrete(const EquationSystem& sys) {
+  const ExprPool& p = *sys.pool;
+  const FlatSystem& flat = *sys.flat;
+  auto check = [&](const SystemEquation& eq, const FlatEquation& origin) {
+    if (!(p.mask(eq.residual) & kHasDer)) return;
+    for (ExprId leaf : CollectLeaves(p, eq.residual, kHasDer)) {
+      const FlatVariable& v = flat.variables[p.node(leaf).a];
+      if (!v.discrete) continue;
+      throw ModelError(origin.loc, "der(" + v.name + ") in " + sys.Describe(eq) + ": " + v.name +
+                                       " is a discrete variable (Integer, Boolean, or set by a "
+                                       "when-clause), constant between events, so it has no "
+                                       "derivative; der() applies to continuous Real variables");
+    }
+  };
+  for (const auto& eq : sys.equations) check(eq, flat.equations[eq.origin]);
+  for (const auto& eq : sys.initial) {
+    if (eq.kind == SystemEquation::Kind::kInitial) check(eq, flat.initial_equations[eq.origin]);
+  }
+}
+
+}  // namespace
+
 EquationSystem PartitionDiscrete(EquationSystem sys, DiscreteStats* stats) {
   ExprPool& p = *sys.pool;
   const FlatSystem& flat = *sys.flat;
   const size_t nv = sys.role.size();
+  CheckNoDerivativeOfDiscrete(sys);
   // The discrete unknowns: discrete, still unknown, not set by a when-clause or an impact.
   std::vector<bool> assigned(nv, false);
   for (const auto& w : sys.whens) {

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <unordered_map>
 
 #include "core/error.h"
 #include "core/expr_eval.h"
@@ -363,20 +364,46 @@ ExprId ExprPool::If(ExprId cond, ExprId then_value, ExprId else_value) {
   return Intern(m);
 }
 
-ExprId ExprPool::NoEvent(ExprId e) {
-  const Node n = node(e);
-  if (!(n.mask & kHasRelation)) return e;
-  switch (Arity(n.op)) {
-    case 1:
-      return Unary(n.op, NoEvent(ExprId(n.a)));
-    case 2:
-      return Binary(n.op, NoEvent(ExprId(n.a)), NoEvent(ExprId(n.b)),
-                    IsRelation(n.op) ? static_cast<uint8_t>(n.flags | kNoEvent) : 0);
-    case 3:
-      return If(NoEvent(ExprId(n.a)), NoEvent(ExprId(n.b)), NoEvent(ExprId(n.c)));
-    default:
-      return e;
+ExprId ExprPool::NoEvent(ExprId root) {
+  if (!(mask(root) & kHasRelation)) return root;
+  // Bottom-up with an explicit stack: an elseif chain or a substituted chain may be deep.
+  std::unordered_map<uint32_t, ExprId> done;
+  std::vector<uint32_t> stack{root.value()};
+  while (!stack.empty()) {
+    const uint32_t id = stack.back();
+    const Node n = nodes_[id];  // a copy: interning below may move the nodes
+    if (done.count(id)) {
+      stack.pop_back();
+      continue;
+    }
+    const int arity = Arity(n.op);
+    if (!(n.mask & kHasRelation) || arity == 0) {
+      done.emplace(id, ExprId(id));
+      stack.pop_back();
+      continue;
+    }
+    const uint32_t kids[3] = {n.a, n.b, n.c};
+    bool ready = true;
+    for (int k = 0; k < arity; ++k) {
+      if (!done.count(kids[k])) {
+        stack.push_back(kids[k]);
+        ready = false;
+      }
+    }
+    if (!ready) continue;
+    stack.pop_back();
+    ExprId r;
+    if (arity == 1) {
+      r = Unary(n.op, done.at(n.a));
+    } else if (arity == 2) {
+      r = Binary(n.op, done.at(n.a), done.at(n.b),
+                 IsRelation(n.op) ? static_cast<uint8_t>(n.flags | kNoEvent) : 0);
+    } else {
+      r = If(done.at(n.a), done.at(n.b), done.at(n.c));
+    }
+    done.emplace(id, r);
   }
+  return done.at(root.value());
 }
 
 }  // namespace momenta

@@ -6,9 +6,7 @@ namespace momenta {
 
 namespace {
 
-double EvalRec(const ExprPool& pool, ExprId e, const LeafValues& lv,
-               std::unordered_map<uint32_t, double>& memo) {
-  const Node& n = pool.node(e);
+double LeafValue(const Node& n, const LeafValues& lv) {
   switch (n.op) {
     case Op::kConst: return n.value;
     case Op::kVar: return lv.vars ? lv.vars[n.a] : 0.0;
@@ -17,34 +15,51 @@ double EvalRec(const ExprPool& pool, ExprId e, const LeafValues& lv,
     case Op::kParam: return lv.params ? lv.params[n.a] : 0.0;
     case Op::kTime: return lv.time;
     case Op::kInitial: return lv.initial ? 1.0 : 0.0;
-    case Op::kCj: return 0.0;
     case Op::kCond: return lv.conds ? lv.conds[n.a] : 0.0;
-    default: break;
+    default: return 0.0;  // kCj
   }
-  auto it = memo.find(e.value());
-  if (it != memo.end()) return it->second;
-  double r;
-  switch (Arity(n.op)) {
-    case 1:
-      r = ApplyUnary(n.op, EvalRec(pool, ExprId(n.a), lv, memo));
-      break;
-    case 2:
-      r = ApplyBinary(n.op, EvalRec(pool, ExprId(n.a), lv, memo),
-                      EvalRec(pool, ExprId(n.b), lv, memo));
-      break;
-    default:
-      r = EvalRec(pool, ExprId(n.a), lv, memo) != 0 ? EvalRec(pool, ExprId(n.b), lv, memo)
-                                                     : EvalRec(pool, ExprId(n.c), lv, memo);
-  }
-  memo.emplace(e.value(), r);
-  return r;
 }
 
 }  // namespace
 
-double Evaluate(const ExprPool& pool, ExprId e, const LeafValues& leaves) {
-  std::unordered_map<uint32_t, double> memo;
-  return EvalRec(pool, e, leaves, memo);
+double Evaluate(const ExprPool& pool, ExprId root, const LeafValues& leaves) {
+  // Children first with an explicit stack (an expression may be a deep chain), each node once.
+  std::unordered_map<uint32_t, double> value;
+  std::vector<uint32_t> stack{root.value()};
+  while (!stack.empty()) {
+    const uint32_t id = stack.back();
+    const Node& n = pool.node(ExprId(id));
+    if (value.count(id)) {
+      stack.pop_back();
+      continue;
+    }
+    const int arity = Arity(n.op);
+    if (arity == 0) {
+      value.emplace(id, LeafValue(n, leaves));
+      stack.pop_back();
+      continue;
+    }
+    const uint32_t kids[3] = {n.a, n.b, n.c};
+    bool ready = true;
+    for (int k = 0; k < arity; ++k) {
+      if (!value.count(kids[k])) {
+        stack.push_back(kids[k]);
+        ready = false;
+      }
+    }
+    if (!ready) continue;
+    stack.pop_back();
+    double r;
+    if (arity == 1) {
+      r = ApplyUnary(n.op, value.at(n.a));
+    } else if (arity == 2) {
+      r = ApplyBinary(n.op, value.at(n.a), value.at(n.b));
+    } else {
+      r = value.at(n.a) != 0 ? value.at(n.b) : value.at(n.c);
+    }
+    value.emplace(id, r);
+  }
+  return value.at(root.value());
 }
 
 }  // namespace momenta

@@ -74,7 +74,8 @@ struct LeafValues {
   bool initial = false;
 };
 
-/// Evaluates `e` by walking the tree (with memoisation): for build time and tests, not hot paths.
+/// Evaluates `e` by walking the tree with an explicit stack, each node once: for build time and
+/// tests, not hot paths.
 double Evaluate(const ExprPool& pool, ExprId e, const LeafValues& leaves);
 
 }  // namespace momenta

@@ -12,6 +12,7 @@
 #include <sstream>
 #include <unordered_map>
 
+#include "core/expr_chain.h"
 #include "core/expr_eval.h"
 #include "core/flat_system.h"
 #include "core/parser.h"
@@ -314,8 +315,9 @@ class Flattener {
   /// Builds an expression of the model scope.
   ExprId ModelExpr(const Ast& a, const std::string& text, const SourceLoc& loc,
                    const std::pair<std::string, double>* loop, bool allow_variables) {
-    return BuildExpr(a, text, loc, [&](const Ast& name) {
-      return ModelName(name, loc, loop, allow_variables, text);
+    const std::string quoted = Excerpt(text, 0);  // messages quote the text
+    return BuildExpr(a, quoted, loc, [&](const Ast& name) {
+      return ModelName(name, loc, loop, allow_variables, quoted);
     }, allow_variables);
   }
 
@@ -333,9 +335,22 @@ class Flattener {
       case Ast::Kind::kUnary:
         return a.op == "not" ? p.Unary(Op::kNot, sub(0)) : p.Neg(sub(0));
       case Ast::Kind::kBinary:
-        return p.Binary(BinaryOp(a.op), sub(0), sub(1));
-      case Ast::Kind::kIf:
-        return p.If(sub(0), sub(1), sub(2));
+      case Ast::Kind::kSum:
+      case Ast::Kind::kProduct: {
+        // A chain (a + b - c, a * b / c, a and b and c) as a balanced tree; relations and ^ have
+        // two operands.
+        std::vector<ExprId> operands;
+        for (size_t k = 0; k < a.args.size(); ++k) operands.push_back(sub(k));
+        return BuildChain(operands, ChainInverse(a), [&](ExprId x, bool inverse, ExprId y) {
+          return p.Binary(ChainOp(a, inverse), x, y);
+        });
+      }
+      case Ast::Kind::kIf: {
+        // if c1 then v1 elseif c2 then v2 … else e, nested from the last branch.
+        std::vector<ExprId> operands;
+        for (size_t k = 0; k < a.args.size(); ++k) operands.push_back(sub(k));
+        return BuildIfChain(operands, [&](ExprId c, ExprId x, ExprId y) { return p.If(c, x, y); });
+      }
       case Ast::Kind::kCall: {
         Op op;
         if (FunctionOp(a.op, &op)) {
@@ -359,6 +374,19 @@ class Flattener {
       }
     }
     return p.Zero();
+  }
+
+  /// The operation of a kBinary, kSum or kProduct node; `inverse` for '-' and '/' operands.
+  static Op ChainOp(const Ast& a, bool inverse) {
+    if (a.kind == Ast::Kind::kSum) return inverse ? Op::kSub : Op::kAdd;
+    if (a.kind == Ast::Kind::kProduct) return inverse ? Op::kDiv : Op::kMul;
+    return BinaryOp(a.op);
+  }
+
+  /// Which operands of a kBinary, kSum or kProduct node enter through the inverse operator.
+  static std::vector<bool> ChainInverse(const Ast& a) {
+    if (a.kind == Ast::Kind::kBinary) return std::vector<bool>(a.args.size(), false);
+    return InverseFlags(a.op);
   }
 
   static Op BinaryOp(const std::string& s) {
@@ -544,8 +572,9 @@ class Flattener {
 
   Template EquationTemplate(const TypeLayout& L, const EquationDecl& e) {
     Template t;
-    int32_t lhs = AddTemplate(L, *e.ast.lhs, e.text, e.loc, false, &t);
-    int32_t rhs = AddTemplate(L, *e.ast.rhs, e.text, e.loc, false, &t);
+    const std::string quoted = Excerpt(e.text, 0);  // messages quote the text
+    int32_t lhs = AddTemplate(L, *e.ast.lhs, quoted, e.loc, false, &t);
+    int32_t rhs = AddTemplate(L, *e.ast.rhs, quoted, e.loc, false, &t);
     TNode n;
     n.kind = TNode::kOp;
     n.op = Op::kSub;
@@ -559,7 +588,7 @@ class Flattener {
   Template MakeTemplate(const TypeLayout& L, const Ast& a, const std::string& text,
                         const SourceLoc& loc, bool params_only) {
     Template t;
-    t.root = AddTemplate(L, a, text, loc, params_only, &t);
+    t.root = AddTemplate(L, a, Excerpt(text, 0), loc, params_only, &t);
     return t;
   }
 
@@ -625,18 +654,34 @@ class Flattener {
         n.a = child(0);
         return push(n);
       case Ast::Kind::kBinary:
-        n.kind = TNode::kOp;
-        n.op = BinaryOp(a.op);
-        n.a = child(0);
-        n.b = child(1);
-        return push(n);
-      case Ast::Kind::kIf:
-        n.kind = TNode::kOp;
-        n.op = Op::kIf;
-        n.a = child(0);
-        n.b = child(1);
-        n.c = child(2);
-        return push(n);
+      case Ast::Kind::kSum:
+      case Ast::Kind::kProduct: {
+        // A chain as a balanced tree, as in BuildExpr.
+        std::vector<int32_t> operands;
+        for (size_t k = 0; k < a.args.size(); ++k) operands.push_back(child(k));
+        return BuildChain(operands, ChainInverse(a), [&](int32_t x, bool inverse, int32_t y) {
+          TNode op;
+          op.kind = TNode::kOp;
+          op.op = ChainOp(a, inverse);
+          op.a = x;
+          op.b = y;
+          return push(op);
+        });
+      }
+      case Ast::Kind::kIf: {
+        // An elseif chain nested from the last branch.
+        std::vector<int32_t> operands;
+        for (size_t k = 0; k < a.args.size(); ++k) operands.push_back(child(k));
+        return BuildIfChain(operands, [&](int32_t c, int32_t x, int32_t y) {
+          TNode branch;
+          branch.kind = TNode::kOp;
+          branch.op = Op::kIf;
+          branch.a = c;
+          branch.b = x;
+          branch.c = y;
+          return push(branch);
+        });
+      }
       case Ast::Kind::kCall: {
         Op op;
         if (FunctionOp(a.op, &op)) {

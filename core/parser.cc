@@ -1,5 +1,6 @@
 #include "core/parser.h"
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
@@ -127,12 +128,31 @@ class Lexer {
   const SourceLoc& loc_;
 };
 
+}  // namespace
+
+std::string Excerpt(const std::string& text, int column) {
+  constexpr size_t kHalf = 60;
+  if (text.size() <= 2 * kHalf) return text;
+  size_t at = std::min(static_cast<size_t>(std::max(column, 0)), text.size());
+  size_t from = at > kHalf ? at - kHalf : 0;
+  size_t to = std::min(text.size(), from + 2 * kHalf);
+  return (from > 0 ? "…" : "") + text.substr(from, to - from) + (to < text.size() ? "…" : "");
+}
+
+namespace {
+
 class Parser {
  public:
   Parser(const std::string& text, const SourceLoc& loc)
       : text_(text), loc_(loc), tokens_(Lexer(text, loc).Run()) {}
 
-  AstPtr Expression() { return If(); }
+  /// if-expression or or-chain. The one recursive entry: nested constructs come back here.
+  AstPtr Expression() {
+    if (++depth_ > kMaxExpressionDepth) TooDeep(Peek().column);
+    AstPtr e = IsKeyword("if") ? If() : Disjunction();
+    --depth_;
+    return e;
+  }
 
   AstEquation Equation() {
     AstEquation eq;
@@ -167,112 +187,140 @@ class Parser {
     std::string found = Peek().kind == Tok::kEnd ? "end of text" : "'" + Peek().text + "'";
     std::string msg = what;
     if (what.find("unexpected") == std::string::npos) msg += ", found " + found;
-    throw ModelError(loc_.Shifted(Peek().column), msg + " in '" + text_ + "'");
+    throw ModelError(loc_.Shifted(Peek().column), msg + " in '" + Excerpt(text_, Peek().column) + "'");
   }
 
-  static AstPtr Make(Ast::Kind kind, int column, std::string op, std::vector<AstPtr> args) {
+  [[noreturn]] void TooDeep(int column) const {
+    throw ModelError(loc_.Shifted(column),
+                     "expression nested deeper than " + std::to_string(kMaxExpressionDepth) +
+                         " levels in '" + Excerpt(text_, column) +
+                         "'; split it with intermediate variables or parameters");
+  }
+
+  /// A node over `args`, one level above the highest of them.
+  AstPtr Make(Ast::Kind kind, int column, std::string op, std::vector<AstPtr> args) const {
     auto a = std::make_shared<Ast>();
     a->kind = kind;
     a->column = column;
     a->op = std::move(op);
     a->args = std::move(args);
+    int below = 0;
+    for (const AstPtr& x : a->args) below = std::max(below, x->height);
+    a->height = below + 1;
+    if (a->height > kMaxExpressionDepth) TooDeep(column);
     return a;
   }
 
+  /// One operand alone, or the chain node over all of them.
+  AstPtr Chain(Ast::Kind kind, int column, std::string op, std::vector<AstPtr> operands) const {
+    if (operands.size() == 1) return std::move(operands[0]);
+    return Make(kind, column, std::move(op), std::move(operands));
+  }
+
+  /// if c1 then v1 elseif c2 then v2 … else e: one node, the branches collected by a loop.
   AstPtr If() {
-    if (!IsKeyword("if")) return Or();
     int col = Next().column;
-    AstPtr cond = Expression();
-    if (!IsKeyword("then")) Fail("expected 'then'");
-    Next();
-    AstPtr a = Expression();
-    AstPtr b;
-    if (IsKeyword("elseif")) {
-      // elseif chains nest as else-if.
-      tokens_[pos_].text = "if";
-      b = If();
-      return Make(Ast::Kind::kIf, col, "if", {cond, a, b});
+    std::vector<AstPtr> args;
+    while (true) {
+      args.push_back(Expression());
+      if (!IsKeyword("then")) Fail("expected 'then'");
+      Next();
+      args.push_back(Expression());
+      if (!IsKeyword("elseif")) break;
+      Next();
     }
     if (!IsKeyword("else")) Fail("expected 'else' (an if-expression needs both branches)");
     Next();
-    b = Expression();
-    return Make(Ast::Kind::kIf, col, "if", {cond, a, b});
+    args.push_back(Expression());
+    return Make(Ast::Kind::kIf, col, "if", std::move(args));
   }
 
-  AstPtr Or() {
-    AstPtr l = And();
-    while (IsKeyword("or")) {
-      int col = Next().column;
-      l = Make(Ast::Kind::kBinary, col, "or", {l, And()});
+  /// a or b or …, each operand an and-chain of negations.
+  AstPtr Disjunction() {
+    std::vector<AstPtr> disjuncts;
+    int or_col = Peek().column;
+    while (true) {
+      std::vector<AstPtr> conjuncts;
+      int and_col = Peek().column;
+      while (true) {
+        conjuncts.push_back(Negation());
+        if (!IsKeyword("and")) break;
+        and_col = Next().column;
+      }
+      disjuncts.push_back(Chain(Ast::Kind::kBinary, and_col, "and", std::move(conjuncts)));
+      if (!IsKeyword("or")) break;
+      or_col = Next().column;
     }
-    return l;
+    return Chain(Ast::Kind::kBinary, or_col, "or", std::move(disjuncts));
   }
 
-  AstPtr And() {
-    AstPtr l = Not();
-    while (IsKeyword("and")) {
-      int col = Next().column;
-      l = Make(Ast::Kind::kBinary, col, "and", {l, Not()});
-    }
-    return l;
-  }
-
-  AstPtr Not() {
-    if (IsKeyword("not")) {
-      int col = Next().column;
-      return Make(Ast::Kind::kUnary, col, "not", {Not()});
-    }
-    return Relation();
-  }
-
-  AstPtr Relation() {
-    AstPtr l = Sum();
+  /// not … not relation; a relation is sum [op sum] (relations do not chain).
+  AstPtr Negation() {
+    std::vector<int> nots;
+    while (IsKeyword("not")) nots.push_back(Next().column);
+    AstPtr r = Sum();
     if (Peek().kind == Tok::kOp &&
         (Peek().text == "<" || Peek().text == "<=" || Peek().text == ">" || Peek().text == ">=" ||
          Peek().text == "==" || Peek().text == "<>")) {
       const Token& t = Next();
-      l = Make(Ast::Kind::kBinary, t.column, t.text, {l, Sum()});
+      r = Make(Ast::Kind::kBinary, t.column, t.text, {r, Sum()});
     }
-    return l;
+    for (size_t k = nots.size(); k-- > 0;) r = Make(Ast::Kind::kUnary, nots[k], "not", {r});
+    return r;
   }
 
+  /// term (+|- term)*, each term a product factor (*|/ factor)*: one kSum of kProducts.
   AstPtr Sum() {
-    AstPtr l = Product();
-    while (IsOp("+") || IsOp("-")) {
+    std::vector<AstPtr> terms;
+    std::string signs = "+";
+    int sum_col = Peek().column;
+    while (true) {
+      std::vector<AstPtr> factors{Signed()};
+      std::string factor_ops = "*";
+      int product_col = Peek().column;
+      while (IsOp("*") || IsOp("/")) {
+        const Token& t = Next();
+        product_col = t.column;
+        factor_ops += t.text;
+        factors.push_back(Signed());
+      }
+      terms.push_back(Chain(Ast::Kind::kProduct, product_col, factor_ops, std::move(factors)));
+      if (!(IsOp("+") || IsOp("-"))) break;
       const Token& t = Next();
-      l = Make(Ast::Kind::kBinary, t.column, t.text, {l, Product()});
+      sum_col = t.column;
+      signs += t.text;
     }
-    return l;
+    return Chain(Ast::Kind::kSum, sum_col, signs, std::move(terms));
   }
 
-  AstPtr Product() {
-    AstPtr l = Unary();
-    while (IsOp("*") || IsOp("/")) {
-      const Token& t = Next();
-      l = Make(Ast::Kind::kBinary, t.column, t.text, {l, Unary()});
+  /// Signs, a primary, and a right-associative power chain whose exponents may carry signs:
+  /// -x^-y^2 = -(x^(-(y^2))). Collected level by level, then built from the right.
+  AstPtr Signed() {
+    struct Level {
+      std::vector<int> minus;  // columns of the '-' signs before the base ('+' signs vanish)
+      AstPtr base;
+      int caret = -1;          // column of the '^' after the base, if any
+    };
+    std::vector<Level> levels;
+    while (true) {
+      Level level;
+      while (IsOp("-") || IsOp("+")) {
+        const Token& t = Next();
+        if (t.text == "-") level.minus.push_back(t.column);
+      }
+      level.base = Primary();
+      bool more = IsOp("^");
+      if (more) level.caret = Next().column;
+      levels.push_back(std::move(level));
+      if (!more) break;
     }
-    return l;
-  }
-
-  AstPtr Unary() {
-    if (IsOp("-") || IsOp("+")) {
-      const Token& t = Next();
-      AstPtr operand = Unary();
-      if (t.text == "+") return operand;
-      return Make(Ast::Kind::kUnary, t.column, "-", {operand});
+    AstPtr r;
+    for (size_t k = levels.size(); k-- > 0;) {
+      Level& level = levels[k];
+      r = r ? Make(Ast::Kind::kBinary, level.caret, "^", {level.base, r}) : level.base;
+      for (size_t j = level.minus.size(); j-- > 0;) r = Make(Ast::Kind::kUnary, level.minus[j], "-", {r});
     }
-    return Power();
-  }
-
-  AstPtr Power() {
-    AstPtr base = Primary();
-    if (IsOp("^")) {
-      const Token& t = Next();
-      // Right-associative; the exponent may carry a sign: x^-2.
-      AstPtr exponent = Unary();
-      return Make(Ast::Kind::kBinary, t.column, "^", {base, exponent});
-    }
-    return base;
+    return r;
   }
 
   AstPtr Primary() {
@@ -312,7 +360,7 @@ class Parser {
       int arity = 0;
       if (!IsKnownFunction(name.text, &arity)) {
         throw ModelError(loc_.Shifted(name.column),
-                         "unknown function '" + name.text + "' in '" + text_ +
+                         "unknown function '" + name.text + "' in '" + Excerpt(text_, name.column) +
                              "' (valid functions: " + KnownFunctionList() + ")");
       }
       std::vector<AstPtr> args;
@@ -329,7 +377,7 @@ class Parser {
         throw ModelError(loc_.Shifted(name.column),
                          name.text + "() takes " + std::to_string(arity) + " argument" +
                              (arity == 1 ? "" : "s") + ", found " + std::to_string(args.size()) +
-                             " in '" + text_ + "'");
+                             " in '" + Excerpt(text_, name.column) + "'");
       }
       return Make(Ast::Kind::kCall, name.column, name.text, std::move(args));
     }
@@ -344,6 +392,7 @@ class Parser {
       if (Peek().kind == Tok::kLBracket) {
         Next();
         seg.index = Expression();
+        a->height = std::max(a->height, seg.index->height + 1);
         if (Peek().kind != Tok::kRBracket) Fail("expected ']'");
         Next();
       }
@@ -351,6 +400,7 @@ class Parser {
       if (Peek().kind != Tok::kDot) break;
       Next();
     }
+    if (a->height > kMaxExpressionDepth) TooDeep(a->column);
     return a;
   }
 
@@ -358,6 +408,7 @@ class Parser {
   const SourceLoc& loc_;
   std::vector<Token> tokens_;
   size_t pos_ = 0;
+  int depth_ = 0;  ///< nesting of Expression() calls
 };
 
 }  // namespace
@@ -397,7 +448,11 @@ std::string Ast::PathText() const {
   for (size_t i = 0; i < path.size(); ++i) {
     if (i) s += ".";
     s += path[i].name;
-    if (path[i].index) s += "[" + AstToString(*path[i].index) + "]";
+    if (path[i].index) {
+      s += '[';
+      s += AstToString(*path[i].index);
+      s += ']';
+    }
   }
   return s;
 }
@@ -419,13 +474,30 @@ std::string AstToString(const Ast& a) {
       }
       return s + ")";
     }
-    case Ast::Kind::kUnary:
-      return a.op == "not" ? "not " + AstToString(*a.args[0]) : "-" + AstToString(*a.args[0]);
+    case Ast::Kind::kUnary: {
+      std::string s = a.op == "not" ? "not " : "-";
+      s += AstToString(*a.args[0]);
+      return s;
+    }
     case Ast::Kind::kBinary:
-      return "(" + AstToString(*a.args[0]) + " " + a.op + " " + AstToString(*a.args[1]) + ")";
-    case Ast::Kind::kIf:
-      return "if " + AstToString(*a.args[0]) + " then " + AstToString(*a.args[1]) + " else " +
-             AstToString(*a.args[2]);
+    case Ast::Kind::kSum:
+    case Ast::Kind::kProduct: {
+      // Left-associated: ((a - b) + c).
+      const bool chain = a.kind != Ast::Kind::kBinary;
+      std::string s = AstToString(*a.args[0]);
+      for (size_t i = 1; i < a.args.size(); ++i) {
+        std::string op = chain ? std::string(1, a.op[i]) : a.op;
+        s = "(" + s + " " + op + " " + AstToString(*a.args[i]) + ")";
+      }
+      return s;
+    }
+    case Ast::Kind::kIf: {
+      std::string s;
+      for (size_t i = 0; i + 1 < a.args.size(); i += 2) {
+        s += "if " + AstToString(*a.args[i]) + " then " + AstToString(*a.args[i + 1]) + " else ";
+      }
+      return s + AstToString(*a.args.back());
+    }
   }
   return "";
 }

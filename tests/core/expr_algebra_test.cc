@@ -440,10 +440,25 @@ ExprId FromAst(ExprPool* pool, const Ast& a) {
           {"+", Op::kAdd}, {"-", Op::kSub}, {"*", Op::kMul}, {"/", Op::kDiv}, {"^", Op::kPow},
           {"<", Op::kLt},  {"<=", Op::kLe}, {">", Op::kGt},  {">=", Op::kGe}, {"==", Op::kEq},
           {"<>", Op::kNe}, {"and", Op::kAnd}, {"or", Op::kOr}};
-      return P.Binary(ops.at(a.op), sub(0), sub(1));
+      ExprId r = sub(0);
+      for (size_t k = 1; k < a.args.size(); ++k) r = P.Binary(ops.at(a.op), r, sub(k));
+      return r;
     }
-    case Ast::Kind::kIf:
-      return P.If(sub(0), sub(1), sub(2));
+    case Ast::Kind::kSum:
+    case Ast::Kind::kProduct: {
+      ExprId r = sub(0);
+      for (size_t k = 1; k < a.args.size(); ++k) {
+        const char op = a.op[k];
+        Op o = op == '+' ? Op::kAdd : op == '-' ? Op::kSub : op == '*' ? Op::kMul : Op::kDiv;
+        r = P.Binary(o, r, sub(k));
+      }
+      return r;
+    }
+    case Ast::Kind::kIf: {
+      ExprId r = sub(a.args.size() - 1);
+      for (size_t k = a.args.size() - 1; k >= 2; k -= 2) r = P.If(sub(k - 2), sub(k - 1), r);
+      return r;
+    }
     case Ast::Kind::kCall: {
       static const std::map<std::string, Op> fns = {
           {"sin", Op::kSin},   {"cos", Op::kCos},     {"tan", Op::kTan},   {"asin", Op::kAsin},

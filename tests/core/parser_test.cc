@@ -88,6 +88,74 @@ TEST(ParserTest, RelationsAndLogic) {
   EXPECT_NE(ParseError("a ! b").find("unexpected character '!'"), std::string::npos);
 }
 
+std::string Repeat(const std::string& s, int n) {
+  std::string out;
+  for (int k = 0; k < n; ++k) out += s;
+  return out;
+}
+
+TEST(ParserTest, NestingUpToTheLimitParses) {
+  const int n = kMaxExpressionDepth - 1;  // the innermost operand is the last level
+  EXPECT_EQ(ParseError(Repeat("(", n) + "x" + Repeat(")", n)), "");
+  EXPECT_EQ(ParseError(Repeat("abs(", n) + "x" + Repeat(")", n)), "");
+  EXPECT_EQ(ParseError(Repeat("-", n) + "x"), "");
+  EXPECT_EQ(ParseError(Repeat("not ", n) + "x"), "");
+  EXPECT_EQ(ParseError(Repeat("x^", n) + "x"), "");
+  EXPECT_EQ(ParseError("R[" + Repeat("-", n - 1) + "i].p"), "");
+  EXPECT_EQ(ParseExpression(Repeat("-", n) + "x", SourceLoc{})->height, kMaxExpressionDepth);
+}
+
+TEST(ParserTest, NestingPastTheLimitIsAnErrorAtItsColumn) {
+  const int n = kMaxExpressionDepth;
+  const std::string limit = "expression nested deeper than 256 levels";
+  // The parenthesis that opens level 257 is at offset 255; the text starts at column 7.
+  std::string msg = ParseError(Repeat("(", n) + "x" + Repeat(")", n));
+  EXPECT_EQ(Prefix(msg), "m.yaml:3:263: ") << msg;
+  EXPECT_NE(msg.find(limit), std::string::npos) << msg;
+  EXPECT_NE(msg.find("split it with intermediate variables or parameters"), std::string::npos) << msg;
+  // The quoted text is an excerpt around that column.
+  EXPECT_LT(msg.size(), 300u) << msg;
+  // Level 257 of a chain of signs is its first sign.
+  msg = ParseError(Repeat("-", n) + "x");
+  EXPECT_EQ(Prefix(msg), "m.yaml:3:7: ") << msg;
+  EXPECT_NE(msg.find(limit), std::string::npos) << msg;
+  for (const std::string& text : {Repeat("abs(", n) + "x" + Repeat(")", n), Repeat("not ", n) + "x",
+                                  Repeat("x^", n) + "x", "R[" + Repeat("-", n) + "i].p",
+                                  "1 + " + Repeat("(", 2 * n) + "x" + Repeat(")", 2 * n),
+                                  Repeat("if c then ", n) + "1" + Repeat(" else 2", n)}) {
+    EXPECT_NE(ParseError(text).find(limit), std::string::npos) << text.substr(0, 40);
+  }
+  // 40 000 levels: the same error, no stack overflow.
+  EXPECT_NE(ParseError(Repeat("-", 40000) + "x").find(limit), std::string::npos);
+  EXPECT_NE(ParseError(Repeat("(", 40000) + "x" + Repeat(")", 40000)).find(limit), std::string::npos);
+}
+
+TEST(ParserTest, ChainsOfOneOperatorAreOneNode) {
+  // 100 000 terms: one sum node of height 2, whatever the signs.
+  std::string text = "1";
+  for (int k = 2; k <= 100000; ++k) text += (k % 3 ? " + " : " - ") + std::to_string(k);
+  AstPtr sum = ParseExpression(text, SourceLoc{});
+  EXPECT_EQ(sum->kind, Ast::Kind::kSum);
+  EXPECT_EQ(sum->args.size(), 100000u);
+  EXPECT_EQ(sum->height, 2);
+  EXPECT_EQ(sum->op.substr(0, 4), "++-+");
+  AstPtr product = ParseExpression("a * b / c * d", SourceLoc{});
+  EXPECT_EQ(product->kind, Ast::Kind::kProduct);
+  EXPECT_EQ(product->op, "**/*");
+  AstPtr conj = ParseExpression(Repeat("a and ", 50000) + "b or c", SourceLoc{});
+  ASSERT_EQ(conj->kind, Ast::Kind::kBinary);
+  EXPECT_EQ(conj->op, "or");
+  EXPECT_EQ(conj->args[0]->args.size(), 50001u);
+  AstPtr branches = ParseExpression("if a then 1" + Repeat(" elseif b then 2", 12000) + " else 3", SourceLoc{});
+  EXPECT_EQ(branches->kind, Ast::Kind::kIf);
+  EXPECT_EQ(branches->args.size(), 2u * 12001 + 1);
+  EXPECT_EQ(branches->height, 2);
+  // A syntax error at the end of a long chain quotes the text around it.
+  std::string msg = ParseError(text + " + ");
+  EXPECT_NE(msg.find("found end of text in '…"), std::string::npos) << msg.substr(0, 300);
+  EXPECT_LT(msg.size(), 300u);
+}
+
 TEST(ParserTest, NumbersAndNames) {
   EXPECT_EQ(P(".5"), "0.5");
   EXPECT_EQ(P("1e-3"), "0.001");
