@@ -13,6 +13,7 @@
 #include "core/pantelides.h"
 #include "core/pruning.h"
 #include "core/structural_analysis.h"
+#include "core/structural_conditions.h"
 
 namespace momenta {
 
@@ -48,6 +49,12 @@ std::shared_ptr<const CompiledModel> BuildModel(const ModelSpec& spec, const Lib
   const std::vector<double> params = EvaluateParameters(*flat, overrides);
   ExprPool& p = *flat->pool;
   EquationSystem sys = MakeEquationSystem(flat);
+  // Branches chosen by Boolean and Integer parameters are fixed before the structure is analysed.
+  if (size_t n = FoldStructuralConditions(&sys, params); n > 0) {
+    std::ostringstream note;
+    note << n << " conditions on Boolean or Integer parameters fixed";
+    record("structural parameters", sys.num_unknowns(), sys.equations.size(), note.str());
+  }
 
   // Simplify: aliases, derivative aliases and constrained states, until nothing changes.
   AliasStats alias;
