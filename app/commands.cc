@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "app/csv_writer.h"
+#include "app/interrupt.h"
 #include "core/build.h"
 #include "core/model_state.h"
 #include "solver/simulator.h"
@@ -90,6 +91,9 @@ int LoadAndBuild(const std::string& path, const std::vector<std::string>& params
     out->build_s = Since(t1);
     out->state = std::make_unique<ModelState>(out->model);
     out->state->SetParameters(out->overrides);
+  } catch (const UsageError& e) {
+    std::cerr << e.what() << "\n";
+    return kExitUsage;
   } catch (const ModelError& e) {
     std::cerr << e.what() << "\n";
     return kExitModel;
@@ -104,22 +108,25 @@ int RunSimulate(const SimulateArgs& args) {
   const BuildReport& report = loaded.report;
   const double load_s = loaded.load_s, build_s = loaded.build_s;
   ModelState* state = loaded.state.get();
-  SimulationOptions opt = OptionsFromExperiment(model->experiment);
-  if (args.stop >= 0) opt.stop = args.stop;
-  if (args.rtol > 0) opt.rtol = args.rtol;
-  if (args.atol > 0) opt.atol = args.atol;
-  if (args.interval > 0) opt.interval = args.interval;
-  if (!args.linear_solver.empty()) opt.linear_solver = args.linear_solver;
-  if (!(opt.stop > opt.start)) {
-    std::cerr << args.model << ": the stop time must be after the start time " << FormatDouble(opt.start) << "\n";
-    return kExitModel;
+  SimulationOptions opt;
+  try {
+    opt = ResolveSimulationOptions(model->experiment, args.options);
+  } catch (const UsageError& e) {
+    std::cerr << "momenta: " << e.what() << "\n";
+    return kExitUsage;
   }
   for (const auto& w : report.warnings) std::cerr << args.model << ": warning: " << w << "\n";
 
+  // From here on SIGINT and SIGTERM stop the run between steps and keep its rows.
+  InstallInterruptHandler();
+  opt.interrupt = &InterruptRequested();
   std::string out_path = args.out.empty() ? Stem(args.model) + ".csv" : args.out;
   std::unique_ptr<CsvWriter> csv;
   try {
     csv = std::make_unique<CsvWriter>(out_path, model->output_names);
+  } catch (const CsvWriteError& e) {
+    std::cerr << "momenta: " << e.what() << "\n";
+    return kExitSolver;
   } catch (const std::exception& e) {
     std::cerr << "momenta: " << e.what() << "\n";
     return kExitUsage;
@@ -128,7 +135,7 @@ int RunSimulate(const SimulateArgs& args) {
   double last_t = opt.start;
   SolverStats stats;
   int code = kExitOk;
-  std::string failure;
+  std::string failure, write_failure;
   try {
     Simulate(state, opt, [&](double t, const std::vector<double>& v) {
       csv->Row(t, v);
@@ -138,18 +145,35 @@ int RunSimulate(const SimulateArgs& args) {
   } catch (const SolverError& e) {
     failure = e.what();
     code = kExitSolver;
+  } catch (const CsvWriteError& e) {
+    write_failure = e.what();
   } catch (const ModelError& e) {
     failure = e.what();
     code = kExitModel;
   }
-  size_t rows = csv->rows();
+  // Every row computed is written (or the write error reported).
+  const size_t rows = csv->rows();
+  try {
+    csv->Close();
+  } catch (const CsvWriteError& e) {
+    if (write_failure.empty()) write_failure = e.what();
+  }
   csv.reset();
 
+  if (!write_failure.empty()) {
+    std::cerr << "momenta: " << write_failure << "\n";
+    return kExitSolver;
+  }
   if (!failure.empty()) {
     std::cerr << args.model << ": simulation failed " << failure << "\n";
     std::cerr << "  results up to t = " << FormatDouble(last_t) << " are kept in " << out_path << " ("
               << rows << " rows)\n";
     return code;
+  }
+  if (stats.interrupted) {
+    std::cerr << args.model << ": interrupted at t = " << FormatDouble(stats.interrupted_at) << "; " << rows
+              << " rows kept in " << out_path << " (up to t = " << FormatDouble(last_t) << ")\n";
+    return 128 + InterruptSignal();
   }
   if (args.quiet) return kExitOk;
   // With the CSV on standard output, the summary goes to standard error.

@@ -1,10 +1,12 @@
 #pragma once
 /// The command line's subcommands. Each returns the process exit code: 0 success, 1 the model is
-/// wrong, 2 usage, 3 the solver failed (results so far kept).
+/// wrong, 2 usage, 3 the solver failed or the results could not be written (results so far kept),
+/// 128 + the signal number when SIGINT or SIGTERM interrupted a simulation (results so far kept).
 
 #include <string>
 #include <vector>
 
+#include "app/simulate_options.h"
 #include "core/flat_system.h"
 
 namespace momenta {
@@ -14,9 +16,8 @@ constexpr int kExitOk = 0, kExitModel = 1, kExitUsage = 2, kExitSolver = 3;
 struct SimulateArgs {
   std::string model;
   std::vector<std::string> params;  ///< NAME=VALUE
-  double stop = -1, rtol = -1, atol = -1, interval = -1;
+  SimulateOverrides options;        ///< --stop, --rtol, --atol, --interval, --linear-solver
   std::string out;  ///< empty: <model file stem>.csv
-  std::string linear_solver;
   bool quiet = false;
 };
 

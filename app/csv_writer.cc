@@ -1,9 +1,18 @@
 #include "app/csv_writer.h"
 
+#include <cerrno>
 #include <charconv>
-#include <stdexcept>
+#include <cstring>
 
 namespace momenta {
+
+namespace {
+
+/// Rows are written once this much has been collected, or this long after the last write.
+constexpr size_t kBufferBytes = 1 << 16;
+constexpr std::chrono::milliseconds kWriteEvery(250);
+
+}  // namespace
 
 std::string FormatDouble(double v) {
   char buf[32];
@@ -11,45 +20,77 @@ std::string FormatDouble(double v) {
   return std::string(buf, r.ptr);
 }
 
-CsvWriter::CsvWriter(const std::string& path, const std::vector<std::string>& names) {
+CsvWriter::CsvWriter(const std::string& path, const std::vector<std::string>& names) : path_(path) {
   if (path == "-") {
     file_ = stdout;
   } else {
     file_ = std::fopen(path.c_str(), "w");
     owned_ = true;
-    if (!file_) throw std::runtime_error("cannot write the results file " + path);
+    if (!file_) throw std::runtime_error("cannot write the results file " + path + ": " + std::strerror(errno));
+    // Unbuffered: each Flush() is one write of whole lines, not stdio's blocks.
+    std::setvbuf(file_, nullptr, _IONBF, 0);
   }
-  std::string header = "time";
+  buffer_ = "time";
   for (const auto& n : names) {
     // A name with a comma or quote is quoted, as CSV requires.
     if (n.find_first_of(",\"") != std::string::npos) {
       std::string q = "\"";
       for (char c : n) q += c == '"' ? std::string("\"\"") : std::string(1, c);
-      header += "," + q + "\"";
+      buffer_ += "," + q + "\"";
     } else {
-      header += "," + n;
+      buffer_ += "," + n;
     }
   }
-  std::fprintf(file_, "%s\n", header.c_str());
+  buffer_ += '\n';
+  // The header at once: a file that cannot be written is found before the run.
+  Flush();
 }
 
 CsvWriter::~CsvWriter() {
-  if (owned_ && file_) std::fclose(file_);
+  if (!file_) return;
+  try {
+    Flush();
+  } catch (const CsvWriteError&) {
+  }
+  if (owned_) std::fclose(file_);
 }
 
 void CsvWriter::Row(double t, const std::vector<double>& values) {
-  line_.clear();
   char buf[32];
   auto r = std::to_chars(buf, buf + sizeof buf, t);
-  line_.append(buf, r.ptr);
+  buffer_.append(buf, r.ptr);
   for (double v : values) {
-    line_ += ',';
+    buffer_ += ',';
     r = std::to_chars(buf, buf + sizeof buf, v);
-    line_.append(buf, r.ptr);
+    buffer_.append(buf, r.ptr);
   }
-  line_ += '\n';
-  std::fwrite(line_.data(), 1, line_.size(), file_);
+  buffer_ += '\n';
   ++rows_;
+  if (buffer_.size() >= kBufferBytes || std::chrono::steady_clock::now() - last_write_ >= kWriteEvery) Flush();
+}
+
+void CsvWriter::Flush() {
+  last_write_ = std::chrono::steady_clock::now();
+  if (buffer_.empty()) return;
+  // Whole lines in one write, pushed out of stdio's buffer at once.
+  errno = 0;
+  const bool ok = std::fwrite(buffer_.data(), 1, buffer_.size(), file_) == buffer_.size() && std::fflush(file_) == 0;
+  buffer_.clear();
+  if (!ok) {
+    throw CsvWriteError("cannot write the results file " + (path_ == "-" ? std::string("(standard output)") : path_) +
+                        ": " + std::strerror(errno ? errno : EIO));
+  }
+}
+
+void CsvWriter::Close() {
+  Flush();
+  if (owned_) {
+    std::FILE* f = file_;
+    file_ = nullptr;
+    if (std::fclose(f) != 0) throw CsvWriteError("cannot write the results file " + path_ + ": " + std::strerror(errno));
+  } else {
+    file_ = nullptr;
+  }
 }
 
 }  // namespace momenta

@@ -1,30 +1,50 @@
 #pragma once
 /// Writes simulation rows as CSV: a header `time,<output>,…`, then one row per output time, every
-/// number in the shortest form that reads back to the same double. Rows are flushed as they come,
-/// so a failed run keeps what it computed.
+/// number in the shortest form that reads back to the same double. Complete rows are collected in
+/// the writer's own buffer and written whole, at least every quarter second, so the file never
+/// ends in the middle of a row, and a failed or interrupted run keeps what it computed. Every
+/// write is checked: a full disk is an error, not a short file.
 
+#include <chrono>
 #include <cstdio>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 namespace momenta {
 
+/// The results file could not be written (a full disk, /dev/full, a closed pipe).
+class CsvWriteError : public std::runtime_error {
+ public:
+  explicit CsvWriteError(const std::string& message) : std::runtime_error(message) {}
+};
+
 class CsvWriter {
  public:
-  /// Opens `path` ("-" for standard output). Throws std::runtime_error when it cannot.
+  /// Opens `path` ("-" for standard output) and writes the header. Throws std::runtime_error when
+  /// it cannot open it, CsvWriteError when it cannot write to it.
   CsvWriter(const std::string& path, const std::vector<std::string>& names);
+  /// Writes what is left (errors are not reported here: call Close()).
   ~CsvWriter();
   CsvWriter(const CsvWriter&) = delete;
   CsvWriter& operator=(const CsvWriter&) = delete;
 
+  /// Adds one row; throws CsvWriteError when a write fails.
   void Row(double t, const std::vector<double>& values);
+  /// Writes every row and closes the file; throws CsvWriteError when that fails.
+  void Close();
+  /// Rows given to Row().
   size_t rows() const { return rows_; }
 
  private:
+  void Flush();
+
+  std::string path_;
   std::FILE* file_ = nullptr;
   bool owned_ = false;
   size_t rows_ = 0;
-  std::string line_;
+  std::string buffer_;  ///< complete lines not yet written
+  std::chrono::steady_clock::time_point last_write_;
 };
 
 /// The shortest decimal text that reads back as `v`.

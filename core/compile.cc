@@ -277,11 +277,6 @@ std::shared_ptr<CompiledModel> CompileModel(EquationSystem sys, const Structure&
   }
 
   // Event conditions, from everything that is evaluated.
-  // A discrete variable is constant between events: its derivative in a crossing's rate is zero.
-  Substitution discrete_rate(&p);
-  for (uint32_t v = 0; v < flat.variables.size(); ++v) {
-    if (flat.variables[v].discrete) discrete_rate.Set(p.Der(VarId(v)), p.Zero());
-  }
   ConditionTable conds(&p, names);
   auto collect_all = [&](auto&& fn) {
     for (ExprId& e : m->residual_exprs) fn(e);
@@ -304,12 +299,20 @@ std::shared_ptr<CompiledModel> CompileModel(EquationSystem sys, const Structure&
     const Node rel = p.node(conds.relation(r));
     ExprId zr = conds.Replace(p.Sub(ExprId(rel.a), ExprId(rel.b)));
     bool time_only = !(p.mask(zr) & (kHasVar | kHasDer | kHasPre | kHasCond | kHasInitial));
-    m->conditions.push_back({rel.op, time_only, conds.Text(r)});
     z.push_back(zr);
-    // A crossing function that reads der() has no rate available here (it would need second
-    // derivatives): its rate is taken as zero.
-    ExprId rate = (p.mask(zr) & kHasDer) ? p.Zero() : discrete_rate.Apply(TimeDerivative(&p, zr));
-    dz.push_back(rate);
+    // A crossing function that reads der() has no rate here (it would need second derivatives).
+    ExprId rate = (p.mask(zr) & kHasDer) ? ExprId() : TimeDerivative(&p, zr);
+    if (rate.valid()) {
+      // Discrete variables are constant between events: their der() is 0, not an unknown's y'.
+      std::unordered_map<uint32_t, ExprId> constant;
+      for (ExprId leaf : CollectLeaves(p, rate, kHasDer)) {
+        const Node nd = p.node(leaf);
+        if (nd.op == Op::kDer && slots.y_of_var[nd.a] < 0) constant[leaf.value()] = p.Zero();
+      }
+      if (!constant.empty()) rate = ReplaceNodes(&p, rate, constant, kHasDer);
+    }
+    dz.push_back(rate.valid() ? rate : p.Zero());
+    m->conditions.push_back({rel.op, time_only, conds.Text(r), rate.valid()});
   }
   collect_all([&](ExprId& e) { e = conds.Replace(e); });
   const uint32_t nc = static_cast<uint32_t>(conds.size());

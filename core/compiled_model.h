@@ -65,10 +65,11 @@ struct CompiledModel {
     Op op;
     bool time_only;  ///< depends on time and parameters only: a time event
     std::string text;
+    bool has_rate = true;  ///< dz/dt is known (z contains no der(): zero_crossing_rates has it)
   };
   std::vector<Condition> conditions;
   Program zero_crossings;       ///< out: z (one per condition)
-  Program zero_crossing_rates;  ///< out: dz/dt
+  Program zero_crossing_rates;  ///< out: dz/dt = dz/dy y' + dz/dt (0 where !has_rate)
 
   // When-clauses: value slots index when_values' outputs.
   struct When {

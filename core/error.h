@@ -38,6 +38,13 @@ class ModelError : public std::runtime_error {
   explicit ModelError(const std::string& message) : std::runtime_error(message) {}
 };
 
+/// A mistake on the command line rather than in the model file (an unknown -p name): exit code 2.
+/// It is a ModelError so that code which only knows about model errors still reports it.
+class UsageError : public ModelError {
+ public:
+  explicit UsageError(const std::string& message) : ModelError(message) {}
+};
+
 /// The solver failed: exit code 3. Results computed so far are kept by the caller.
 class SolverError : public std::runtime_error {
  public:

@@ -1246,6 +1246,8 @@ class Flattener {
     }
   }
 
+  /// Every -p name must be a parameter: a usage error (exit 2) naming it, with the closest names,
+  /// and for an element of a component array the indices it has.
   void CheckOverrides() {
     std::unordered_map<std::string, size_t> names;
     for (size_t k = 0; k < flat_.parameters.size(); ++k) names[flat_.parameters[k].name] = k;
@@ -1256,7 +1258,15 @@ class Flattener {
       std::vector<std::string> all;
       for (const auto& p : flat_.parameters) all.push_back(p.name);
       auto close = ClosestNames(name, all);
-      throw ModelError(spec_.file + ": -p " + name + ": no parameter of that name in " + spec_.name +
+      std::string range;
+      if (size_t open = name.find('['); open != std::string::npos && open > 0) {
+        auto it = arrays_.find(name.substr(0, open));
+        if (it != arrays_.end() && it->second.is_array) {
+          range = " (" + it->first + " has elements " + it->first + "[1] to " + it->first + "[" +
+                  std::to_string(it->second.count) + "])";
+        }
+      }
+      throw UsageError(spec_.file + ": -p " + name + ": no parameter of that name in " + spec_.name + range +
                        (close.empty() ? "" : " (did you mean " + JoinNames(close) + "?)") +
                        " (model parameters: " + (model_names.empty() ? "none" : JoinNames(model_names)) +
                        "; component parameters are named like A.m)");

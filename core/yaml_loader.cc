@@ -502,13 +502,31 @@ class Reader {
           Fail(e["linear_solver"], "unknown linear_solver '" + s + "' (valid: auto, dense, klu)");
         }
       }
-      if (!(m.experiment.stop > m.experiment.start)) {
-        Fail(e, "experiment.stop must be after experiment.start");
+      // Each value is checked where it is written (the section itself when it is missing).
+      const ExperimentSpec& x = m.experiment;
+      auto at = [&](const char* key) { return e[key] ? e[key] : e; };
+      auto shown = [&](const char* key, double v) {
+        if (e[key]) return "'" + e[key].Scalar() + "'";
+        std::ostringstream text;
+        text << v << " (the default)";
+        return text.str();
+      };
+      if (!(x.stop > x.start)) {
+        Fail(at("stop"), "experiment.stop must be after experiment.start (" + shown("start", x.start) + "), found " +
+                             shown("stop", x.stop));
       }
-      if (!(m.experiment.tolerance > 0 && m.experiment.tolerance < 1)) {
-        Fail(e, "experiment.tolerance must lie between 0 and 1");
+      if (!(x.tolerance >= kMinRelTolerance && x.tolerance < 1)) {
+        Fail(at("tolerance"), "experiment.tolerance must lie between 1e-15 and 1 (double precision resolves about "
+                              "2.2e-16), found " + shown("tolerance", x.tolerance));
       }
-      if (m.experiment.interval < 0) Fail(e, "experiment.interval must be positive");
+      if (e["interval"]) {
+        if (!(x.interval > 0)) {
+          Fail(e["interval"], "experiment.interval must be positive, found " + shown("interval", x.interval));
+        }
+        if (std::string grid = OutputGridProblem(x.start, x.stop, x.interval); !grid.empty()) {
+          Fail(e["interval"], "experiment.interval " + shown("interval", x.interval) + ": " + grid);
+        }
+      }
     }
     if (root["outputs"] && !root["outputs"].IsNull()) {
       if (!root["outputs"].IsSequence()) Fail(root["outputs"], "outputs must be a list of paths such as A.v");

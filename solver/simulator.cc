@@ -24,7 +24,9 @@
 #include <cmath>
 #include <cstdlib>
 #include <sstream>
+#include <stdexcept>
 
+#include "solver/crossing_model.h"
 #include "solver/initializer.h"
 #include "solver/jacobian_fill.h"
 #include "solver/sundials_support.h"
@@ -87,7 +89,7 @@ double Elapsed(std::chrono::steady_clock::time_point since) {
 std::string FlagMeaning(int flag) {
   switch (flag) {
     case IDA_TOO_MUCH_WORK: return "too many steps without reaching the next output time";
-    case IDA_TOO_MUCH_ACC: return "the requested accuracy cannot be reached";
+    case IDA_TOO_MUCH_ACC: return "the requested accuracy is finer than the solution's rounding errors";
     case IDA_ERR_FAIL: return "the error test failed repeatedly (a discontinuity or a singularity?)";
     case IDA_CONV_FAIL: return "Newton's method failed to converge repeatedly";
     case IDA_LSETUP_FAIL:
@@ -121,6 +123,14 @@ bool RelationHolds(Op op, double z) {
 /// Samples of the zero-crossing functions inside each step: the end and three interior points.
 constexpr int kInteriorSamples = 3;
 
+/// Extra samples per step where the cubic models of the crossing functions point to a dip, and
+/// how often an interval may be split.
+constexpr int kMaxRefinements = 32, kMaxDepth = 12;
+
+/// IDASetMaxNumSteps' meaning for runs that step one at a time: at most this many steps between
+/// two output rows.
+constexpr long kMaxStepsPerRow = 500000;
+
 class EventIntegrator {
  public:
   EventIntegrator(ModelState* state, const SimulationOptions& opt, const RowCallback& row,
@@ -128,11 +138,21 @@ class EventIntegrator {
       : state_(state), m_(state->model()), opt_(opt), row_(row), stats_(stats) {
     n_ = m_.num_unknowns();
     nc_ = m_.conditions.size();
-    interval_ = opt.interval > 0 ? opt.interval : (opt.stop - opt.start) / 500.0;
+    interval_ = opt.interval == 0 ? (opt.stop - opt.start) / 500.0 : opt.interval;
     outputs_.resize(m_.output_names.size());
     has_events_ = nc_ > 0 || !m_.whens.empty() || !m_.impacts.empty();
     sparse_ = opt.linear_solver == "klu" || (opt.linear_solver == "auto" && n_ > kDenseLimit);
     stats_->linear_solver = sparse_ ? "klu" : "dense";
+    // The grid must be finite before its size is cast (an infinite stop would never end).
+    if (!(std::isfinite(opt.start) && std::isfinite(opt.stop) && opt.stop > opt.start)) {
+      throw std::invalid_argument("the stop time " + Num(opt.stop) + " is not a finite time after the start time " + Num(opt.start));
+    }
+    if (!(interval_ > 0 && std::isfinite(interval_))) {
+      throw std::invalid_argument("the output interval " + Num(interval_) + " is not a positive finite number");
+    }
+    if (std::string grid = OutputGridProblem(opt.start, opt.stop, interval_); !grid.empty()) {
+      throw std::invalid_argument("the output interval " + Num(interval_) + ": " + grid);
+    }
     num_intervals_ = static_cast<long>(std::ceil((opt.stop - opt.start) / interval_ - 1e-9));
     z_.resize(nc_);
     zscale_.assign(nc_, 1.0);
@@ -146,9 +166,10 @@ class EventIntegrator {
       if (has_events_) {
         RunStateless();
       } else {
-        for (long k = 1; k <= num_intervals_; ++k) Emit(GridTime(k), nullptr, nullptr);
+        for (long k = 1; k <= num_intervals_ && !Interrupted(opt_.start + (k - 1) * interval_); ++k) {
+          Emit(GridTime(k), nullptr, nullptr);
+        }
       }
-      stats_->final_time = opt_.stop;
       stats_->integrate_seconds = Elapsed(t_run_);
       return;
     }
@@ -168,9 +189,25 @@ class EventIntegrator {
  private:
   double GridTime(long k) const { return k >= num_intervals_ ? opt_.stop : opt_.start + k * interval_; }
 
+  /// Whether the run has been asked to stop (SimulationOptions::interrupt); records where it was.
+  bool Interrupted(double t) {
+    if (!opt_.interrupt || !opt_.interrupt->load(std::memory_order_relaxed)) return false;
+    if (!stats_->interrupted) {
+      stats_->interrupted = true;
+      stats_->interrupted_at = t;
+    }
+    return true;
+  }
+
   void Emit(double t, const double* y, const double* yp) {
     state_->Outputs(t, y, yp, outputs_.data());
-    row_(t, outputs_);
+    Row(t, outputs_);
+  }
+
+  /// Gives out a row, unless the run has been interrupted (then no row follows a gap).
+  void Row(double t, const std::vector<double>& values) {
+    if (stats_->interrupted) return;
+    row_(t, values);
     stats_->final_time = t;
   }
 
@@ -266,7 +303,7 @@ class EventIntegrator {
                            static_cast<sunindextype>(m_.jacobian_pattern.nnz()), sparse_, ctx_.get());
     CheckFlag(IDASetLinearSolver(mem, ls_.solver.get(), ls_.matrix.get()), "IDASetLinearSolver");
     CheckFlag(IDASetJacFn(mem, Jacobian), "IDASetJacFn");
-    CheckFlag(IDASetMaxNumSteps(mem, 500000), "IDASetMaxNumSteps");
+    CheckFlag(IDASetMaxNumSteps(mem, kMaxStepsPerRow), "IDASetMaxNumSteps");
     CheckFlag(IDASetStopTime(mem, opt_.stop), "IDASetStopTime");
     abstol_ = std::move(abstol);
   }
@@ -302,6 +339,19 @@ class EventIntegrator {
     msg << "at t = " << t_fail << ": ";
     if (!data_.error.empty()) {
       msg << data_.error;
+    } else if (flag == IDA_ILL_INPUT) {
+      // Tolerances below double precision make IDA's step size vanish, and its own message then
+      // blames the stop time: name the tolerance instead. Otherwise IDA's message says which input.
+      const double atol = opt_.atol > 0 ? opt_.atol : opt_.rtol;
+      msg << "IDA rejected its input (IDA_ILL_INPUT): ";
+      if (!(opt_.rtol >= kMinRelTolerance)) {
+        msg << "the relative tolerance " << opt_.rtol << " is below what double precision resolves (use at least 1e-15)";
+      } else if (!(atol >= kMinAbsTolerance)) {
+        msg << "the absolute tolerance " << atol << " is below the smallest normal double (2.2e-308)";
+      } else {
+        msg << (data_.last_message.empty() ? "no reason given" : data_.last_message) << " (rtol " << opt_.rtol
+            << ", atol " << atol << ")";
+      }
     } else {
       msg << "IDA stopped (" << FlagName(flag) << "): " << FlagMeaning(flag);
       VectorPtr ewt = MakeVector(static_cast<sunindextype>(n_), ctx_.get());
@@ -319,22 +369,31 @@ class EventIntegrator {
         msg << ". The largest local error is in " << m_.flat->DescribeVariable(m_.unknowns[worst])
             << ", governed by " << m_.residual_origin[worst];
       }
-      msg << ". Try a tighter tolerance (--rtol), check the parameters of that component, or "
-             "look for a singularity in its equations.";
+      if (flag == IDA_TOO_MUCH_ACC) {
+        msg << ". Loosen the tolerance (a larger --rtol or --atol): double precision cannot deliver this one.";
+      } else {
+        msg << ". Try a tighter tolerance (--rtol), check the parameters of that component, or "
+               "look for a singularity in its equations.";
+      }
     }
     throw SolverError(msg.str());
   }
 
+  /// One step at a time to the stop time (the steps IDA_NORMAL would take to each output time),
+  /// the output rows interpolated within each step, so an interrupt is seen after every step.
   void RunWithoutEvents() {
     void* mem = ida_.get();
-    double* yv = N_VGetArrayPointer(y_vec_.get());
-    double* ypv = N_VGetArrayPointer(yp_vec_.get());
-    for (long k = 1; k <= num_intervals_; ++k) {
-      double tout = GridTime(k), tret = 0;
-      int flag = IDASolve(mem, tout, &tret, y_vec_.get(), yp_vec_.get(), IDA_NORMAL);
+    long steps_since_row = 0;
+    while (t_ < opt_.stop && !Interrupted(t_)) {
+      double tret = 0;
+      int flag = IDASolve(mem, opt_.stop, &tret, y_vec_.get(), yp_vec_.get(), IDA_ONE_STEP);
       if (flag < 0) Fail(flag);
-      t_ = tout;
-      Emit(tout, yv, ypv);
+      // IDA_NORMAL's guard: this many steps without reaching the next output time is too many.
+      const long before = next_grid_;
+      EmitGrid(tret, /*inclusive=*/true);
+      steps_since_row = next_grid_ != before ? 0 : steps_since_row + 1;
+      if (steps_since_row >= kMaxStepsPerRow) Fail(IDA_TOO_MUCH_WORK);
+      t_ = tret;
     }
   }
 
@@ -345,7 +404,7 @@ class EventIntegrator {
     void* mem = ida_.get();
     double* yv = N_VGetArrayPointer(y_vec_.get());
     double* ypv = N_VGetArrayPointer(yp_vec_.get());
-    while (t_ < opt_.stop) {
+    while (t_ < opt_.stop && !Interrupted(t_)) {
       double t_event = NextTimeEvent();
       double tstop = std::min(opt_.stop, t_event);
       CheckFlag(IDASetStopTime(mem, tstop), "IDASetStopTime");
@@ -377,7 +436,7 @@ class EventIntegrator {
     t_ = opt_.start;
     next_grid_ = 1;
     const double h = interval_ / 8;
-    while (t_ < opt_.stop) {
+    while (t_ < opt_.stop && !Interrupted(t_)) {
       double t_event = NextTimeEvent();
       double t_next = std::min({opt_.stop, t_event, t_ + h});
       double t_cross = FirstCrossing(t_, t_next);
@@ -395,7 +454,7 @@ class EventIntegrator {
 
   /// Grid rows up to `t` (and at t when inclusive), interpolated within the last step.
   void EmitGrid(double t, bool inclusive) {
-    while (next_grid_ <= num_intervals_) {
+    while (next_grid_ <= num_intervals_ && !Interrupted(t)) {
       double tg = GridTime(next_grid_);
       if (tg > t || (!inclusive && tg >= t)) break;
       if (tg <= last_event_time_) {  // already written as an event's rows
@@ -421,20 +480,95 @@ class EventIntegrator {
   }
 
   /// The earliest time in (t0, t1] at which a frozen condition no longer agrees with its
-  /// relation (or an open contact's gap closes while approaching); +inf when none.
+  /// relation (or an open contact's gap closes while approaching); +inf when none. The crossing
+  /// functions are sampled at the end and interior points of the step; between two samples each is
+  /// modelled by the cubic through its values and time derivatives, and where that cubic dips more
+  /// than halfway to zero the function is sampled at the dip and the interval split.
   double FirstCrossing(double t0, double t1) {
     // Nothing to watch when every condition is a scheduled time event and there are no contacts.
     bool watch = !m_.impacts.empty();
     for (size_t i = 0; i < nc_ && !watch; ++i) watch = !(m_.conditions[i].time_only && i < affine_.size() && affine_[i]);
     if (!watch) return HUGE_VAL;
+    const bool model = !modelled_.empty();
+    if (model && !(sample_valid_ && sample_.t == t0)) {
+      Interpolate(t0);
+      state_->ZeroCrossings(t0, y_.data(), yp_.data(), z_.data());
+      TakeSample(t0, &sample_);
+    }
+    refinements_left_ = kMaxRefinements;
     double lo = t0;
     for (int s = 1; s <= kInteriorSamples + 1; ++s) {
       double ts = t0 + (t1 - t0) * s / (kInteriorSamples + 1);
       if (s == kInteriorSamples + 1) ts = t1;
-      if (Crossed(ts)) return Locate(lo, ts);
+      if (Crossed(ts)) {
+        sample_valid_ = false;
+        return Locate(lo, ts);
+      }
+      if (model) {
+        TakeSample(ts, &next_sample_);
+        if (double tc = Excursion(sample_, next_sample_, 0); tc < HUGE_VAL) {
+          sample_valid_ = false;
+          return tc;
+        }
+        std::swap(sample_, next_sample_);
+      }
       lo = ts;
     }
+    sample_valid_ = model;  // the next step starts where this one ended
     return HUGE_VAL;
+  }
+
+  /// The crossing functions and their time derivatives at one time.
+  struct Sample {
+    double t = 0;
+    std::vector<double> z, dz;
+  };
+
+  /// Whether condition i is watched with a cubic model: it has a time derivative, is not an
+  /// equality, and is not scheduled as a time event.
+  bool Modelled(size_t i) const {
+    const auto& c = m_.conditions[i];
+    return c.has_rate && c.op != Op::kEq && c.op != Op::kNe && !(c.time_only && i < affine_.size() && affine_[i]);
+  }
+
+  /// *s := the sample at t, from z_ (computed at t) and y_, yp_ (interpolated at t).
+  void TakeSample(double t, Sample* s) {
+    s->t = t;
+    s->z.assign(z_.begin(), z_.end());
+    s->dz.resize(nc_);
+    state_->ZeroCrossingRates(t, y_.data(), yp_.data(), s->dz.data());
+  }
+
+  /// A crossing between samples a and b that the cubic models of the crossing functions point to:
+  /// its located time, or +inf. Where a model dips more than halfway from its nearer end to zero,
+  /// the functions are sampled at the dip: crossed there, the crossing is located before it;
+  /// otherwise both halves are examined the same way (at most kMaxRefinements samples per step).
+  double Excursion(const Sample& a, const Sample& b, int depth) {
+    const double h = b.t - a.t;
+    if (depth >= kMaxDepth || refinements_left_ <= 0 || !(h > 1e-14 * std::max(1.0, std::fabs(b.t)))) return HUGE_VAL;
+    const double* c = state_->conditions();
+    double tau = HUGE_VAL;
+    for (size_t i : modelled_) {
+      // u = side * z is positive on the side the frozen condition is on; crossing makes it negative.
+      const Op op = m_.conditions[i].op;
+      const bool holds_when_positive = op == Op::kGt || op == Op::kGe;
+      const double side = (c[i] != 0) == holds_when_positive ? 1.0 : -1.0;
+      const double ua = side * a.z[i], ub = side * b.z[i], va = side * a.dz[i] * h, vb = side * b.dz[i] * h;
+      const double level = 0.5 * std::max(0.0, std::min(ua, ub)) - Band(i);
+      // The cubic lies above its Bezier control points ua, ua + va/3, ub - vb/3, ub: most
+      // intervals are cleared by those alone.
+      if (std::min(ua + va / 3, ub - vb / 3) >= level) continue;
+      auto dip = HermiteInteriorMinimum(ua, va, ub, vb);
+      if (dip && dip->value < level) tau = std::min(tau, dip->tau);
+    }
+    if (tau == HUGE_VAL) return HUGE_VAL;
+    --refinements_left_;
+    const double tm = a.t + tau * h;
+    if (Crossed(tm)) return Locate(a.t, tm);
+    Sample m;
+    TakeSample(tm, &m);
+    if (double tc = Excursion(a, m, depth + 1); tc < HUGE_VAL) return tc;
+    return Excursion(m, b, depth + 1);
   }
 
   /// Whether, at time t (interpolated), some condition or contact has switched.
@@ -488,6 +622,11 @@ class EventIntegrator {
     if (!time_events_dirty_ && t_ < next_time_event_) return next_time_event_;
     time_events_dirty_ = false;
     next_time_event_ = ComputeNextTimeEvent();
+    // Which conditions the crossing models watch follows from which are scheduled.
+    modelled_.clear();
+    for (size_t i = 0; i < nc_; ++i) {
+      if (Modelled(i)) modelled_.push_back(i);
+    }
     return next_time_event_;
   }
 
@@ -515,6 +654,7 @@ class EventIntegrator {
 
   void DoEvent(double t, bool time_event) {
     time_events_dirty_ = true;
+    sample_valid_ = false;  // the conditions and discrete values change
     ++stats_->events;
     if (time_event) ++stats_->time_events;
     CheckChattering(t);
@@ -530,9 +670,8 @@ class EventIntegrator {
     t_ = t;
     state_->Outputs(t, y_.data(), yp_.data(), outputs_.data());
     if (outputs_ != left || stats_->impacts != impacts_before) {
-      row_(t, left);
-      row_(t, outputs_);
-      stats_->final_time = t;
+      Row(t, left);
+      Row(t, outputs_);
       last_event_time_ = t;
     }
   }
@@ -789,6 +928,11 @@ class EventIntegrator {
   double next_time_event_ = HUGE_VAL;
   bool time_events_dirty_ = true;
   int close_events_ = 0;
+  std::vector<size_t> modelled_;  ///< conditions watched with a cubic model (see Modelled)
+  Sample sample_;       ///< the crossing functions at the end of the last step
+  Sample next_sample_;  ///< at the next sample time (kept to reuse its storage)
+  bool sample_valid_ = false;
+  int refinements_left_ = 0;
   std::vector<double> y_, yp_, z_, zscale_, outputs_, impact_values_;
   std::vector<bool> when_state_, affine_;
   SolverStats base_;

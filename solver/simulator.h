@@ -3,6 +3,7 @@
 /// initial values, with output at a fixed interval. The linear solver is dense LU for small
 /// systems and KLU (sparse LU) for large ones unless chosen.
 
+#include <atomic>
 #include <functional>
 #include <string>
 #include <vector>
@@ -13,10 +14,13 @@ namespace momenta {
 
 struct SimulationOptions {
   double start = 0, stop = 1;
-  double interval = 0;      ///< 0: (stop - start)/500
+  double interval = 0;      ///< 0: (stop - start)/500; otherwise positive
   double rtol = 1e-6;
   double atol = -1;         ///< < 0: rtol; each variable's is atol*nominal
   std::string linear_solver = "auto";  ///< auto, dense or klu
+  /// When set and raised (by a signal handler), the run stops before the next step or output row:
+  /// the rows so far have been given out, SolverStats::interrupted says so, no error is thrown.
+  const std::atomic<bool>* interrupt = nullptr;
 };
 
 /// Systems with at most this many unknowns use dense LU under "auto".
@@ -30,6 +34,8 @@ struct SolverStats {
   std::vector<double> impact_times;  ///< when each impact happened (for tests and summaries)
   double init_seconds = 0, integrate_seconds = 0;
   double final_time = 0;
+  bool interrupted = false;   ///< SimulationOptions::interrupt stopped the run
+  double interrupted_at = 0;  ///< how far the integration had come then
 };
 
 /// Called for every output row: time and the outputs in CompiledModel::output_names order.
@@ -38,7 +44,9 @@ using RowCallback = std::function<void(double t, const std::vector<double>& outp
 /// Events (docs/FORMAT.md, "Events"): between events every relation outside noEvent() keeps the
 /// value it had after the last event; its zero-crossing function is watched on IDA's interpolant at
 /// the end of each step and at interior points, so a sign change inside a step is not missed
-/// however large the step. The event is located by the Illinois method on the interpolant;
+/// however large the step; between samples it is modelled by the cubic through its values and time
+/// derivatives, and sampled again where that cubic dips more than halfway to zero, so a crossing
+/// there and back between samples is found too (README, "Events and impacts", says when). The event is located by the Illinois method on the interpolant;
 /// relations of time alone that are affine in it (Step, Ramp, startTime) are hit exactly as IDA
 /// stop times. At an event: a left-limit output row; impacts are resolved one contact at a time
 /// (the fastest approaching first) until none approaches; the event iteration updates conditions
@@ -50,6 +58,8 @@ constexpr int kChatterLimit = 200;
 
 /// Runs the simulation. Rows reach `row` as they are computed, so a failure keeps what came
 /// before it; the failure is then thrown as SolverError ("at t = …: …") after `stats` is filled.
+/// Options that give no finite output grid (stop not finite or not after start, an interval that
+/// is not positive or gives more than kMaxOutputRows rows) throw std::invalid_argument.
 void Simulate(ModelState* state, const SimulationOptions& options, const RowCallback& row,
               SolverStats* stats);
 

@@ -181,14 +181,42 @@ components:
        {},
        {"@:3:", "mA", "value"}},
 
-      // -p naming no parameter: the closest names.
-      {"unknown_override",
-       R"(model: Bad
-components:
-  A: {type: Mass, m: 1}
-)",
-       {"A.mm=3"},
-       {"@", "-p A.mm", "did you mean A.m"}},
+      // The experiment section: each value is checked where it is written, with its text.
+      {"experiment_interval_zero",
+       "model: Bad\n"
+       "components:\n"
+       "  A: {type: Mass, m: 1}\n"
+       "experiment: {stop: 1, interval: 0}\n",
+       {},
+       {"@:4:33: experiment.interval must be positive, found '0'"}},
+      {"experiment_interval_too_many_rows",
+       "model: Bad\n"
+       "components:\n"
+       "  A: {type: Mass, m: 1}\n"
+       "experiment: {stop: 1, interval: 1e-300}\n",
+       {},
+       {"@:4:33: experiment.interval '1e-300': from 0 to 1 s that is 1e+300 output rows; at most 1e9 can be written"}},
+      {"experiment_interval_below_time_resolution",
+       "model: Bad\n"
+       "components:\n"
+       "  A: {type: Mass, m: 1}\n"
+       "experiment: {start: 1e9, stop: 1.000000001e9, interval: 1e-7}\n",
+       {},
+       {"@:4:57: experiment.interval '1e-7': it is below the time resolution at t = 1e+09 (0.0001 s)"}},
+      {"experiment_tolerance_below_double_precision",
+       "model: Bad\n"
+       "components:\n"
+       "  A: {type: Mass, m: 1}\n"
+       "experiment: {tolerance: 1e-300}\n",
+       {},
+       {"@:4:25: experiment.tolerance must lie between 1e-15 and 1", "found '1e-300'"}},
+      {"experiment_stop_before_start",
+       "model: Bad\n"
+       "components:\n"
+       "  A: {type: Mass, m: 1}\n"
+       "experiment: {start: 2}\n",
+       {},
+       {"@:4:13: experiment.stop must be after experiment.start ('2'), found 1 (the default)"}},
 
       // min violated: the parameter, its value and the bound.
       {"negative_mass",

@@ -1,0 +1,25 @@
+#pragma once
+/// The options of `momenta simulate`: the model's experiment section with the command line's
+/// values put over it, each command-line value checked on its own and the result as a whole.
+
+#include <optional>
+
+#include "core/model_spec.h"
+#include "solver/simulator.h"
+
+namespace momenta {
+
+/// The values given on the command line; an empty optional was not given.
+struct SimulateOverrides {
+  std::optional<double> stop, rtol, atol, interval;
+  std::string linear_solver;  ///< empty: the experiment's
+};
+
+/// The experiment's options with `overrides` over them. Throws UsageError ("--stop inf: …")
+/// naming the option and its value when a value is out of range: a stop time that is not a
+/// finite number after the start, a tolerance that is not finite and positive or below what
+/// double precision resolves, an output interval that is not positive or gives an output grid
+/// that cannot be written.
+SimulationOptions ResolveSimulationOptions(const ExperimentSpec& experiment, const SimulateOverrides& overrides);
+
+}  // namespace momenta

@@ -1,0 +1,174 @@
+// Command-line values out of range: each is a usage error (exit 2) whose message names the option
+// and the value, never silently replaced by the experiment's value, never a run "from 0 to 0 s",
+// never a hang. Also: -p names that are no parameter, and a results file that cannot be written.
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "app/commands.h"
+#include "tests/app/cli_support.h"
+#include "tests/support/cli_runner.h"
+#include "tests/support/test_models.h"
+
+namespace momenta {
+namespace {
+
+using testing::CliResult;
+using testing::TempDir;
+
+bool Contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+// x' = -x from x = 1 on [1, 3]: a start time that is not 0.
+constexpr const char* kDecay = R"yaml(model: Decay
+variables:
+  x: {start: 1, fixed: true}
+equations:
+  - der(x) = -x
+experiment: {start: 1, stop: 3, interval: 0.5}
+outputs: [x]
+)yaml";
+
+struct Case {
+  std::vector<std::string> args;  ///< after `simulate <model>`
+  std::string message;            ///< what stderr must contain
+};
+
+class CliValuesTest : public ::testing::Test {
+ protected:
+  /// Runs `momenta simulate <model> args -o out.csv` with a deadline (a hang fails the test).
+  CliResult Simulate(const std::string& model, std::vector<std::string> args) {
+    std::vector<std::string> all = {"simulate", model};
+    all.insert(all.end(), args.begin(), args.end());
+    all.insert(all.end(), {"-o", "out.csv"});
+    return testing::RunMomentaWithDeadline(all, dir_.path(), 60);
+  }
+
+  void ExpectUsageError(const std::string& model, const Case& c) {
+    std::string label = model;
+    for (const auto& a : c.args) label += " " + a;
+    CliResult r = Simulate(model, c.args);
+    EXPECT_EQ(r.exit_code, kExitUsage) << label << "\n" << r.out << r.err;
+    EXPECT_TRUE(Contains(r.err, c.message)) << label << ": no '" << c.message << "' in:\n" << r.err;
+    EXPECT_FALSE(std::filesystem::exists(dir_.File("out.csv"))) << label << ": a results file was written";
+    std::filesystem::remove(dir_.File("out.csv"));
+  }
+
+  TempDir dir_;
+};
+
+TEST_F(CliValuesTest, StopThatIsNotAFiniteTimeAfterTheStartIsAUsageError) {
+  const std::string rc = testing::SourcePath("models/rc_ladder.yaml");
+  const std::string why = ": the stop time must be a finite number after the start time 0 (experiment.start)";
+  for (const Case& c : std::vector<Case>{
+           {{"--stop", "-1"}, "--stop -1" + why},
+           {{"--stop", "nan"}, "--stop nan" + why},
+           {{"--stop", "inf"}, "--stop inf" + why},
+           {{"--stop", "0"}, "--stop 0" + why},
+       }) {
+    ExpectUsageError(rc, c);
+  }
+  // Before a start time that is not 0.
+  dir_.Write("decay.yaml", kDecay);
+  ExpectUsageError("decay.yaml", {{"--stop", "0.5"},
+                                  "--stop 0.5: the stop time must be a finite number after the start time 1 (experiment.start)"});
+  ExpectUsageError("decay.yaml", {{"--stop", "1"}, "--stop 1: the stop time must be a finite number after the start time 1"});
+}
+
+TEST_F(CliValuesTest, ToleranceThatIsNotPositiveOrBelowDoublePrecisionIsAUsageError) {
+  const std::string rc = testing::SourcePath("models/rc_ladder.yaml");
+  const std::string rtol = ": the relative tolerance must be a number from 1e-15 to below 1 (double precision resolves "
+                           "relative differences of about 2.2e-16)";
+  const std::string atol = ": the absolute tolerance must be a positive finite number, at least 2.2e-308";
+  for (const Case& c : std::vector<Case>{
+           {{"--rtol", "0"}, "--rtol 0" + rtol},
+           {{"--rtol", "-1"}, "--rtol -1" + rtol},
+           {{"--rtol", "nan"}, "--rtol nan" + rtol},
+           {{"--rtol", "1e-300"}, "--rtol 1e-300" + rtol},
+           {{"--rtol", "1e-16"}, "--rtol 1e-16" + rtol},
+           {{"--rtol", "1"}, "--rtol 1" + rtol},
+           {{"--atol", "0"}, "--atol 0" + atol},
+           {{"--atol", "-1"}, "--atol -1" + atol},
+           {{"--atol", "nan"}, "--atol nan" + atol},
+           {{"--atol", "inf"}, "--atol inf" + atol},
+           {{"--atol", "1e-320"}, "--atol 1e-320" + atol},
+       }) {
+    ExpectUsageError(rc, c);
+  }
+}
+
+TEST_F(CliValuesTest, IntervalThatIsNotPositiveOrGivesTooManyRowsIsAUsageError) {
+  const std::string rc = testing::SourcePath("models/rc_ladder.yaml");
+  const std::string why = ": the output interval must be a positive finite number";
+  for (const Case& c : std::vector<Case>{
+           {{"--interval", "0"}, "--interval 0" + why},
+           {{"--interval", "-1"}, "--interval -1" + why},
+           {{"--interval", "nan"}, "--interval nan" + why},
+           {{"--interval", "inf"}, "--interval inf" + why},
+           // Today's "simulated 0 to 0 s" (the number of intervals overflowed a cast to long).
+           {{"--interval", "1e-300", "--stop", "1"},
+            "--interval 1e-300: from 0 to 1 s that is 1e+300 output rows; at most 1e9 can be written"},
+           // The experiment's interval (0.01 s) with a far stop time: --stop is named.
+           {{"--stop", "1e12"},
+            "--stop 1e+12: with the output interval 0.01 s (experiment.interval) from 0 to 1e+12 s that is 1e+14 "
+            "output rows; at most 1e9 can be written; choose a larger --interval"},
+       }) {
+    ExpectUsageError(rc, c);
+  }
+}
+
+TEST_F(CliValuesTest, ValidValuesAreUsedNotReplaced) {
+  // The smallest accepted tolerances run, and --stop and --interval shape the grid exactly.
+  dir_.Write("decay.yaml", kDecay);
+  CliResult r = Simulate("decay.yaml", {"--stop", "2", "--interval", "0.25", "--rtol", "1e-12", "--atol", "1e-14"});
+  ASSERT_EQ(r.exit_code, kExitOk) << r.err;
+  EXPECT_TRUE(Contains(r.out, "simulated 1 to 2 s")) << r.out;
+  EXPECT_TRUE(Contains(r.out, "out.csv (5 rows)")) << r.out;  // 1, 1.25, 1.5, 1.75, 2
+  // x(2) = exp(-1) at rtol 1e-12.
+  EXPECT_TRUE(Contains(r.out, "x = 0.3678794412")) << r.out;
+}
+
+TEST_F(CliValuesTest, ReproducerStopInfIsAUsageErrorNotAHang) {
+  // tests/data/reliability/12-hang-cli-stop-inf.yaml: IDA integrated towards t = inf forever.
+  const std::string file = testing::SourcePath("tests/data/reliability/12-hang-cli-stop-inf.yaml");
+  CliResult r = testing::RunMomentaWithDeadline({"simulate", file, "--stop", "inf", "-o", "out.csv", "-q"},
+                                                dir_.path(), 60);
+  EXPECT_EQ(r.exit_code, kExitUsage) << r.err;
+  EXPECT_TRUE(Contains(r.err, "--stop inf: the stop time must be a finite number after the start time 0")) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir_.File("out.csv")));
+}
+
+TEST_F(CliValuesTest, UnknownParameterIsAUsageErrorWithCloseNames) {
+  const std::string rc = testing::SourcePath("models/rc_ladder.yaml");
+  for (const Case& c : std::vector<Case>{
+           {{"-p", "nosuch=1"}, "-p nosuch: no parameter of that name in RCLadder (model parameters: n; component "
+                                "parameters are named like A.m)"},
+           {{"-p", "R[0].R=1"}, "-p R[0].R: no parameter of that name in RCLadder (R has elements R[1] to R[10]) "
+                                "(did you mean R[10].R, R[1].R, R[2].R?)"},
+           {{"-p", "R[99].R=1"}, "-p R[99].R: no parameter of that name in RCLadder (R has elements R[1] to R[10]) "
+                                 "(did you mean R[9].R"},
+           {{"-p", "R[1].r=1"}, "-p R[1].r: no parameter of that name in RCLadder (R has elements R[1] to R[10]) "
+                                "(did you mean R[1].R"},
+       }) {
+    ExpectUsageError(rc, c);
+  }
+  // check names it the same way.
+  CliResult r = testing::RunMomentaWithDeadline({"check", rc, "-p", "nosuch=1"}, dir_.path(), 60);
+  EXPECT_EQ(r.exit_code, kExitUsage) << r.err;
+  EXPECT_TRUE(Contains(r.err, "-p nosuch: no parameter of that name")) << r.err;
+}
+
+TEST_F(CliValuesTest, ResultsFileThatCannotBeWrittenExitsWithThree) {
+  // /dev/full accepts the open and fails every write (ENOSPC): exit 3 naming the file, not 0.
+  if (!std::filesystem::exists("/dev/full")) GTEST_SKIP() << "no /dev/full on this system";
+  const std::string rc = testing::SourcePath("models/rc_ladder.yaml");
+  CliResult r = testing::RunMomentaWithDeadline({"simulate", rc, "-o", "/dev/full"}, dir_.path(), 60);
+  EXPECT_EQ(r.exit_code, kExitSolver) << r.out << r.err;
+  EXPECT_TRUE(Contains(r.err, "momenta: cannot write the results file /dev/full: No space left on device")) << r.err;
+  EXPECT_FALSE(Contains(r.out, "simulated")) << "no success summary after a failed write:\n" << r.out;
+}
+
+}  // namespace
+}  // namespace momenta

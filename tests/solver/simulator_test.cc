@@ -1,0 +1,133 @@
+// Simulate()'s contract at its edges: options that give no finite output grid are refused before
+// anything runs; an interrupt stops the run between steps and between rows with no gap in the rows;
+// a solver failure's advice points the right way.
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "tests/support/test_models.h"
+
+namespace momenta {
+namespace {
+
+using testing::Built;
+
+// x' = -x, x(0) = 1 (no events).
+constexpr const char* kDecay = R"yaml(model: Decay
+variables:
+  x: {start: 1, fixed: true}
+equations:
+  - der(x) = -x
+experiment: {stop: 10, interval: 0.01}
+outputs: [x]
+)yaml";
+
+// The same with a state event at x = 0.5 (t = ln 2) counted by a when-clause.
+constexpr const char* kDecayWithEvent = R"yaml(model: DecayWithEvent
+variables:
+  x: {start: 1, fixed: true}
+  n: {start: 0}
+equations:
+  - der(x) = -x
+when:
+  - when: x < 0.5
+    then: ["n = pre(n) + 1"]
+experiment: {stop: 10, interval: 0.01}
+outputs: [x, n]
+)yaml";
+
+std::string RunError(const Built& b, const SimulationOptions& opt) {
+  try {
+    testing::Run(b, opt);
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(SimulatorTest, OptionsWithoutAFiniteOutputGridAreRefused) {
+  Built b = testing::BuildYaml(kDecay);
+  const double inf = std::numeric_limits<double>::infinity(), nan = std::nan("");
+  struct Case {
+    double stop, interval;
+    std::string message;
+  };
+  for (const Case& c : std::vector<Case>{
+           {inf, 0, "the stop time inf is not a finite time after the start time 0"},
+           {nan, 0, "the stop time nan is not a finite time after the start time 0"},
+           {0, 0, "the stop time 0 is not a finite time after the start time 0"},
+           {1, -1, "the output interval -1 is not a positive finite number"},
+           {1, nan, "the output interval nan is not a positive finite number"},
+           {1, 1e-300, "the output interval 1e-300: from 0 to 1 s that is 1e+300 output rows; at most 1e9 can be written"},
+       }) {
+    SimulationOptions opt = OptionsFromExperiment(b.model->experiment);
+    opt.stop = c.stop;
+    opt.interval = c.interval;
+    const std::string msg = RunError(b, opt);
+    EXPECT_NE(msg.find(c.message), std::string::npos) << "stop " << c.stop << ", interval " << c.interval << ": " << msg;
+  }
+}
+
+/// Runs `yaml`, raising the interrupt flag when row `at_row` arrives; returns the trajectory.
+testing::Trajectory RunInterrupted(const char* yaml, size_t at_row) {
+  Built b = testing::BuildYaml(yaml);
+  std::atomic<bool> flag{false};
+  SimulationOptions opt = OptionsFromExperiment(b.model->experiment);
+  opt.interrupt = &flag;
+  ModelState state(b.model);
+  testing::Trajectory tr;
+  Simulate(&state, opt, [&](double t, const std::vector<double>& v) {
+    tr.t.push_back(t);
+    tr.values.push_back(v);
+    if (tr.t.size() == at_row) flag = true;
+  }, &tr.stats);
+  return tr;
+}
+
+TEST(SimulatorTest, InterruptStopsBetweenRowsWithoutAGap) {
+  for (const char* yaml : {kDecay, kDecayWithEvent}) {
+    // Raised at the 5th row (t = 0.04): no row follows it, and the run says where it stopped.
+    testing::Trajectory tr = RunInterrupted(yaml, 5);
+    ASSERT_EQ(tr.t.size(), 5u) << yaml;
+    for (size_t k = 0; k < tr.t.size(); ++k) EXPECT_NEAR(tr.t[k], 0.01 * k, 1e-15) << yaml;
+    EXPECT_TRUE(tr.stats.interrupted) << yaml;
+    EXPECT_GE(tr.stats.interrupted_at, 0.04) << yaml;
+    EXPECT_LT(tr.stats.interrupted_at, 10) << yaml;
+    EXPECT_EQ(tr.stats.final_time, tr.t.back()) << yaml;
+    // Raised at the first row (the initial values): nothing more.
+    EXPECT_EQ(RunInterrupted(yaml, 1).t.size(), 1u) << yaml;
+    // Never raised: the whole run, not marked interrupted.
+    testing::Trajectory whole = RunInterrupted(yaml, 0);
+    EXPECT_FALSE(whole.stats.interrupted) << yaml;
+    EXPECT_EQ(whole.t.back(), 10) << yaml;
+  }
+}
+
+TEST(SimulatorTest, SolverFailureAdviceFitsTheFailure) {
+  Built b = testing::BuildYaml(kDecay);
+  SimulationOptions opt = OptionsFromExperiment(b.model->experiment);
+  // Below what double precision resolves (the CLI refuses it up front): loosen, not tighten.
+  opt.rtol = 1e-17;
+  opt.atol = 1e-30;
+  std::string msg = RunError(b, opt);
+  EXPECT_NE(msg.find("IDA_TOO_MUCH_ACC"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("Loosen the tolerance (a larger --rtol or --atol)"), std::string::npos) << msg;
+  EXPECT_EQ(msg.find("tighter"), std::string::npos) << msg;
+  // A tolerance so small that IDA's step vanishes: IDA itself blames the stop time ("tstop is
+  // behind current t"); the message names the tolerance.
+  opt.rtol = 1e-300;
+  opt.atol = 1e-300;
+  msg = RunError(b, opt);
+  EXPECT_NE(msg.find("IDA rejected its input (IDA_ILL_INPUT): the relative tolerance 1e-300 is below what double "
+                     "precision resolves (use at least 1e-15)"),
+            std::string::npos)
+      << msg;
+  EXPECT_EQ(msg.find("tstop"), std::string::npos) << msg;
+}
+
+}  // namespace
+}  // namespace momenta
