@@ -234,6 +234,12 @@ int RunCheck(const CheckArgs& args) {
     o << "\n";
   };
   list("states", report.states);
+  if (!report.differentiated.empty() || !report.dummy_derivatives.empty()) {
+    o << "index reduction: structural index " << report.structural_index << "\n";
+    list("differentiated equations", report.differentiated);
+    list("dummy derivatives", report.dummy_derivatives);
+    for (const auto& c : report.state_choices) o << "  state choice: " << c << "\n";
+  }
   list("outputs", model->output_names);
   list("pruned", report.pruned);
   if (args.verbose) {

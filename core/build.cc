@@ -8,9 +8,12 @@
 #include "core/causalization.h"
 #include "core/compile.h"
 #include "core/discrete_partition.h"
+#include "core/dummy_derivatives.h"
 #include "core/index_reduction.h"
+#include "core/pantelides.h"
 #include "core/pruning.h"
 #include "core/structural_analysis.h"
+#include "core/structural_conditions.h"
 
 namespace momenta {
 
@@ -43,9 +46,15 @@ std::shared_ptr<const CompiledModel> BuildModel(const ModelSpec& spec, const Lib
     record("flatten", flat->variables.size(), flat->equations.size(), note.str());
   }
   // Parameters are evaluated now too, so a bad value is reported before any solving.
-  EvaluateParameters(*flat, overrides);
+  const std::vector<double> params = EvaluateParameters(*flat, overrides);
   ExprPool& p = *flat->pool;
   EquationSystem sys = MakeEquationSystem(flat);
+  // Branches chosen by Boolean and Integer parameters are fixed before the structure is analysed.
+  if (size_t n = FoldStructuralConditions(&sys, params); n > 0) {
+    std::ostringstream note;
+    note << n << " conditions on Boolean or Integer parameters fixed";
+    record("structural parameters", sys.num_unknowns(), sys.equations.size(), note.str());
+  }
 
   // Simplify: aliases, derivative aliases and constrained states, until nothing changes.
   AliasStats alias;
@@ -78,9 +87,34 @@ std::shared_ptr<const CompiledModel> BuildModel(const ModelSpec& spec, const Lib
     record("discrete partition", sys.num_unknowns(), sys.equations.size(), note.str());
   }
 
+  // Full index reduction where the linear fast path left index > 1, and the first-order form of
+  // higher derivatives.
+  {
+    DifferentiatedSystem d = Pantelides(&sys);
+    bool higher_order = std::any_of(d.max_order.begin(), d.max_order.end(), [](uint32_t k) { return k >= 2; });
+    if (d.num_differentiated > 0 || higher_order) {
+      StateSelection sel = SelectDummyDerivatives(&sys, d, params);
+      std::ostringstream note;
+      note << "structural index " << d.structural_index << ", " << d.num_differentiated
+           << " equations differentiated, " << sel.dummy_derivatives.size() << " dummy derivatives";
+      if (!sel.new_states.empty()) note << ", " << sel.new_states.size() << " states for higher derivatives";
+      record("pantelides", sys.num_unknowns(), sys.equations.size(), note.str());
+      report->structural_index = d.structural_index;
+      for (const SystemEquation& eq : sys.equations) {
+        if (sys.flat->equations[eq.origin].differentiated_from >= 0) {
+          report->differentiated.push_back(sys.Describe(eq));
+        }
+      }
+      report->dummy_derivatives = sel.dummy_derivatives;
+      report->state_choices = sel.choices;
+    }
+  }
+  // From here on the flat system is the one index reduction may have extended.
+  std::shared_ptr<const FlatSystem> model = sys.flat;
+
   // Outputs default to every state.
   std::vector<std::string> output_names;
-  for (const auto& o : flat->outputs) output_names.push_back(o.text);
+  for (const auto& o : model->outputs) output_names.push_back(o.text);
 
   Structure st = AnalyseStructure(sys);
   {
@@ -91,7 +125,7 @@ std::shared_ptr<const CompiledModel> BuildModel(const ModelSpec& spec, const Lib
   if (output_names.empty()) {
     for (uint32_t v = 0; v < st.is_state.size(); ++v) {
       if (!st.is_state[v]) continue;
-      output_names.push_back(flat->variables[v].name);
+      output_names.push_back(model->variables[v].name);
       sys.outputs.push_back(p.Var(VarId(v)));
     }
   }
@@ -99,7 +133,7 @@ std::shared_ptr<const CompiledModel> BuildModel(const ModelSpec& spec, const Lib
   PruneStats pruned;
   sys = Prune(std::move(sys), &st, &pruned);
   for (uint32_t v = 0; v < sys.role.size(); ++v) {
-    if (sys.role[v] == VarRole::kPruned) report->pruned.push_back(flat->variables[v].name);
+    if (sys.role[v] == VarRole::kPruned) report->pruned.push_back(model->variables[v].name);
   }
   {
     std::ostringstream note;
@@ -117,6 +151,7 @@ std::shared_ptr<const CompiledModel> BuildModel(const ModelSpec& spec, const Lib
   }
 
   auto m = CompileModel(std::move(sys), st, output_names, report);
+  m->states_only_error_test = !report->dummy_derivatives.empty();
   record("compilation", m->num_unknowns(), m->num_unknowns(), report->compile_note);
   return m;
 }

@@ -26,6 +26,11 @@ struct BuildReport {
   std::vector<std::string> pruned;      ///< names of pruned variables
   std::vector<std::string> states;      ///< names of the states
   size_t num_components = 0, num_parameters = 0;
+  /// Index reduction (Pantelides and dummy derivatives), when the model needed it.
+  uint32_t structural_index = 1;
+  std::vector<std::string> differentiated;      ///< differentiated equations, described
+  std::vector<std::string> dummy_derivatives;   ///< e.g. "der(pendulum.y)"
+  std::vector<std::string> state_choices;       ///< where a choice of states was made
   std::string compile_note;
 };
 

@@ -71,6 +71,39 @@ std::vector<uint32_t> CompleteInitialConditions(const EquationSystem& sys, const
   BipartiteGraph g2 = g;
   for (uint32_t c : defaulted) g2.AddRow({c});
   Matching m2 = MaximumMatching(g2);
+  if (m2.size < g2.num_rows()) {
+    // Fewer degrees of freedom than free states (states tied by constraints, or state sets of
+    // dynamic state selection): take the start values one at a time, while each still adds one.
+    // Variables whose derivatives index reduction made dummy (the positions and velocities of a
+    // constrained mechanism) are tried first: they are what the user would have fixed.
+    std::vector<bool> has_dummy_derivative(n, false);
+    for (const FlatVariable& fv : sys.flat->variables) {
+      if (fv.derivative_order != 1 || !fv.derivative_of.valid()) continue;
+      int32_t y = slots.y_of_var[fv.derivative_of.value()];
+      if (y >= 0) has_dummy_derivative[y] = true;
+    }
+    std::vector<uint32_t> order;
+    for (uint32_t c = 0; c < n; ++c) {
+      if (has_dummy_derivative[c]) order.push_back(c);
+    }
+    order.insert(order.end(), defaulted.begin(), defaulted.end());
+    std::vector<uint32_t> taken;
+    g2 = g;
+    size_t matched = match.size;
+    for (uint32_t c : order) {
+      BipartiteGraph trial = g2;
+      trial.AddRow({c});
+      Matching mt = MaximumMatching(trial);
+      if (mt.size == trial.num_rows()) {
+        g2 = std::move(trial);
+        taken.push_back(c);
+        matched = mt.size;
+      }
+    }
+    defaulted.swap(taken);
+    m2 = MaximumMatching(g2);
+    MOMENTA_CHECK(m2.size == matched);
+  }
   if (m2.size < g2.num_cols) {
     std::ostringstream msg;
     msg << sys.flat->file << ": the initial conditions of " << sys.flat->model_name
@@ -267,7 +300,8 @@ std::shared_ptr<CompiledModel> CompileModel(EquationSystem sys, const Structure&
     ExprId zr = conds.Replace(p.Sub(ExprId(rel.a), ExprId(rel.b)));
     bool time_only = !(p.mask(zr) & (kHasVar | kHasDer | kHasPre | kHasCond | kHasInitial));
     z.push_back(zr);
-    ExprId rate = TimeDerivative(&p, zr);
+    // A crossing function that reads der() has no rate here (it would need second derivatives).
+    ExprId rate = (p.mask(zr) & kHasDer) ? ExprId() : TimeDerivative(&p, zr);
     if (rate.valid()) {
       // Discrete variables are constant between events: their der() is 0, not an unknown's y'.
       std::unordered_map<uint32_t, ExprId> constant;

@@ -20,6 +20,32 @@ size_t EquationSystem::num_unknowns() const {
   return n;
 }
 
+FlatSystem& EquationSystem::MutableFlat() {
+  if (!owns_flat) {
+    flat = std::make_shared<FlatSystem>(*flat);
+    owns_flat = true;
+  }
+  // The copy is this system's alone: handing it out for modification is safe.
+  return const_cast<FlatSystem&>(*flat);
+}
+
+VarId EquationSystem::AddVariable(FlatVariable v, ExprId start_guess) {
+  FlatSystem& f = MutableFlat();
+  VarId id(static_cast<uint32_t>(f.variables.size()));
+  f.variables.push_back(std::move(v));
+  role.push_back(VarRole::kUnknown);
+  guess.push_back(start_guess);
+  return id;
+}
+
+uint32_t EquationSystem::AddEquation(FlatEquation eq) {
+  FlatSystem& f = MutableFlat();
+  ExprId residual = eq.residual;
+  f.equations.push_back(std::move(eq));
+  equations.push_back({residual, static_cast<uint32_t>(f.equations.size() - 1), SystemEquation::Kind::kDynamic});
+  return static_cast<uint32_t>(equations.size() - 1);
+}
+
 std::string EquationSystem::Describe(const SystemEquation& eq) const {
   switch (eq.kind) {
     case SystemEquation::Kind::kDynamic:
@@ -34,8 +60,10 @@ std::string EquationSystem::Describe(const SystemEquation& eq) const {
   return "";
 }
 
-void EquationSystem::ApplyEliminations() {
-  Substitution& s = *eliminated;
+void EquationSystem::ApplyEliminations() { ApplySubstitution(eliminated.get()); }
+
+void EquationSystem::ApplySubstitution(Substitution* subst) {
+  Substitution& s = *subst;
   for (auto& e : equations) e.residual = s.Apply(e.residual);
   for (auto& e : initial) e.residual = s.Apply(e.residual);
   for (auto& o : outputs) o = s.Apply(o);

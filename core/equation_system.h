@@ -70,12 +70,23 @@ struct EquationSystem {
   std::vector<SystemWhen> whens;
   std::vector<SystemImpact> impacts;
   std::vector<DiscreteEquation> discrete;  ///< in evaluation order
+  bool owns_flat = false;  ///< `flat` is this system's own copy (see MutableFlat)
 
   size_t num_unknowns() const;
+  /// The flat system for passes that add to it (index reduction): copied on first use, so the
+  /// flat system others hold stays as flattened.
+  FlatSystem& MutableFlat();
+  /// Adds a variable (unknown, with a parameter-only start guess) and returns it.
+  VarId AddVariable(FlatVariable v, ExprId guess);
+  /// Adds a continuous equation with its flat description; returns its index in `equations`.
+  uint32_t AddEquation(FlatEquation eq);
   /// The flat equation an equation came from, described in the user's names.
   std::string Describe(const SystemEquation& eq) const;
   /// Applies `eliminated` to every equation, initial equation, output and guess.
   void ApplyEliminations();
+  /// Applies `s` to every equation, initial equation, output, when-clause, impact and discrete
+  /// equation.
+  void ApplySubstitution(Substitution* s);
 };
 
 /// Sets up the working form: every flat variable unknown, every equation present, fixed start

@@ -224,6 +224,15 @@ ExprId ExprPool::FindLeaf(Op op, uint32_t payload) const {
   return ExprId();
 }
 
+ExprId ExprPool::Der(VarId v, uint32_t order) {
+  MOMENTA_CHECK_MSG(order >= 1, "a derivative has order 1 or more");
+  Node n;
+  n.op = Op::kDer;
+  n.a = v.value();
+  n.b = order - 1;
+  return Intern(n);
+}
+
 ExprId ExprPool::Leaf(Op op, uint32_t payload) {
   Node n;
   n.op = op;

@@ -17,7 +17,7 @@ enum class Op : uint8_t {
   // Leaves.
   kConst,    ///< value
   kVar,      ///< a = VarId: the value of a variable
-  kDer,      ///< a = VarId: the time derivative of a variable
+  kDer,      ///< a = VarId, b = order - 1: a time derivative of a variable (order 1, 2, …)
   kPre,      ///< a = VarId: the left limit of a discrete variable at an event
   kParam,    ///< a = ParamId
   kTime,     ///< the independent variable
@@ -76,7 +76,9 @@ class ExprPool {
 
   ExprId Const(double v);
   ExprId Var(VarId v) { return Leaf(Op::kVar, v.value()); }
-  ExprId Der(VarId v) { return Leaf(Op::kDer, v.value()); }
+  /// The `order`-th time derivative of `v`. Orders above 1 exist only until index reduction
+  /// turns them into variables of their own (dummy derivatives, or states of a first-order form).
+  ExprId Der(VarId v, uint32_t order = 1);
   ExprId Pre(VarId v) { return Leaf(Op::kPre, v.value()); }
   ExprId Param(ParamId p) { return Leaf(Op::kParam, p.value()); }
   ExprId Time() { return time_; }
@@ -118,6 +120,8 @@ class ExprPool {
     return (node(id).mask & (kHasVar | kHasDer | kHasTime | kHasPre | kHasInitial | kHasCond)) == 0;
   }
   uint8_t mask(ExprId id) const { return node(id).mask; }
+  /// The order of a kDer leaf (1 for der(x), 2 for der(der(x)), …).
+  uint32_t DerOrder(ExprId id) const { return node(id).b + 1; }
 
  private:
   ExprId Leaf(Op op, uint32_t payload);

@@ -349,7 +349,7 @@ ExprId TimeDerivative(ExprPool* pool, ExprId e) {
         switch (n.op) {
           case Op::kVar: return pool->Der(VarId(n.a));
           case Op::kTime: return pool->One();
-          case Op::kDer: return ExprId();  // second derivative
+          case Op::kDer: return pool->Der(VarId(n.a), n.b + 2);
           default: return pool->Zero();
         }
       },
@@ -558,7 +558,9 @@ void Print(const ExprPool& pool, ExprId e, const ExprNamer& names, int depth, st
       return;
     case Op::kVar: *out += names.var ? names.var(n.a) : "x" + std::to_string(n.a); return;
     case Op::kDer:
-      *out += "der(" + (names.var ? names.var(n.a) : "x" + std::to_string(n.a)) + ")";
+      for (uint32_t k = 0; k <= n.b; ++k) *out += "der(";
+      *out += names.var ? names.var(n.a) : "x" + std::to_string(n.a);
+      for (uint32_t k = 0; k <= n.b; ++k) *out += ")";
       return;
     case Op::kPre:
       *out += "pre(" + (names.var ? names.var(n.a) : "x" + std::to_string(n.a)) + ")";

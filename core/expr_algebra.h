@@ -49,8 +49,9 @@ ExprId ReplaceLeaf(ExprPool* pool, ExprId e, ExprId leaf, ExprId value);
 /// d e / d leaf, where leaf is a kVar, kDer or kParam node (other leaves are constants).
 ExprId PartialDerivative(ExprPool* pool, ExprId e, ExprId leaf);
 
-/// d e / d time by the chain rule: x -> der(x), time -> 1, parameters and pre() -> 0. Returns an
-/// invalid id when `e` already holds a der() (second derivatives are not supported).
+/// d e / d time by the chain rule: x -> der(x), der(x) -> der(der(x)), time -> 1, parameters and
+/// pre() -> 0. The condition of an if-expression is piecewise constant (an event relation): each
+/// branch is differentiated.
 ExprId TimeDerivative(ExprPool* pool, ExprId e);
 
 /// e = sum(coef_k * leaf_k) + offset, with numeric coefficients and a parameter-only offset.

@@ -31,6 +31,10 @@ struct FlatVariable {
   InstanceId instance;    ///< owner; invalid for the model's own variables
   SourceLoc loc;          ///< where start/fixed were given, else where declared
   std::string unit;
+  /// For a variable that index reduction made for a derivative (a dummy derivative, or a state of
+  /// the first-order form of der(der(x))): it stands for der^derivative_order(derivative_of).
+  VarId derivative_of;
+  uint32_t derivative_order = 0;
 };
 
 struct FlatParameter {
@@ -51,6 +55,9 @@ struct FlatEquation {
   InstanceId instance;  ///< the component whose equation it is (kComponent)
   std::string text;     ///< the equation as written, or a description
   SourceLoc loc;
+  /// Index reduction: the flat equation this one is the time derivative of (-1: as written).
+  int32_t differentiated_from = -1;
+  uint32_t differentiations = 0;  ///< how many times the written equation was differentiated
 };
 
 struct FlatInstance {

@@ -406,11 +406,7 @@ class Flattener {
         if (!allow_variables) {
           throw ModelError(loc.Shifted(a.column), a.op + "() cannot be used in '" + text + "'");
         }
-        if (a.op == "der") {
-          ExprId d = TimeDerivative(&p, sub(0));
-          if (!d.valid()) throw ModelError(loc.Shifted(a.column), "second derivatives are not supported in '" + text + "'; introduce a variable for the first derivative");
-          return d;
-        }
+        if (a.op == "der") return TimeDerivative(&p, sub(0));
         if (a.op == "initial") return p.Initial();
         ExprId x = sub(0);
         if (p.op(x) != Op::kVar) {
@@ -812,9 +808,6 @@ class Flattener {
         case TNode::kNoEvent: r = p.NoEvent(scratch_[n.a]); break;
         case TNode::kDerOf:
           r = TimeDerivative(&p, scratch_[n.a]);
-          if (!r.valid()) {
-            throw ModelError(loc, "second derivatives are not supported, in '" + Excerpt(text, 0) + "' of " + path);
-          }
           break;
         case TNode::kOp: {
           int arity = Arity(n.op);
@@ -1050,8 +1043,10 @@ class Flattener {
       im.loc = d.loc;
       // The contact law: no force while open, no relative acceleration while closed.
       ExprPool& p = pool();
+      if (p.mask(im.velocity) & kHasDer) {
+        throw ModelError(d.loc, "the impact velocity of " + type->name + " may not contain der()");
+      }
       ExprId dvel = TimeDerivative(&p, im.velocity);
-      if (!dvel.valid()) throw ModelError(d.loc, "the impact velocity of " + type->name + " may not contain der()");
       FlatEquation eq;
       eq.residual = p.If(p.Var(im.contact), dvel, p.Var(im.force));
       eq.origin = EquationOrigin::kComponent;
@@ -1479,6 +1474,9 @@ std::string FlatSystem::DescribeEquation(const FlatEquation& eq) const {
     s = "'" + eq.text + "'";
     if (eq.loc.known()) s += " (" + eq.loc.ToString() + ")";
   }
+  if (eq.differentiations == 1) s += ", differentiated once";
+  if (eq.differentiations == 2) s += ", differentiated twice";
+  if (eq.differentiations > 2) s += ", differentiated " + std::to_string(eq.differentiations) + " times";
   return s;
 }
 

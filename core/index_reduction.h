@@ -12,8 +12,10 @@
 ///    dummy-derivative method for constraints that are linear in the chosen variable. A variable
 ///    with `state: avoid` (or without `state: prefer`) is chosen first.
 ///
-/// What remains of index > 1 (nonlinear position constraints, closed kinematic loops) is reported
-/// by the structural analysis; Pantelides' algorithm is the planned successor.
+/// This is the fast path for the constraints acausal connection produces most often (a chain of
+/// 100 000 masses reduces in linear time with banded results). What remains of index > 1
+/// (nonlinear position constraints, closed kinematic loops) goes to Pantelides' algorithm
+/// (pantelides.h) and the dummy-derivative method (dummy_derivatives.h).
 
 #include "core/equation_system.h"
 

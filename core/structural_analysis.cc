@@ -128,8 +128,8 @@ Structure AnalyseStructure(const EquationSystem& sys) {
           << " has structural index above 1: these equations constrain states that are also "
              "integrated, so the derivatives of the states are over-determined:"
           << ListEquations(sys, over_rows) << "\n  involving" << ListVariables(sys, over_vars)
-          << "\n  momenta reduces constraints that are linear in a state; this one is not. "
-             "Consider relating the states through a compliant element (a stiff spring) or "
+          << "\n  Index reduction (Pantelides' algorithm and dummy derivatives) did not resolve "
+             "it. Consider relating the states through a compliant element (a stiff spring) or "
              "making one of the variables a non-state.";
       throw ModelError(msg.str());
     }

@@ -298,6 +298,7 @@ class EventIntegrator {
     CheckFlag(IDASetErrHandlerFn(mem, IdaMessage, &data_), "IDASetErrHandlerFn");
     CheckFlag(IDASVtolerances(mem, opt_.rtol, abstol.get()), "IDASVtolerances");
     CheckFlag(IDASetId(mem, id_.get()), "IDASetId");
+    if (m_.states_only_error_test) CheckFlag(IDASetSuppressAlg(mem, SUNTRUE), "IDASetSuppressAlg");
     ls_ = MakeLinearSystem(y_vec_.get(), static_cast<sunindextype>(n_),
                            static_cast<sunindextype>(m_.jacobian_pattern.nnz()), sparse_, ctx_.get());
     CheckFlag(IDASetLinearSolver(mem, ls_.solver.get(), ls_.matrix.get()), "IDASetLinearSolver");

@@ -166,9 +166,11 @@ TEST_F(ExprAlgebraTest, TimeDerivativeLeaves) {
   EXPECT_EQ(TimeDerivative(&pool, pool.Pre(VarId(0u))), pool.Zero());
   EXPECT_EQ(TimeDerivative(&pool, pool.Sub(pool.Mul(C(2), x), y)),
             pool.Sub(pool.Mul(C(2), pool.Der(VarId(0u))), pool.Der(VarId(1u))));
-  // Second derivatives are not supported.
-  EXPECT_FALSE(TimeDerivative(&pool, pool.Der(VarId(0u))).valid());
-  EXPECT_FALSE(TimeDerivative(&pool, pool.Add(x, pool.Mul(y, pool.Der(VarId(2u))))).valid());
+  // Derivatives of derivatives: der(der(x)), and the product rule through them.
+  EXPECT_EQ(TimeDerivative(&pool, pool.Der(VarId(0u))), pool.Der(VarId(0u), 2));
+  EXPECT_EQ(pool.DerOrder(pool.Der(VarId(0u), 3)), 3u);
+  EXPECT_EQ(TimeDerivative(&pool, pool.Mul(y, pool.Der(VarId(2u)))),
+            pool.Add(pool.Mul(pool.Der(VarId(1u)), pool.Der(VarId(2u))), pool.Mul(y, pool.Der(VarId(2u), 2))));
 }
 
 TEST_F(ExprAlgebraTest, SubstitutionResolvesChains) {

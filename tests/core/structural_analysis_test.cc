@@ -198,22 +198,10 @@ components:
   p: {type: Pendulum}
 )";
 
-TEST(StructuralAnalysisTest, HigherIndexNamesTheConstraint) {
-  // A nonlinear position constraint between two states: index 3, which momenta does not reduce.
-  std::string msg = BuildError(kPendulum);
-  EXPECT_NE(msg.find("Pendulum has structural index above 1"), std::string::npos) << msg;
-  EXPECT_NE(msg.find("p (Pendulum, test.yaml:19:6): 'x^2 + y^2 = L^2'"), std::string::npos) << msg;
-  // The equations of motion are fine: only the constraint is blamed.
-  EXPECT_EQ(msg.find("'der(x) = vx'"), std::string::npos) << msg;
-  EXPECT_EQ(msg.find("unbalanced"), std::string::npos) << msg;
-}
-
-TEST(StructuralAnalysisTest, HigherIndexNamesTheConstrainedStates) {
-  // "… involving" must list the states the constraint ties together.
-  std::string msg = BuildError(kPendulum);
-  std::string involving = Between(msg, "involving", "momenta reduces");
-  EXPECT_NE(involving.find("p.x (Pendulum"), std::string::npos) << msg;
-  EXPECT_NE(involving.find("p.y (Pendulum"), std::string::npos) << msg;
+TEST(StructuralAnalysisTest, HigherIndexIsReducedNotReported) {
+  // A nonlinear position constraint between two states (index 3): Pantelides' algorithm and
+  // dummy derivatives reduce it (tests/physics/pendulum_test.cc checks the motion).
+  EXPECT_EQ(BuildError(kPendulum), "");
 }
 
 }  // namespace

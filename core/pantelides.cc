@@ -1,0 +1,226 @@
+#include "core/pantelides.h"
+
+#include <algorithm>
+#include <sstream>
+#include <unordered_map>
+
+#include "core/graph.h"
+
+namespace momenta {
+
+namespace {
+
+/// An equation differentiated more often than this means the algorithm is not converging (a
+/// structural singularity the balance checks did not catch); mechanical systems need two.
+constexpr uint32_t kMaxDifferentiations = 12;
+
+/// The bipartite graph of equations and derivatives (v, k) that Pantelides' algorithm grows.
+class DerivativeGraph {
+ public:
+  explicit DerivativeGraph(EquationSystem* sys) : sys_(*sys), p_(*sys->pool) {}
+
+  /// Column of der^k(v), created (with the lower orders it implies) on first use.
+  uint32_t Column(uint32_t v, uint32_t k) {
+    auto it = index_.find(Key(v, k));
+    if (it != index_.end()) return it->second;
+    int32_t lower = k > 0 ? static_cast<int32_t>(Column(v, k - 1)) : -1;
+    uint32_t c = static_cast<uint32_t>(var_.size());
+    var_.push_back(v);
+    order_.push_back(k);
+    derivative_.push_back(-1);
+    assign_.push_back(-1);
+    colour_col_.push_back(0);
+    if (lower >= 0) derivative_[lower] = static_cast<int32_t>(c);
+    index_.emplace(Key(v, k), c);
+    return c;
+  }
+
+  /// Adds the columns of equation `e` (sys.equations index) as its row.
+  void AddRow(uint32_t e) {
+    if (rows_.size() <= e) rows_.resize(e + 1);
+    std::vector<uint32_t>& row = rows_[e];
+    row.clear();
+    for (ExprId leaf : CollectLeaves(p_, sys_.equations[e].residual, kHasVar | kHasDer)) {
+      const Node& n = p_.node(leaf);
+      if (!IsContinuousUnknown(n.a)) continue;
+      row.push_back(Column(n.a, n.op == Op::kDer ? n.b + 1 : 0));
+    }
+    colour_eq_.resize(rows_.size(), 0);
+  }
+
+  bool IsContinuousUnknown(uint32_t v) const {
+    return sys_.role[v] == VarRole::kUnknown && !sys_.flat->variables[v].discrete;
+  }
+  bool Active(uint32_t c) const { return derivative_[c] < 0; }
+
+  /// Seeks an augmenting path from equation `root` over the highest derivatives (explicit stack,
+  /// no recursion); colours what it visits. On success the matching is extended.
+  bool Augment(uint32_t root) {
+    ++colour_;
+    struct Frame {
+      uint32_t eq, pos;
+    };
+    std::vector<Frame> stack{{root, 0}};
+    std::vector<uint32_t> path;  // column taken from each frame to the next
+    colour_eq_[root] = colour_;
+    visited_eqs_.assign(1, root);
+    visited_cols_.clear();
+    while (!stack.empty()) {
+      const size_t top = stack.size() - 1;
+      const uint32_t eq = stack[top].eq;
+      // A free highest derivative ends the path: flip the matching along it.
+      if (stack[top].pos == 0) {
+        for (uint32_t c : rows_[eq]) {
+          if (!Active(c) || assign_[c] >= 0) continue;
+          assign_[c] = static_cast<int32_t>(eq);
+          for (size_t k = 0; k < path.size(); ++k) assign_[path[k]] = static_cast<int32_t>(stack[k].eq);
+          return true;
+        }
+      }
+      bool descended = false;
+      while (stack[top].pos < rows_[eq].size()) {
+        uint32_t c = rows_[eq][stack[top].pos++];
+        if (!Active(c) || colour_col_[c] == colour_) continue;
+        colour_col_[c] = colour_;
+        visited_cols_.push_back(c);
+        uint32_t next = static_cast<uint32_t>(assign_[c]);
+        if (colour_eq_[next] == colour_) continue;
+        colour_eq_[next] = colour_;
+        visited_eqs_.push_back(next);
+        path.push_back(c);
+        stack.push_back({next, 0});
+        descended = true;
+        break;
+      }
+      if (!descended) {
+        stack.pop_back();
+        if (!path.empty()) path.pop_back();
+      }
+    }
+    return false;
+  }
+
+  const std::vector<uint32_t>& visited_eqs() const { return visited_eqs_; }
+  const std::vector<uint32_t>& visited_cols() const { return visited_cols_; }
+  const std::vector<uint32_t>& row(uint32_t e) const { return rows_[e]; }
+  size_t num_columns() const { return var_.size(); }
+  uint32_t var(uint32_t c) const { return var_[c]; }
+  uint32_t order(uint32_t c) const { return order_[c]; }
+  int32_t derivative(uint32_t c) const { return derivative_[c]; }
+  int32_t assigned(uint32_t c) const { return assign_[c]; }
+  void Assign(uint32_t c, int32_t e) { assign_[c] = e; }
+
+ private:
+  static uint64_t Key(uint32_t v, uint32_t k) { return (static_cast<uint64_t>(v) << 32) | k; }
+
+  EquationSystem& sys_;
+  const ExprPool& p_;
+  std::unordered_map<uint64_t, uint32_t> index_;
+  std::vector<uint32_t> var_, order_;
+  std::vector<int32_t> derivative_, assign_;
+  std::vector<std::vector<uint32_t>> rows_;
+  std::vector<uint32_t> colour_eq_, colour_col_;
+  uint32_t colour_ = 0;
+  std::vector<uint32_t> visited_eqs_, visited_cols_;
+};
+
+/// True when the equations can be matched to distinct variables at all (any derivative order):
+/// the condition under which Pantelides' algorithm terminates.
+bool StructurallyRegular(EquationSystem* sys, DerivativeGraph* g, uint32_t ne) {
+  std::unordered_map<uint32_t, uint32_t> col_of_var;
+  BipartiteGraph pencil;
+  std::vector<uint32_t> row;
+  for (uint32_t e = 0; e < ne; ++e) {
+    row.clear();
+    for (uint32_t c : g->row(e)) {
+      auto [it, added] = col_of_var.emplace(g->var(c), static_cast<uint32_t>(col_of_var.size()));
+      row.push_back(it->second);
+    }
+    std::sort(row.begin(), row.end());
+    row.erase(std::unique(row.begin(), row.end()), row.end());
+    pencil.AddRow(row);
+  }
+  pencil.num_cols = static_cast<uint32_t>(col_of_var.size());
+  return pencil.num_cols == ne && MaximumMatching(pencil).size == ne;
+}
+
+}  // namespace
+
+DifferentiatedSystem Pantelides(EquationSystem* sys) {
+  ExprPool& p = *sys->pool;
+  const uint32_t ne = static_cast<uint32_t>(sys->equations.size());
+  DifferentiatedSystem out;
+  DerivativeGraph g(sys);
+  for (uint32_t e = 0; e < ne; ++e) g.AddRow(e);
+  out.derivative.assign(ne, -1);
+  out.antiderivative.assign(ne, -1);
+  auto finish = [&]() {
+    out.max_order.assign(sys->role.size(), 0);
+    for (uint32_t c = 0; c < g.num_columns(); ++c) {
+      out.max_order[g.var(c)] = std::max(out.max_order[g.var(c)], g.order(c));
+    }
+    return out;
+  };
+  if (!StructurallyRegular(sys, &g, ne)) return finish();
+
+  // A maximum matching of the highest derivatives as it stands; most models end here.
+  BipartiteGraph highest;
+  for (uint32_t e = 0; e < ne; ++e) {
+    std::vector<uint32_t> row;
+    for (uint32_t c : g.row(e)) {
+      if (g.Active(c)) row.push_back(c);
+    }
+    std::sort(row.begin(), row.end());
+    row.erase(std::unique(row.begin(), row.end()), row.end());
+    highest.AddRow(row);
+  }
+  highest.num_cols = static_cast<uint32_t>(g.num_columns());
+  Matching m = MaximumMatching(highest);
+  for (uint32_t c = 0; c < highest.num_cols; ++c) g.Assign(c, m.col_to_row[c]);
+  if (m.size == ne) return finish();
+
+  // Pantelides' loop for each equation left unmatched.
+  std::vector<uint32_t> differentiations(ne, 0);
+  for (uint32_t e0 = 0; e0 < ne; ++e0) {
+    if (m.row_to_col[e0] >= 0) continue;
+    uint32_t e = e0;
+    while (!g.Augment(e)) {
+      // Differentiate every visited unknown and equation once.
+      std::vector<uint32_t> cols = g.visited_cols(), eqs = g.visited_eqs();
+      std::vector<uint32_t> new_col(cols.size());
+      for (size_t k = 0; k < cols.size(); ++k) new_col[k] = g.Column(g.var(cols[k]), g.order(cols[k]) + 1);
+      std::unordered_map<uint32_t, uint32_t> derivative_of_eq;
+      for (uint32_t l : eqs) {
+        const SystemEquation& eq = sys->equations[l];
+        FlatEquation fe = sys->flat->equations[eq.origin];
+        if (fe.differentiations + 1 > kMaxDifferentiations) {
+          std::ostringstream msg;
+          msg << sys->flat->file << ": " << sys->flat->model_name
+              << ": index reduction does not terminate: this equation would be differentiated more than "
+              << kMaxDifferentiations << " times (the model is structurally singular):\n    "
+              << sys->flat->DescribeEquation(fe);
+          throw ModelError(msg.str());
+        }
+        fe.residual = TimeDerivative(&p, eq.residual);
+        fe.differentiated_from = static_cast<int32_t>(eq.origin);
+        fe.differentiations += 1;
+        uint32_t d = sys->AddEquation(std::move(fe));
+        out.derivative.push_back(-1);
+        out.antiderivative.push_back(static_cast<int32_t>(l));
+        out.derivative[l] = static_cast<int32_t>(d);
+        g.AddRow(d);
+        derivative_of_eq[l] = d;
+        out.structural_index = std::max(out.structural_index, sys->flat->equations.back().differentiations + 1);
+        ++out.num_differentiated;
+      }
+      // The derivative of each visited unknown is matched to the derivative of its equation.
+      for (size_t k = 0; k < cols.size(); ++k) {
+        g.Assign(new_col[k], static_cast<int32_t>(derivative_of_eq.at(static_cast<uint32_t>(g.assigned(cols[k])))));
+      }
+      e = derivative_of_eq.at(e);
+    }
+  }
+  return finish();
+}
+
+}  // namespace momenta
