@@ -267,6 +267,18 @@ class LevelChoice {
   const std::vector<uint32_t>* rows_ = nullptr;  ///< the level's equations (indices into sys_.equations)
 };
 
+/// Adds an equation index reduction made, described as belonging to `instance`.
+void AddMadeEquation(EquationSystem* sys, ExprId residual, InstanceId instance, const std::string& text,
+                     const SourceLoc& loc) {
+  FlatEquation fe;
+  fe.residual = residual;
+  fe.origin = EquationOrigin::kModel;
+  fe.instance = instance;
+  fe.text = text;
+  fe.loc = loc;
+  sys->AddEquation(std::move(fe));
+}
+
 /// if sel == 1 then values[0] else if sel == 2 then values[1] … else values[n-1].
 ExprId Choice(ExprPool* pool, ExprId sel, const std::vector<ExprId>& values) {
   ExprPool& p = *pool;
@@ -353,15 +365,7 @@ void AddStateSet(EquationSystem* sys, const DynamicSet& set, size_t number) {
     const Candidate& c = set.cands[k];
     candidates += (k ? ", " : "") + DerName(sys->flat->variables[c.var].name, c.order - 1);
   }
-  auto equation = [&](ExprId residual, const std::string& text) {
-    FlatEquation fe;
-    fe.residual = residual;
-    fe.origin = EquationOrigin::kModel;
-    fe.instance = instance;
-    fe.text = text;
-    fe.loc = loc;
-    sys->AddEquation(std::move(fe));
-  };
+  auto equation = [&](ExprId residual, const std::string& text) { AddMadeEquation(sys, residual, instance, text, loc); };
   ExprId sel_now = p.Var(sel);
   equation(p.Sub(p.Var(state), Choice(&p, sel_now, lower)), prefix + ".x = the selected one of " + candidates);
   equation(p.Sub(p.Der(state), Choice(&p, sel_now, der)), "der(" + prefix + ".x) = der(the selected one of " + candidates + ")");
@@ -470,14 +474,10 @@ StateSelection SelectDummyDerivatives(EquationSystem* sys, const DifferentiatedS
   if (s.size() == 0) return out;
   sys->ApplySubstitution(&s);
   for (auto [der_prev, w] : links) {
-    FlatEquation fe;
-    fe.residual = p.Sub(der_prev, w);
-    fe.origin = EquationOrigin::kModel;
-    const FlatVariable& wv = sys->flat->variables[p.node(w).a];
-    fe.instance = wv.instance;
-    fe.text = wv.name + " = " + DerName(sys->flat->variables[wv.derivative_of.value()].name, wv.derivative_order);
-    fe.loc = wv.loc;
-    sys->AddEquation(std::move(fe));
+    const FlatVariable wv = sys->flat->variables[p.node(w).a];
+    AddMadeEquation(sys, p.Sub(der_prev, w), wv.instance,
+                    wv.name + " = " + DerName(sys->flat->variables[wv.derivative_of.value()].name, wv.derivative_order),
+                    wv.loc);
   }
   return out;
 }
