@@ -151,7 +151,6 @@ std::shared_ptr<const CompiledModel> BuildModel(const ModelSpec& spec, const Lib
   }
 
   auto m = CompileModel(std::move(sys), st, output_names, report);
-  m->states_only_error_test = !report->dummy_derivatives.empty();
   record("compilation", m->num_unknowns(), m->num_unknowns(), report->compile_note);
   return m;
 }

@@ -29,10 +29,6 @@ struct CompiledModel {
   // The DAE: unknowns y (IDA's vector), with y' for the states.
   std::vector<VarId> unknowns;
   std::vector<bool> is_state;                ///< by y index
-  /// Index reduction made dummy derivatives: the algebraic unknowns follow from the states through
-  /// the differentiated constraints, and IDA's local error test is applied to the states only
-  /// (IDASetSuppressAlg). With them in the test, IDA's steps collapse on a pendulum.
-  bool states_only_error_test = false;
   std::vector<double> nominal;               ///< by y index, for absolute tolerances
   std::vector<uint32_t> state_y;             ///< y index of each state
   std::vector<ExprId> residual_exprs;        ///< F, one per y index (the matched equation)
