@@ -16,14 +16,15 @@ namespace momenta {
 struct Ast;
 using AstPtr = std::shared_ptr<const Ast>;
 
-/// One segment of a dotted name: `R[i+1]` in `R[i+1].p.v`.
+/// One segment of a dotted name: `R[i+1]` in `R[i+1].p.v`, `R[1, 2]` in `body.R[1, 2]`.
 struct NameSegment {
   std::string name;
-  AstPtr index;  ///< null when the segment has no subscript
+  AstPtr index;   ///< null when the segment has no subscript
+  AstPtr index2;  ///< the second subscript of a matrix element `R[i, j]`, else null
 };
 
 struct Ast {
-  enum class Kind { kNumber, kBool, kName, kCall, kUnary, kBinary, kSum, kProduct, kIf };
+  enum class Kind { kNumber, kBool, kName, kCall, kUnary, kBinary, kSum, kProduct, kIf, kArray };
   Kind kind = Kind::kNumber;
   double number = 0;                ///< kNumber, kBool (0/1)
   std::vector<NameSegment> path;    ///< kName
@@ -32,6 +33,7 @@ struct Ast {
   /// character each ('+' or '-', '*' or '/'; the first is '+' or '*').
   std::string op;
   /// Operands. kIf: cond1, value1, cond2, value2, …, else-value (an elseif chain is one node).
+  /// kArray: the elements of an array literal `[a, b]` (a matrix `[[1, 0], [0, 1]]` has rows).
   std::vector<AstPtr> args;
   int column = 0;                   ///< 0-based offset of the construct in its source text
   int height = 1;                   ///< levels of nesting, this node included (a leaf is 1)

@@ -14,6 +14,13 @@
 namespace momenta {
 
 enum class ValueType { kReal, kInteger, kBoolean };
+
+/// The fixed shape of an array declaration (docs/FORMAT.md, "Vectors and matrices"): empty for a
+/// scalar, {n} for a vector, {n, m} for a matrix.
+using Shape = std::vector<int>;
+/// Local name → shape of the arrays a type was declared with (its scalar form names the elements
+/// `r[1]`, `R[1,2]`; core/arrays.h).
+using ArrayShapes = std::map<std::string, Shape>;
 const char* ValueTypeName(ValueType t);
 
 struct ParameterDecl {
@@ -23,6 +30,7 @@ struct ParameterDecl {
   std::string unit, doc;
   std::optional<double> min, max;
   ValueType type = ValueType::kReal;
+  Shape shape;  ///< declared `shape:`; empty for a scalar
   SourceLoc loc;
 };
 
@@ -35,6 +43,7 @@ struct VariableDecl {
   std::optional<double> min, max;
   int state_priority = 0;  ///< +1 prefer, -1 avoid
   ValueType type = ValueType::kReal;
+  Shape shape;  ///< declared `shape:`; empty for a scalar
   SourceLoc loc;
 };
 
@@ -74,6 +83,7 @@ struct ImpactDecl {
 
 struct ConnectorVariable {
   std::string name, unit, doc;
+  Shape shape;  ///< declared `shape:`; empty for a scalar
 };
 
 struct ConnectorType {
@@ -82,11 +92,13 @@ struct ConnectorType {
   bool is_input = false;  ///< signals: input (true) or output (false)
   ValueType signal_type = ValueType::kReal;
   std::vector<ConnectorVariable> potentials, flows;
+  ArrayShapes arrays;  ///< the shaped variables its scalar form came from
   SourceLoc loc;
 };
 
 struct ConnectorDecl {
   std::string name, type, doc;
+  Shape shape;  ///< a signal connector carrying a vector or matrix; empty for a scalar
   SourceLoc loc;
 };
 
@@ -99,6 +111,7 @@ struct ComponentType {
   std::vector<EquationDecl> initial_equations;
   std::vector<WhenDecl> whens;
   std::vector<ImpactDecl> impacts;
+  ArrayShapes arrays;  ///< in its scalar form: the arrays it was declared with (core/arrays.h)
   SourceLoc loc;
   bool user_defined = false;  ///< from a model's define: section
 };

@@ -15,6 +15,7 @@
 #include <sstream>
 #include <unordered_map>
 
+#include "core/arrays.h"
 #include "core/expr_chain.h"
 #include "core/expr_eval.h"
 #include "core/flat_system.h"
@@ -378,6 +379,8 @@ class Flattener {
         return p.Const(a.number);
       case Ast::Kind::kName:
         return name(a);
+      case Ast::Kind::kArray:
+        throw ModelError(loc.Shifted(a.column), "an array where a number is expected, in '" + text + "'");
       case Ast::Kind::kUnary:
         return a.op == "not" ? p.Unary(Op::kNot, sub(0)) : p.Neg(sub(0));
       case Ast::Kind::kBinary:
@@ -693,6 +696,8 @@ class Flattener {
                              (close.empty() ? "" : " (did you mean " + JoinNames(close) + "?)") +
                              " (valid names: " + JoinNames(names) + ", time, pi)");
       }
+      case Ast::Kind::kArray:
+        throw ModelError(loc.Shifted(a.column), "an array where a number is expected, in '" + text + "' of " + owner);
       case Ast::Kind::kUnary:
         n.kind = TNode::kOp;
         n.op = a.op == "not" ? Op::kNot : Op::kNeg;
@@ -1400,7 +1405,9 @@ class Flattener {
 }  // namespace
 
 FlatSystem Flatten(const ModelSpec& spec, const Library& library, const ParameterOverrides& overrides) {
-  return Flattener(spec, library, overrides).Run();
+  // Vectors and matrices become scalars first (core/arrays.h); a model without arrays is used as is.
+  std::optional<ModelSpec> scalar = ScalarModel(spec, library);
+  return Flattener(scalar ? *scalar : spec, library, overrides).Run();
 }
 
 std::vector<double> EvaluateParameters(const FlatSystem& flat, const ParameterOverrides& overrides) {

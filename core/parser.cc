@@ -19,6 +19,8 @@ const std::map<std::string, int>& Functions() {
       {"log10", 1}, {"sqrt", 1}, {"abs", 1},   {"sign", 1},  {"min", 2},     {"max", 2},
       {"der", 1},  {"pre", 1},   {"edge", 1},  {"change", 1}, {"initial", 0}, {"noEvent", 1},
       {"reinit", 2},
+      // Array functions (core/arrays.h); zeros takes 1 or 2 (kOneOrTwo).
+      {"transpose", 1}, {"cross", 2}, {"norm", 1}, {"identity", 1}, {"zeros", -2}, {"sum", 1},
   };
   return kFunctions;
 }
@@ -363,7 +365,8 @@ class Parser {
       Next();
       return inner;
     }
-    if (t.kind != Tok::kIdent) Fail("expected a number, a name or '('");
+    if (t.kind == Tok::kLBracket) return ArrayLiteral();
+    if (t.kind != Tok::kIdent) Fail("expected a number, a name, '(' or '['");
     if (t.text == "true" || t.text == "false") {
       Next();
       auto a = std::make_shared<Ast>();
@@ -396,11 +399,12 @@ class Parser {
       }
       if (Peek().kind != Tok::kRParen) Fail("expected ')' or ','");
       Next();
-      if (static_cast<int>(args.size()) != arity) {
+      const int count = static_cast<int>(args.size());
+      if (arity == -2 ? count < 1 || count > 2 : count != arity) {
         throw ModelError(loc_.Shifted(name.column),
-                         name.text + "() takes " + std::to_string(arity) + " argument" +
-                             (arity == 1 ? "" : "s") + ", found " + std::to_string(args.size()) +
-                             " in '" + Excerpt(text_, name.column) + "'");
+                         name.text + "() takes " + (arity == -2 ? "1 or 2" : std::to_string(arity)) +
+                             " argument" + (arity == 1 ? "" : "s") + ", found " +
+                             std::to_string(args.size()) + " in '" + Excerpt(text_, name.column) + "'");
       }
       return Make(Ast::Kind::kCall, name.column, name.text, std::move(args));
     }
@@ -416,7 +420,12 @@ class Parser {
         Next();
         seg.index = Expression();
         a->height = std::max(a->height, seg.index->height + 1);
-        if (Peek().kind != Tok::kRBracket) Fail("expected ']'");
+        if (Peek().kind == Tok::kComma) {
+          Next();
+          seg.index2 = Expression();
+          a->height = std::max(a->height, seg.index2->height + 1);
+        }
+        if (Peek().kind != Tok::kRBracket) Fail(seg.index2 ? "expected ']'" : "expected ']' or ','");
         Next();
       }
       a->path.push_back(std::move(seg));
@@ -425,6 +434,23 @@ class Parser {
     }
     if (a->height > kMaxExpressionDepth) TooDeep(a->column);
     return a;
+  }
+
+  /// `[a, b, …]`: the elements of a vector, or the rows of a matrix `[[1, 0], [0, 1]]`.
+  AstPtr ArrayLiteral() {
+    int col = Next().column;
+    if (++depth_ > kMaxExpressionDepth) TooDeep(col);
+    std::vector<AstPtr> elements;
+    if (Peek().kind == Tok::kRBracket) Fail("expected the elements of an array, e.g. [1, 2]");
+    elements.push_back(Expression());
+    while (Peek().kind == Tok::kComma) {
+      Next();
+      elements.push_back(Expression());
+    }
+    if (Peek().kind != Tok::kRBracket) Fail("expected ']' or ','");
+    Next();
+    --depth_;
+    return Make(Ast::Kind::kArray, col, "[]", std::move(elements));
   }
 
   const std::string& text_;
@@ -474,6 +500,7 @@ std::string Ast::PathText() const {
     if (path[i].index) {
       s += '[';
       s += AstToString(*path[i].index);
+      if (path[i].index2) s += ", " + AstToString(*path[i].index2);
       s += ']';
     }
   }
@@ -520,6 +547,11 @@ std::string AstToString(const Ast& a) {
         s += "if " + AstToString(*a.args[i]) + " then " + AstToString(*a.args[i + 1]) + " else ";
       }
       return s + AstToString(*a.args.back());
+    }
+    case Ast::Kind::kArray: {
+      std::string s = "[";
+      for (size_t i = 0; i < a.args.size(); ++i) s += (i ? ", " : "") + AstToString(*a.args[i]);
+      return s + "]";
     }
   }
   return "";

@@ -14,6 +14,7 @@
 #include <sstream>
 #include <utility>
 
+#include "core/arrays.h"
 #include "core/model_spec.h"
 #include "core/parser.h"
 
@@ -100,8 +101,37 @@ class Reader {
     Fail(n, what + " must be true or false, found '" + s + "'");
   }
 
+  /// The text of a value: a scalar as written, a list (`[0.5, 4]`, a matrix as a list of rows)
+  /// as the array literal it stands for.
+  std::string ValueText(const YAML::Node& n, const std::string& what) const {
+    if (!n.IsSequence()) return Scalar(n, what);
+    if (n.size() == 0) Fail(n, what + " is an empty list; an array has at least one element");
+    std::string s = "[";
+    for (size_t k = 0; k < n.size(); ++k) s += (k ? ", " : "") + ValueText(n[k], what);
+    return s + "]";
+  }
+
+  /// `shape: [2]` or `shape: [3, 3]`: one or two whole numbers of at least 1.
+  Shape ReadShape(const YAML::Node& n, const std::string& what) const {
+    if (!n.IsSequence() || n.size() < 1 || n.size() > 2) {
+      Fail(n, "the shape of " + what + " is a list of one or two sizes, e.g. shape: [2] or shape: [3, 3]");
+    }
+    Shape shape;
+    double elements = 1;
+    for (const auto& d : n) {
+      double v = Number(d, "a size in the shape of " + what);
+      if (v != std::floor(v) || v < 1) Fail(d, "a size in the shape of " + what + " must be a whole number of at least 1");
+      elements *= v;
+      if (elements > static_cast<double>(kMaxArrayElements)) {
+        Fail(n, "the shape of " + what + " has more than " + std::to_string(kMaxArrayElements) + " elements");
+      }
+      shape.push_back(static_cast<int>(v));
+    }
+    return shape;
+  }
+
   AstPtr Expression(const YAML::Node& n, const std::string& what) const {
-    std::string s = Scalar(n, what);
+    std::string s = ValueText(n, what);
     CheckFinite(n, s, what);
     if (s.empty()) Fail(n, what + " is empty");
     try {
@@ -147,10 +177,11 @@ class Reader {
     p.loc = Loc(n);
     std::string what = owner + "." + name;
     if (n.IsMap()) {
-      CheckKeys(n, "parameter " + what, {"value", "unit", "doc", "min", "max", "type"});
+      CheckKeys(n, "parameter " + what, {"value", "unit", "doc", "min", "max", "type", "shape"});
       if (!n["value"]) Fail(n, "parameter " + what + " needs a value");
       p.value = Expression(n["value"], "value of " + what);
-      p.value_text = n["value"].Scalar();
+      p.value_text = ValueText(n["value"], "value of " + what);
+      if (n["shape"]) p.shape = ReadShape(n["shape"], what);
       p.loc = TextLoc(n["value"]);
       if (n["unit"]) p.unit = Scalar(n["unit"], what + ".unit");
       if (n["doc"]) p.doc = Scalar(n["doc"], what + ".doc");
@@ -159,7 +190,7 @@ class Reader {
       if (n["type"]) p.type = Type(n["type"], what);
     } else {
       p.value = Expression(n, "value of " + what);
-      p.value_text = n.Scalar();
+      p.value_text = ValueText(n, "value of " + what);
       p.loc = TextLoc(n);
     }
     if (p.value->kind == Ast::Kind::kBool && !(n.IsMap() && n["type"])) {
@@ -177,7 +208,8 @@ class Reader {
     if (n.IsNull()) return v;
     ExpectMap(n, "variable " + what);
     CheckKeys(n, "variable " + what,
-              {"unit", "doc", "start", "fixed", "nominal", "min", "max", "state", "type"});
+              {"unit", "doc", "start", "fixed", "nominal", "min", "max", "state", "type", "shape"});
+    if (n["shape"]) v.shape = ReadShape(n["shape"], what);
     if (n["unit"]) v.unit = Scalar(n["unit"], what + ".unit");
     if (n["doc"]) v.doc = Scalar(n["doc"], what + ".doc");
     if (n["start"]) v.start = Expression(n["start"], "start of " + what);
@@ -308,7 +340,8 @@ class Reader {
         ConnectorVariable v;
         v.name = it->first.as<std::string>();
         if (it->second.IsMap()) {
-          CheckKeys(it->second, name + "." + v.name, {"unit", "doc"});
+          CheckKeys(it->second, name + "." + v.name, {"unit", "doc", "shape"});
+          if (it->second["shape"]) v.shape = ReadShape(it->second["shape"], name + "." + v.name);
           if (it->second["unit"]) v.unit = it->second["unit"].Scalar();
           if (it->second["doc"]) v.doc = it->second["doc"].Scalar();
         }
@@ -346,7 +379,8 @@ class Reader {
         c.name = it->first.as<std::string>();
         c.loc = Loc(it->second);
         if (it->second.IsMap()) {
-          CheckKeys(it->second, "connector " + name + "." + c.name, {"type", "doc"});
+          CheckKeys(it->second, "connector " + name + "." + c.name, {"type", "doc", "shape"});
+          if (it->second["shape"]) c.shape = ReadShape(it->second["shape"], name + "." + c.name);
           if (!it->second["type"]) Fail(it->second, "connector " + name + "." + c.name + " needs a type");
           c.type = Scalar(it->second["type"], "type");
           if (it->second["doc"]) c.doc = it->second["doc"].Scalar();
@@ -381,7 +415,7 @@ class Reader {
       std::string kind = n["kind"] ? Scalar(n["kind"], name + ".kind") : "component";
       if (kind == "connector") {
         if (user) Fail(n["kind"], "define: holds component types only; connector types come from the library");
-        lib->AddConnector(Connector(name, n));
+        lib->AddConnector(ScalarForm(Connector(name, n)));
       } else if (kind == "component") {
         ComponentType t = Component(name, n, user);
         if (defines) {
@@ -424,7 +458,7 @@ class Reader {
         if (it->second["fixed"]) m.fixed = Bool(it->second["fixed"], name + "." + key + ".fixed");
       } else {
         m.value = Expression(it->second, name + "." + key);
-        m.value_text = it->second.Scalar();
+        m.value_text = ValueText(it->second, name + "." + key);
         m.loc = TextLoc(it->second);
       }
       c.modifiers.push_back(std::move(m));
@@ -736,6 +770,7 @@ void LoadLibraryString(const std::string& yaml, const std::string& file_name, Li
   Reader reader(file_name);
   YAML::Node root = ParseYaml(yaml, file_name, "library file");
   reader.LibraryEntries(root, library, nullptr, false);
+  ScalariseLibrary(library);  // vectors and matrices become scalars (core/arrays.h)
 }
 
 }  // namespace momenta
