@@ -46,6 +46,9 @@ std::string ElementName(const std::string& name, const Shape& shape, size_t flat
 
 namespace {
 
+/// "a scalar" or "shape [2]", for messages.
+std::string Described(const Shape& shape) { return shape.empty() ? "a scalar" : "shape " + ShapeText(shape); }
+
 bool IsArrayFunction(const std::string& name) {
   return name == "transpose" || name == "cross" || name == "norm" || name == "identity" ||
          name == "zeros" || name == "sum";
@@ -235,7 +238,7 @@ class Evaluator {
       if (shape.empty()) {
         shape = ops[k].shape;
       } else if (ops[k].shape != shape) {
-        Fail(a.column, "the operands of '" + OpAt(a, op, k) + "' have different shapes: " + ShapeText(shape) +
+        Fail(a.kind == Ast::Kind::kSum ? a.args[k]->column : a.column, "the operands of '" + OpAt(a, op, k) + "' have different shapes: " + ShapeText(shape) +
                            " and " + ShapeText(ops[k].shape));
       }
     }
@@ -248,7 +251,7 @@ class Evaluator {
     if (!broadcast) {
       for (size_t k = 0; k < ops.size(); ++k) {
         if (ops[k].scalar()) {
-          Fail(a.column, "the operands of '" + OpAt(a, op, k) + "' have different shapes: " + ShapeText(shape) +
+          Fail(a.args[k]->column, "the operands of '" + OpAt(a, op, k) + "' have different shapes: " + ShapeText(shape) +
                              " and scalar (add arrays of one shape; scale with * and /)");
         }
       }
@@ -430,7 +433,7 @@ class Evaluator {
       if (!ok) Fail(a.column, f + " takes " + wanted + ", found " + found);
     };
     if (a.op == "transpose") {
-      expect(x.shape.size() == 2, "a matrix", "shape " + ShapeText(x.shape));
+      expect(x.shape.size() == 2, "a matrix", Described(x.shape));
       const size_t n = static_cast<size_t>(x.shape[0]), m = static_cast<size_t>(x.shape[1]);
       ArrayValue out{{x.shape[1], x.shape[0]}, std::vector<AstPtr>(n * m)};
       for (size_t i = 0; i < n; ++i) {
@@ -441,7 +444,7 @@ class Evaluator {
     if (a.op == "cross") {
       const ArrayValue& y = ops[1];
       expect(x.shape == Shape{3} && y.shape == Shape{3}, "two vectors of shape [3]",
-             "shapes " + ShapeText(x.shape) + " and " + ShapeText(y.shape));
+             Described(x.shape) + " and " + Described(y.shape));
       ArrayValue out{{3}, {}};
       for (size_t i = 0; i < 3; ++i) {
         const size_t j = (i + 1) % 3, k = (i + 2) % 3;
@@ -452,7 +455,7 @@ class Evaluator {
       return out;
     }
     if (a.op == "norm") {
-      expect(x.shape.size() == 1, "a vector", "shape " + ShapeText(x.shape));
+      expect(x.shape.size() == 1, "a vector", Described(x.shape));
       std::vector<AstPtr> squares;
       for (const AstPtr& e : x.elements) squares.push_back(Product(e, '*', e, a.column));
       return {{}, {Node(Ast::Kind::kCall, a.column, "sqrt", {Sum(std::move(squares), a.column)})}};

@@ -222,7 +222,7 @@ TEST(ParserTest, FunctionArityErrors) {
 
 TEST(ParserTest, SyntaxErrorsNameTheColumnAndTheText) {
   std::string msg = ParseError("a + ");
-  EXPECT_NE(msg.find("expected a number, a name or '('"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("expected a number, a name, '(' or '['"), std::string::npos) << msg;
   EXPECT_NE(msg.find("found end of text"), std::string::npos) << msg;
   EXPECT_NE(msg.find("in 'a + '"), std::string::npos) << msg;
   msg = ParseError("(a + b");

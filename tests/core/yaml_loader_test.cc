@@ -193,7 +193,7 @@ parameters: {k: 1}
 components:
   spring: {type: Spring, c: k *}
 )");
-  EXPECT_EQ(msg, "test.yaml:4:32: expected a number, a name or '(', found end of text in 'k *' (in spring.c)");
+  EXPECT_EQ(msg, "test.yaml:4:32: expected a number, a name, '(' or '[', found end of text in 'k *' (in spring.c)");
   msg = LoadError("model: P\nparameters:\n  k: {value: 2 +* 3}\n");
   EXPECT_NE(msg.find("test.yaml:3:"), std::string::npos) << msg;
   EXPECT_NE(msg.find("(in the value of P.k)"), std::string::npos) << msg;
