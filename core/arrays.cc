@@ -75,17 +75,8 @@ bool UsesArraySyntax(const AstPtr& a, bool any_subscript) {
   return a && UsesArraySyntax(*a, any_subscript);
 }
 
-/// A new node over `args`, one level above the highest of them.
 AstPtr Node(Ast::Kind kind, int column, std::string op, std::vector<AstPtr> args) {
-  auto a = std::make_shared<Ast>();
-  a->kind = kind;
-  a->column = column;
-  a->op = std::move(op);
-  a->args = std::move(args);
-  int below = 0;
-  for (const AstPtr& x : a->args) below = std::max(below, x->height);
-  a->height = below + 1;
-  return a;
+  return MakeAst(kind, column, std::move(op), std::move(args));
 }
 
 AstPtr Number(double v, int column) {

@@ -224,14 +224,7 @@ class Parser {
 
   /// A node over `args`, one level above the highest of them.
   AstPtr Make(Ast::Kind kind, int column, std::string op, std::vector<AstPtr> args) const {
-    auto a = std::make_shared<Ast>();
-    a->kind = kind;
-    a->column = column;
-    a->op = std::move(op);
-    a->args = std::move(args);
-    int below = 0;
-    for (const AstPtr& x : a->args) below = std::max(below, x->height);
-    a->height = below + 1;
+    AstPtr a = MakeAst(kind, column, std::move(op), std::move(args));
     if (a->height > kMaxExpressionDepth) TooDeep(column);
     return a;
   }
@@ -390,13 +383,7 @@ class Parser {
                              "' (valid functions: " + KnownFunctionList() + ")");
       }
       std::vector<AstPtr> args;
-      if (Peek().kind != Tok::kRParen) {
-        args.push_back(Expression());
-        while (Peek().kind == Tok::kComma) {
-          Next();
-          args.push_back(Expression());
-        }
-      }
+      if (Peek().kind != Tok::kRParen) args = ExpressionList();
       if (Peek().kind != Tok::kRParen) Fail("expected ')' or ','");
       Next();
       const int count = static_cast<int>(args.size());
@@ -436,17 +423,22 @@ class Parser {
     return a;
   }
 
+  /// One or more expressions separated by commas (call arguments, array elements).
+  std::vector<AstPtr> ExpressionList() {
+    std::vector<AstPtr> list{Expression()};
+    while (Peek().kind == Tok::kComma) {
+      Next();
+      list.push_back(Expression());
+    }
+    return list;
+  }
+
   /// `[a, b, …]`: the elements of a vector, or the rows of a matrix `[[1, 0], [0, 1]]`.
   AstPtr ArrayLiteral() {
     int col = Next().column;
     if (++depth_ > kMaxExpressionDepth) TooDeep(col);
-    std::vector<AstPtr> elements;
     if (Peek().kind == Tok::kRBracket) Fail("expected the elements of an array, e.g. [1, 2]");
-    elements.push_back(Expression());
-    while (Peek().kind == Tok::kComma) {
-      Next();
-      elements.push_back(Expression());
-    }
+    std::vector<AstPtr> elements = ExpressionList();
     if (Peek().kind != Tok::kRBracket) Fail("expected ']' or ','");
     Next();
     --depth_;
@@ -461,6 +453,18 @@ class Parser {
 };
 
 }  // namespace
+
+AstPtr MakeAst(Ast::Kind kind, int column, std::string op, std::vector<AstPtr> args) {
+  auto a = std::make_shared<Ast>();
+  a->kind = kind;
+  a->column = column;
+  a->op = std::move(op);
+  a->args = std::move(args);
+  int below = 0;
+  for (const AstPtr& x : a->args) below = std::max(below, x->height);
+  a->height = below + 1;
+  return a;
+}
 
 bool IsKnownFunction(const std::string& name, int* arity) {
   auto it = Functions().find(name);

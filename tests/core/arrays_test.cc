@@ -10,6 +10,7 @@
 
 #include "core/arrays.h"
 #include "core/flat_system.h"
+#include "core/parser.h"
 #include "tests/support/test_models.h"
 
 namespace momenta {
@@ -334,6 +335,41 @@ components:
   body: {type: Body}
 )y"),
             "test.yaml:4:29: a size in the shape of Body.r must be a whole number of at least 1");
+}
+
+TEST(ArraysErrorsTest, ArraySyntax) {
+  SourceLoc loc("m.yaml");
+  loc.line = 3;
+  loc.column = 5;
+  EXPECT_EQ(AstToString(*ParseExpression("[[1, 2], [3, 4]]*R[1, 2]", loc)), "([[1, 2], [3, 4]] * R[1, 2])");
+  auto error = [&](const std::string& text) {
+    try {
+      ParseExpression(text, loc);
+    } catch (const ModelError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_EQ(error("zeros(1, 2, 3)"), "m.yaml:3:5: zeros() takes 1 or 2 arguments, found 3 in 'zeros(1, 2, 3)'");
+  EXPECT_EQ(error("[]"), "m.yaml:3:6: expected the elements of an array, e.g. [1, 2], found ']' in '[]'");
+  EXPECT_EQ(error("[1, 2"), "m.yaml:3:10: expected ']' or ',', found end of text in '[1, 2'");
+  EXPECT_EQ(error("R[1, 2, 3]"), "m.yaml:3:11: expected ']', found ',' in 'R[1, 2, 3]'");
+  const std::string yaml = R"y(model: Bad
+define:
+  Body:
+    variables: {r: {shape: SHAPE}}
+    equations: []
+components:
+  body: {type: Body}
+)y";
+  auto with = [&](const std::string& shape) { return BuildError(yaml.substr(0, yaml.find("SHAPE")) + shape + yaml.substr(yaml.find("SHAPE") + 5)); };
+  EXPECT_EQ(with("2"), "test.yaml:4:28: the shape of Body.r is a list of one or two sizes, e.g. shape: [2] or shape: [3, 3]");
+  EXPECT_EQ(with("[2, 2, 2]"), "test.yaml:4:28: the shape of Body.r is a list of one or two sizes, e.g. shape: [2] or shape: [3, 3]");
+  EXPECT_EQ(with("[1000, 1000]"), "test.yaml:4:28: the shape of Body.r has more than 100000 elements");
+  EXPECT_EQ(BuildError(R"y(model: Bad
+parameters: {g: []}
+)y"),
+            "test.yaml:2:17: value of Bad.g is an empty list; an array has at least one element");
 }
 
 TEST(ArraysErrorsTest, VectorSignalsOfDifferentShapes) {
