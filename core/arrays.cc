@@ -75,11 +75,29 @@ bool UsesArraySyntax(const AstPtr& a, bool any_subscript) {
   return a && UsesArraySyntax(*a, any_subscript);
 }
 
+// The nodes one scalar form has made so far: matrix products and long chains of array operations
+// multiply nodes, so they are counted and bounded (kMaxArrayNodes, about 150 MB of trees).
+constexpr size_t kMaxArrayNodes = 1000000;
+thread_local size_t t_nodes = 0;
+thread_local int t_budget_depth = 0;
+
+/// Starts the count of nodes for an outermost call (ScalarForm, ScalarModifiers, ScalarModel).
+struct NodeBudget {
+  NodeBudget() {
+    if (t_budget_depth++ == 0) t_nodes = 0;
+  }
+  ~NodeBudget() { --t_budget_depth; }
+  NodeBudget(const NodeBudget&) = delete;
+  NodeBudget& operator=(const NodeBudget&) = delete;
+};
+
 AstPtr Node(Ast::Kind kind, int column, std::string op, std::vector<AstPtr> args) {
+  ++t_nodes;
   return MakeAst(kind, column, std::move(op), std::move(args));
 }
 
 AstPtr Number(double v, int column) {
+  ++t_nodes;
   auto a = std::make_shared<Ast>();
   a->kind = Ast::Kind::kNumber;
   a->number = v;
@@ -148,6 +166,33 @@ class Evaluator {
       : scope_(scope), text_(Excerpt(text, 0)), loc_(loc) {}
 
   ArrayValue Eval(const AstPtr& p) {
+    ArrayValue v = EvalNode(p);
+    CheckBudget(p->column);
+    return v;
+  }
+
+  /// Stops when the nodes made so far exceed kMaxArrayNodes.
+  void CheckBudget(int column) const {
+    if (t_nodes > kMaxArrayNodes) {
+      Fail(column, "the arrays expand to more than " + std::to_string(kMaxArrayNodes) +
+                       " scalar expression nodes; use smaller arrays or fewer array operations");
+    }
+  }
+
+  /// The scalar value of a tree that must not be an array (`what` names it in the message).
+  AstPtr Scalar(const AstPtr& p, const std::string& what) {
+    ArrayValue v = Eval(p);
+    if (!v.scalar()) Fail(p->column, what + " must be a scalar, found shape " + ShapeText(v.shape));
+    return v.elements[0];
+  }
+
+  [[noreturn]] void Fail(int column, const std::string& what) const {
+    throw ModelError(loc_.Shifted(column), what + ", in '" + text_ + "'" +
+                                               (scope_.owner.empty() ? "" : " of " + scope_.owner));
+  }
+
+ private:
+  ArrayValue EvalNode(const AstPtr& p) {
     const Ast& a = *p;
     switch (a.kind) {
       case Ast::Kind::kNumber:
@@ -182,19 +227,6 @@ class Evaluator {
     return {{}, {p}};
   }
 
-  /// The scalar value of a tree that must not be an array (`what` names it in the message).
-  AstPtr Scalar(const AstPtr& p, const std::string& what) {
-    ArrayValue v = Eval(p);
-    if (!v.scalar()) Fail(p->column, what + " must be a scalar, found shape " + ShapeText(v.shape));
-    return v.elements[0];
-  }
-
-  [[noreturn]] void Fail(int column, const std::string& what) const {
-    throw ModelError(loc_.Shifted(column), what + ", in '" + text_ + "'" +
-                                               (scope_.owner.empty() ? "" : " of " + scope_.owner));
-  }
-
- private:
   std::vector<ArrayValue> Operands(const Ast& a) {
     std::vector<ArrayValue> ops;
     ops.reserve(a.args.size());
@@ -254,6 +286,7 @@ class Evaluator {
       std::vector<AstPtr> args;
       for (const ArrayValue& v : ops) args.push_back(v.scalar() ? v.elements[0] : v.elements[i]);
       out.elements.push_back(Rebuild(a, std::move(args)));
+      CheckBudget(a.column);
     }
     return out;
   }
@@ -272,6 +305,7 @@ class Evaluator {
       return {{}, {p}};
     }
     auto element = [&](size_t flat) {
+      ++t_nodes;
       auto n = std::make_shared<Ast>(a);
       n->path.back().name = ElementName(last.name, *shape, flat);
       n->path.back().index = nullptr;
@@ -399,6 +433,7 @@ class Evaluator {
                                   y.elements[static_cast<size_t>(l * m + j)], column));
         }
         out.elements.push_back(Sum(std::move(terms), column));
+        CheckBudget(column);
       }
     }
     return out;
@@ -687,6 +722,7 @@ bool NeedsScalarForm(const ComponentType& type, const Library& library) {
 }
 
 ComponentType ScalarForm(const ComponentType& type, const Library& library) {
+  NodeBudget budget;
   ComponentType out = type;
   out.arrays.clear();
   ArrayShapes& table = out.arrays;
@@ -764,6 +800,7 @@ void ScalariseLibrary(Library* library) {
 
 std::vector<Modifier> ScalarModifiers(const ComponentSpec& component, const ComponentType& type,
                                       const ArrayScope& scope) {
+  NodeBudget budget;
   std::vector<Modifier> out;
   Scalariser s(scope, nullptr, "");
   for (const Modifier& m : component.modifiers) {
@@ -858,6 +895,7 @@ std::optional<ModelSpec> ScalarModel(const ModelSpec& spec, const Library& libra
     return it != defined.end() ? it->second : library.FindComponent(name);
   };
   if (!ModelNeedsScalarForm(spec, library, type_of)) return std::nullopt;
+  NodeBudget budget;
 
   ModelSpec out = spec;
   // The types first: the model's names see their arrays.

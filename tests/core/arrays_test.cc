@@ -366,6 +366,14 @@ components:
   EXPECT_EQ(with("2"), "test.yaml:4:28: the shape of Body.r is a list of one or two sizes, e.g. shape: [2] or shape: [3, 3]");
   EXPECT_EQ(with("[2, 2, 2]"), "test.yaml:4:28: the shape of Body.r is a list of one or two sizes, e.g. shape: [2] or shape: [3, 3]");
   EXPECT_EQ(with("[1000, 1000]"), "test.yaml:4:28: the shape of Body.r has more than 100000 elements");
+  // Matrix products multiply nodes: bounded, with a message at the place.
+  EXPECT_EQ(BuildError(R"y(model: Big
+parameters: {A: "zeros(200, 200)"}
+variables: {B: {shape: [200, 200]}}
+equations: ["B = A*A*A"]
+)y"),
+            "test.yaml:4:21: the arrays expand to more than 1000000 scalar expression nodes; use smaller arrays or "
+            "fewer array operations, in 'B = A*A*A'");
   EXPECT_EQ(BuildError(R"y(model: Bad
 parameters: {g: []}
 )y"),
