@@ -699,6 +699,8 @@ bool ConnectorHasArrays(const ComponentType& type, const Library& library) {
 
 }  // namespace
 
+ArrayScope ScopeOf(const ComponentType& type) { return TypeScope(&type.arrays, type.name); }
+
 bool NeedsScalarForm(const ComponentType& type, const Library& library) {
   if (ConnectorHasArrays(type, library)) return true;
   for (const auto& p : type.parameters) {

@@ -46,6 +46,10 @@ struct ArrayScope {
   std::string owner;  ///< "Body", for messages; empty in the model scope
 };
 
+/// The scope of a type's own names (its scalar form's `arrays`), e.g. for the modifiers of the
+/// components it contains. The scope refers to `type`, which must outlive it.
+ArrayScope ScopeOf(const ComponentType& type);
+
 /// Whether a type declares arrays or uses array syntax (shape:, `[a, b]`, `r[1]`, array
 /// functions, connectors whose type has arrays).
 bool NeedsScalarForm(const ComponentType& type, const Library& library);

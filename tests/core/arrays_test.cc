@@ -213,6 +213,19 @@ connections:
   for (const auto& p : flat.parameters) names.push_back(p.name);
   EXPECT_EQ(names, (std::vector<std::string>{"anchor.r0[1]", "anchor.r0[2]"}));
   EXPECT_EQ(values, (std::vector<double>{3, 4}));
+
+  // The modifiers of a component inside a type (composite types): values in the type's scope.
+  ComponentSpec inner;
+  inner.name = "anchor";
+  Modifier m;
+  m.key = "r0";
+  m.value_text = "2*frame.r";
+  m.value = ParseExpression(m.value_text, SourceLoc("lib.yaml"));
+  inner.modifiers.push_back(m);
+  std::vector<Modifier> expanded = ScalarModifiers(inner, *lib.FindComponent("Anchor"), ScopeOf(*probe));
+  ASSERT_EQ(expanded.size(), 2u);
+  EXPECT_EQ(expanded[1].key, "r0[2]");
+  EXPECT_EQ(expanded[1].value_text, "(2 * frame.r[2])");
 }
 
 // A model without arrays is handed to the flattener as it is.
