@@ -908,6 +908,12 @@ std::optional<ModelSpec> ScalarModel(const ModelSpec& spec, const Library& libra
   }
   std::unordered_map<std::string, const ComponentType*> component_type;
   for (const auto& c : spec.components) component_type[c.name] = type_of(c.type);
+  // The parts of composite types: their modifiers in the scope of the type that holds them.
+  for (auto& d : out.defines) {
+    for (auto& c : d.components) {
+      if (const ComponentType* t = type_of(c.type)) c.modifiers = ScalarModifiers(c, *t, ScopeOf(d));
+    }
+  }
 
   // The model scope: model parameters and variables, and `component.name` in a component's type.
   ArrayShapes table;
@@ -919,9 +925,25 @@ std::optional<ModelSpec> ScalarModel(const ModelSpec& spec, const Library& libra
       return it == table.end() ? nullptr : &it->second;
     }
     auto c = component_type.find(name.path[0].name);
-    if (c == component_type.end() || !c->second || c->second->arrays.empty()) return nullptr;
-    auto it = c->second->arrays.find(JoinedName(name, 1));
-    return it == c->second->arrays.end() ? nullptr : &it->second;
+    if (c == component_type.end() || !c->second) return nullptr;
+    // Down through the parts of composite types (pair.body.r), then the type's own arrays.
+    const ComponentType* t = c->second;
+    size_t k = 1;
+    for (bool deeper = true; deeper && k + 1 < name.path.size();) {
+      deeper = false;
+      for (const auto& part : t->components) {
+        if (part.name != name.path[k].name) continue;
+        const ComponentType* pt = type_of(part.type);
+        if (!pt) return nullptr;
+        t = pt;
+        ++k;
+        deeper = true;
+        break;
+      }
+    }
+    if (t->arrays.empty()) return nullptr;
+    auto it = t->arrays.find(JoinedName(name, k));
+    return it == t->arrays.end() ? nullptr : &it->second;
   };
   Scalariser s(scope, &table, "");
   out.parameters = s.Parameters(spec.parameters);

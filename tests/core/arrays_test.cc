@@ -228,6 +228,29 @@ connections:
   EXPECT_EQ(expanded[1].value_text, "(2 * frame.r[2])");
 }
 
+// Arrays in the parts of a composite type: a whole-array modifier inside the type, a whole-array
+// output and -p on an element at depth.
+TEST(ArraysTest, ArraysInsideCompositeTypes) {
+  testing::Built b = BuildYaml(R"y(model: Comp
+define:
+  Body:
+    parameters: {r0: {value: [1, 2], shape: [2]}}
+    variables: {r: {shape: [2], start: r0, fixed: true}}
+    equations: ["der(r) = [1, 0]"]
+  Pair:
+    components:
+      body: {type: Body, r0: [3, 4]}
+components:
+  pair: {type: Pair}
+experiment: {stop: 1, interval: 1}
+outputs: [pair.body.r]
+)y");
+  Trajectory tr = RunDefault(b, {{"pair.body.r0[1]", 7}});
+  ASSERT_EQ(tr.names, (std::vector<std::string>{"pair.body.r[1]", "pair.body.r[2]"}));
+  EXPECT_DOUBLE_EQ(tr.Column("pair.body.r[1]", 1), 8);
+  EXPECT_DOUBLE_EQ(tr.Column("pair.body.r[2]", 1), 4);
+}
+
 // A model without arrays is handed to the flattener as it is.
 TEST(ArraysTest, ModelWithoutArraysIsLeftAlone) {
   ModelSpec spec = LoadModelString(R"y(model: Plain
