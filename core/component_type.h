@@ -33,7 +33,8 @@ struct VariableDecl {
   bool fixed = false;
   double nominal = 1.0;
   std::optional<double> min, max;
-  int state_priority = 0;  ///< +1 prefer, -1 avoid
+  /// `stateSelect:` never -2, avoid -1, default 0, prefer 1, always 2 (MSL's StateSelect).
+  int state_priority = 0;
   ValueType type = ValueType::kReal;
   SourceLoc loc;
 };

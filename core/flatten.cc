@@ -997,6 +997,7 @@ class Flattener {
       if (const Modifier* m = var_mod[k]) {
         if (m->start) fv.start = ModelExpr(*m->start, AstToString(*m->start), m->loc, index, false);
         if (m->fixed) fv.fixed = *m->fixed;
+        if (m->state_priority) fv.state_priority = *m->state_priority;
         fv.loc = m->loc;
       }
       flat_.variables.push_back(std::move(fv));

@@ -11,13 +11,14 @@
 
 namespace momenta {
 
-/// `key: value` in a component entry: a parameter value, or start/fixed of a variable.
+/// `key: value` in a component entry: a parameter value, or start/fixed/stateSelect of a variable.
 struct Modifier {
   std::string key;
   AstPtr value;      ///< parameter value; null for a variable modifier
   std::string value_text;
   AstPtr start;      ///< variable modifier: start value (may be null)
   std::optional<bool> fixed;
+  std::optional<int> state_priority;  ///< stateSelect, as VariableDecl::state_priority
   SourceLoc loc;      ///< the value
   SourceLoc key_loc;  ///< the key
 };
