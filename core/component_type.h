@@ -91,6 +91,35 @@ struct ConnectorDecl {
   SourceLoc loc;
 };
 
+/// `key: value` in a component entry: a parameter value, or start/fixed/stateSelect of a variable.
+struct Modifier {
+  std::string key;
+  AstPtr value;      ///< parameter value; null for a variable modifier
+  std::string value_text;
+  AstPtr start;      ///< variable modifier: start value (may be null)
+  std::optional<bool> fixed;
+  std::optional<int> state_priority;  ///< stateSelect, as VariableDecl::state_priority
+  SourceLoc loc;      ///< the value
+  SourceLoc key_loc;  ///< the key
+};
+
+struct ComponentSpec {
+  std::string name, type, doc;
+  AstPtr count;  ///< null for a single component
+  std::vector<Modifier> modifiers;
+  SourceLoc loc, type_loc;
+};
+
+struct ConnectionSpec {
+  AstPtr a, b;
+  std::string a_text, b_text;
+  std::string loop_var;  ///< empty unless `for:`
+  AstPtr loop_from, loop_to;
+  std::string loop_text;  ///< the `for:` text, e.g. "i in 1:n-1"
+  SourceLoc loop_loc;     ///< where the `for:` text starts
+  SourceLoc loc, a_loc, b_loc;
+};
+
 struct ComponentType {
   std::string name, doc;
   std::vector<ParameterDecl> parameters;
@@ -100,8 +129,12 @@ struct ComponentType {
   std::vector<EquationDecl> initial_equations;
   std::vector<WhenDecl> whens;
   std::vector<ImpactDecl> impacts;
+  /// A composite type's parts: components of other types and the connections between them and
+  /// to the type's own connectors (an own connector is named alone: [flange_a, mass.flange_a]).
+  std::vector<ComponentSpec> components;
+  std::vector<ConnectionSpec> connections;
   SourceLoc loc;
-  bool user_defined = false;  ///< from a model's define: section
+  bool user_defined = false;  ///< from a model's define: section, a uses: file or a model file
 };
 
 /// The types a model can use: the built-in library plus the model's own definitions.

@@ -14,6 +14,7 @@
 #include <optional>
 #include <sstream>
 #include <unordered_map>
+#include <unordered_set>
 
 #include "core/expr_chain.h"
 #include "core/expr_eval.h"
@@ -86,12 +87,23 @@ struct Template {
 };
 
 struct LocalVar {
-  std::string name;
+  std::string name;                    ///< "s", "flange_a.f", or in a composite "mass.s"
   const VariableDecl* decl = nullptr;  ///< declaration (for signal connectors: optional)
   bool is_flow = false;
   bool is_input = false;
   ValueType type = ValueType::kReal;
   std::string unit;
+  int32_t sub = -1;            ///< the part of a composite it belongs to (-1: the type itself)
+  std::optional<bool> fixed;   ///< set by a composite's modifier
+  std::optional<int> state_priority;  ///< stateSelect, set by a composite's modifier
+  SourceLoc loc;               ///< a composite's modifier, if one sets it
+};
+
+struct LocalParam {
+  std::string name;
+  const ParameterDecl* decl = nullptr;
+  int32_t sub = -1;
+  SourceLoc loc;  ///< a composite's modifier, if one sets it
 };
 
 struct ConnectorSlot {
@@ -100,14 +112,37 @@ struct ConnectorSlot {
   uint32_t first_local_var;  ///< potentials then flows, or the one signal variable
 };
 
+struct TypeLayout;
+
+/// A part of a composite type, at any depth: "mass", "arm.joint", "links[2]".
+struct SubInstance {
+  std::string path;
+  const TypeLayout* layout;
+  SourceLoc loc;  ///< its component entry
+  uint32_t first_var, first_param;
+};
+
+/// Where an equation or a when-clause of a layout comes from, for messages and instance records.
+struct PartInfo {
+  std::string text;  ///< as written; '\x01' stands for the instance's path and a dot
+  SourceLoc loc;
+  int32_t sub = -1;
+  EquationOrigin origin = EquationOrigin::kComponent;
+};
+
+/// A type prepared for instantiation: its local names (a composite's include every part's, with
+/// their relative paths), and templates of every equation, start value and parameter binding
+/// over local indices. Prepared once per type; each instance copies the templates.
 struct TypeLayout {
   const ComponentType* type = nullptr;
   std::vector<LocalVar> vars;
+  std::vector<LocalParam> params;
   std::unordered_map<std::string, uint32_t> var_index;
   std::unordered_map<std::string, uint32_t> param_index;
-  std::vector<ConnectorSlot> connectors;
+  std::vector<ConnectorSlot> connectors;  ///< the type's own connectors
   std::unordered_map<std::string, uint32_t> connector_index;
   std::vector<Template> equations, initial_equations, param_defaults, starts;
+  std::vector<PartInfo> equation_info, initial_info, when_info;
   struct WhenTemplate {
     Template condition;
     std::vector<std::pair<uint32_t, Template>> assigns, reinits;  ///< local variable, value
@@ -116,16 +151,22 @@ struct TypeLayout {
   struct ImpactTemplate {
     Template gap, velocity, restitution, v_small, release;
     uint32_t force = 0, contact = 0;
+    const ImpactDecl* decl = nullptr;
+    int32_t sub = -1;
   };
   std::vector<ImpactTemplate> impacts;
   std::vector<bool> discrete;  ///< by local variable
+  std::vector<SubInstance> subs;
   std::vector<std::string> LocalNames() const {
     std::vector<std::string> names;
     for (const auto& v : vars) names.push_back(v.name);
-    for (const auto& p : type->parameters) names.push_back(p.name);
+    for (const auto& p : params) names.push_back(p.name);
     return names;
   }
 };
+
+/// No connector slot: a composite's part, which the model's connections cannot reach.
+constexpr uint32_t kNoSlot = UINT32_MAX;
 
 struct InstanceData {
   const TypeLayout* layout;
@@ -153,6 +194,9 @@ class Flattener {
       if (library.FindComponent(d.name)) {
         throw ModelError(d.loc, "define: " + d.name +
                                     " has the name of a library component; choose another name");
+      }
+      if (const ComponentType* other = defines_->FindComponent(d.name)) {
+        throw ModelError(d.loc, "type " + d.name + " is defined twice (also at " + other->loc.ToString() + ")");
       }
       defines_->AddComponent(d);
     }
@@ -318,9 +362,12 @@ class Flattener {
     const InstanceData& data = instance_data_[inst];
     std::string local;
     for (size_t k = 1; k < a.path.size(); ++k) {
-      if (a.path[k].index) throw ModelError(loc, "only components can be indexed, in '" + a.PathText() + "'");
       if (k > 1) local += ".";
       local += a.path[k].name;
+      if (a.path[k].index) {  // an element of a part array inside a composite: arm.links[2].phi
+        double i = StructuralWhole(*a.path[k].index, AstToString(*a.path[k].index), loc, loop, "an index");
+        local += "[" + NumberText(i) + "]";
+      }
     }
     if (local.empty()) throw ModelError(loc, "'" + a.PathText() + "' names a component, not one of its variables");
     auto v = data.layout->var_index.find(local);
@@ -462,6 +509,16 @@ class Flattener {
   const TypeLayout& Layout(const ComponentType* type) {
     auto it = layouts_.find(type);
     if (it != layouts_.end()) return *it->second;
+    for (size_t k = 0; k < laying_out_.size(); ++k) {
+      if (laying_out_[k] != type) continue;
+      std::string cycle;
+      for (size_t j = k; j < laying_out_.size(); ++j) cycle += laying_out_[j]->name + " -> ";
+      cycle += type->name;
+      const ComponentSpec* at = current_component_;
+      throw ModelError(at ? at->type_loc : type->loc,
+                       "type " + type->name + " contains itself: " + cycle + "; a type cannot be a part of itself");
+    }
+    laying_out_.push_back(type);
     auto layout = std::make_unique<TypeLayout>();
     TypeLayout& L = *layout;
     L.type = type;
@@ -495,40 +552,60 @@ class Flattener {
         L.vars.push_back(lv);
       } else {
         for (const auto& pv : ct->potentials) {
-          L.vars.push_back({c.name + "." + pv.name, nullptr, false, false, ValueType::kReal, pv.unit});
+          LocalVar lv;
+          lv.name = c.name + "." + pv.name;
+          lv.unit = pv.unit;
+          L.vars.push_back(lv);
         }
         for (const auto& fv : ct->flows) {
-          L.vars.push_back({c.name + "." + fv.name, nullptr, true, false, ValueType::kReal, fv.unit});
+          LocalVar lv;
+          lv.name = c.name + "." + fv.name;
+          lv.unit = fv.unit;
+          lv.is_flow = true;
+          L.vars.push_back(lv);
         }
       }
     }
     for (const auto& v : type->variables) {
       if (!declared.count(v.name)) continue;  // attributes of a signal connector
       if (L.connector_index.count(v.name)) throw ModelError(v.loc, type->name + "." + v.name + " is both a connector and a variable");
-      L.vars.push_back({v.name, &v, false, false, v.type, v.unit});
+      LocalVar lv;
+      lv.name = v.name;
+      lv.decl = &v;
+      lv.type = v.type;
+      lv.unit = v.unit;
+      L.vars.push_back(lv);
     }
+    const size_t own_vars = L.vars.size();
+    for (const auto& p : type->parameters) L.params.push_back({p.name, &p, -1, SourceLoc()});
     for (uint32_t k = 0; k < L.vars.size(); ++k) L.var_index[L.vars[k].name] = k;
-    for (uint32_t k = 0; k < type->parameters.size(); ++k) {
+    for (uint32_t k = 0; k < L.params.size(); ++k) {
       const auto& p = type->parameters[k];
       if (L.param_index.count(p.name) || L.var_index.count(p.name)) {
         throw ModelError(p.loc, type->name + "." + p.name + " is declared twice");
       }
       L.param_index[p.name] = k;
     }
+    // A composite's parts: their names first, so that every expression of the type can use them
+    // (mass.s, spring.c); their templates after the type's own.
+    std::vector<PartPlan> parts = LayoutPartNames(&L);
     // Templates.
     for (const auto& p : type->parameters) {
       L.param_defaults.push_back(MakeTemplate(L, *p.value, p.value_text, p.loc, true));
     }
-    for (const auto& v : L.vars) {
+    for (size_t k = 0; k < own_vars; ++k) {
+      const LocalVar& v = L.vars[k];
       L.starts.push_back(v.decl && v.decl->start
                              ? MakeTemplate(L, *v.decl->start, AstToString(*v.decl->start), v.decl->loc, true)
                              : Template());
     }
     for (const auto& e : type->equations) {
       L.equations.push_back(EquationTemplate(L, e));
+      L.equation_info.push_back({e.text, e.loc, -1, EquationOrigin::kComponent});
     }
     for (const auto& e : type->initial_equations) {
       L.initial_equations.push_back(EquationTemplate(L, e));
+      L.initial_info.push_back({e.text, e.loc, -1, EquationOrigin::kInitial});
     }
     // Discrete variables: Boolean and Integer ones, and those a when-clause or impact assigns.
     L.discrete.assign(L.vars.size(), false);
@@ -559,6 +636,7 @@ class Flattener {
         }
       }
       L.whens.push_back(std::move(wt));
+      L.when_info.push_back({w.text, w.loc, -1, EquationOrigin::kComponent});
     }
     for (const auto& im : type->impacts) {
       TypeLayout::ImpactTemplate tmpl;
@@ -569,16 +647,484 @@ class Flattener {
       tmpl.release = MakeTemplate(L, *im.release, im.release_text, im.loc, false);
       tmpl.force = local_var(im.force, im.loc, "impact");
       tmpl.contact = local_var(im.contact, im.loc, "impact");
+      tmpl.decl = &im;
       if (L.vars[tmpl.contact].type != ValueType::kBoolean) {
         throw ModelError(im.loc, "the impact contact of " + type->name + " must be a Boolean variable (type: Boolean)");
       }
       L.discrete[tmpl.contact] = true;
       L.impacts.push_back(std::move(tmpl));
     }
+    LayoutPartTemplates(&L, parts);
+    InnerConnections(&L, parts);
     CheckLocalBalance(L);
+    laying_out_.pop_back();
     const TypeLayout& ref = *layout;
     layouts_[type] = std::move(layout);
     return ref;
+  }
+
+  // -------------------------------------------------------------------------------------------
+  // Composite types: parts laid out inside the layout of the type that holds them
+
+  /// One element of a part of a composite (a component, or one element of a `count:` array).
+  struct PartPlan {
+    const ComponentSpec* spec;
+    const TypeLayout* layout;
+    std::string path;      ///< relative to the composite: "mass", "links[2]"
+    int32_t sub;           ///< its index in the composite's subs
+    int32_t sub_base;      ///< where its own subs start in the composite's subs
+    double index;          ///< 1-based element index (the modifiers' i), 0 for a single part
+    uint32_t first_slot;   ///< its first connector in InnerConnections' slot list
+  };
+
+  /// Appends every part's variables and parameters (and those of its parts) to L under their
+  /// relative paths, and returns the parts in order.
+  std::vector<PartPlan> LayoutPartNames(TypeLayout* Lp) {
+    TypeLayout& L = *Lp;
+    const ComponentType* type = L.type;
+    std::vector<PartPlan> plans;
+    std::unordered_set<std::string> names;
+    for (const auto& c : type->components) {
+      if (!names.insert(c.name).second || L.var_index.count(c.name) || L.param_index.count(c.name) ||
+          L.connector_index.count(c.name)) {
+        throw ModelError(c.loc, "the name " + c.name + " is used twice in " + type->name);
+      }
+      const ComponentType* part_type = FindType(c.type);
+      if (!part_type) UnknownType(c);
+      const ComponentSpec* saved = current_component_;
+      current_component_ = &c;
+      const TypeLayout& S = Layout(part_type);
+      uint32_t n = c.count ? PartCount(c, L, S) : 1;
+      current_component_ = saved;
+      for (uint32_t k = 0; k < n; ++k) {
+        PartPlan pl;
+        pl.spec = &c;
+        pl.layout = &S;
+        pl.path = c.count ? c.name + "[" + std::to_string(k + 1) + "]" : c.name;
+        pl.index = c.count ? k + 1.0 : 0.0;
+        pl.first_slot = 0;
+        const auto var_off = static_cast<uint32_t>(L.vars.size());
+        const auto param_off = static_cast<uint32_t>(L.params.size());
+        pl.sub = static_cast<int32_t>(L.subs.size());
+        L.subs.push_back({pl.path, &S, c.loc, var_off, param_off});
+        pl.sub_base = static_cast<int32_t>(L.subs.size());
+        for (const SubInstance& ss : S.subs) {
+          L.subs.push_back({pl.path + "." + ss.path, ss.layout, ss.loc, var_off + ss.first_var, param_off + ss.first_param});
+        }
+        auto remap = [&](int32_t sub) { return sub < 0 ? pl.sub : pl.sub_base + sub; };
+        for (const LocalVar& v : S.vars) {
+          LocalVar lv = v;
+          lv.name = pl.path + "." + v.name;
+          lv.sub = remap(v.sub);
+          L.var_index[lv.name] = static_cast<uint32_t>(L.vars.size());
+          L.vars.push_back(std::move(lv));
+        }
+        for (const LocalParam& p : S.params) {
+          LocalParam lp = p;
+          lp.name = pl.path + "." + p.name;
+          lp.sub = remap(p.sub);
+          L.param_index[lp.name] = static_cast<uint32_t>(L.params.size());
+          L.params.push_back(std::move(lp));
+        }
+        plans.push_back(std::move(pl));
+      }
+    }
+    return plans;
+  }
+
+  /// The count of an array part: a whole number written in the type (its structure is fixed;
+  /// the type's parameters cannot size it), checked against the memory budget.
+  uint32_t PartCount(const ComponentSpec& c, const TypeLayout& L, const TypeLayout& S) {
+    std::string text = AstToString(*c.count);
+    std::string what = "count of " + c.name + " in " + L.type->name;
+    std::optional<double> n = ConstantValue(*c.count, nullptr);
+    if (!n) {
+      throw ModelError(c.loc, what + " must be a number: a type's structure is fixed, so its parameters cannot size its parts, found '" + text + "'");
+    }
+    return CheckedCount(c, S, *n, what, text);
+  }
+
+  /// The parts' templates, rebased to the composite's local indices, with the composite's
+  /// modifiers (expressions of its own names) in place of the parts' defaults.
+  void LayoutPartTemplates(TypeLayout* Lp, const std::vector<PartPlan>& plans) {
+    TypeLayout& L = *Lp;
+    for (const PartPlan& pl : plans) {
+      const TypeLayout& S = *pl.layout;
+      const uint32_t vo = L.subs[pl.sub].first_var, po = L.subs[pl.sub].first_param;
+      auto rebase = [&](const Template& t) { return Rebased(t, vo, po); };
+      auto remap = [&](const PartInfo& info) {
+        PartInfo r = info;
+        r.sub = info.sub < 0 ? pl.sub : pl.sub_base + info.sub;
+        // Connection texts name connectors relative to the part: insert the part's path.
+        for (size_t at = r.text.find('\x01'); at != std::string::npos; at = r.text.find('\x01', at + 1)) {
+          r.text.insert(at + 1, pl.path + ".");
+        }
+        return r;
+      };
+      for (const Template& t : S.param_defaults) L.param_defaults.push_back(rebase(t));
+      for (const Template& t : S.starts) L.starts.push_back(t.root >= 0 ? rebase(t) : Template());
+      for (size_t k = 0; k < S.equations.size(); ++k) {
+        L.equations.push_back(rebase(S.equations[k]));
+        L.equation_info.push_back(remap(S.equation_info[k]));
+      }
+      for (size_t k = 0; k < S.initial_equations.size(); ++k) {
+        L.initial_equations.push_back(rebase(S.initial_equations[k]));
+        L.initial_info.push_back(remap(S.initial_info[k]));
+      }
+      for (size_t k = 0; k < S.whens.size(); ++k) {
+        const auto& w = S.whens[k];
+        TypeLayout::WhenTemplate wt;
+        wt.condition = rebase(w.condition);
+        for (const auto& [target, value] : w.assigns) wt.assigns.emplace_back(target + vo, rebase(value));
+        for (const auto& [target, value] : w.reinits) wt.reinits.emplace_back(target + vo, rebase(value));
+        L.whens.push_back(std::move(wt));
+        L.when_info.push_back(remap(S.when_info[k]));
+      }
+      for (const auto& im : S.impacts) {
+        TypeLayout::ImpactTemplate t;
+        t.gap = rebase(im.gap);
+        t.velocity = rebase(im.velocity);
+        t.restitution = rebase(im.restitution);
+        t.v_small = rebase(im.v_small);
+        t.release = rebase(im.release);
+        t.force = im.force + vo;
+        t.contact = im.contact + vo;
+        t.decl = im.decl;
+        t.sub = im.sub < 0 ? pl.sub : pl.sub_base + im.sub;
+        L.impacts.push_back(std::move(t));
+      }
+      for (size_t k = 0; k < S.vars.size(); ++k) L.discrete[vo + k] = S.discrete[k];
+      // The composite's modifiers of this part.
+      std::pair<std::string, double> index{"i", pl.index};
+      template_loop_ = pl.index > 0 ? &index : nullptr;
+      for (const Modifier& m : pl.spec->modifiers) {
+        auto [is_param, k] = ModifierTarget(*pl.spec, S, m);
+        if (is_param) {
+          L.param_defaults[po + k] = MakeTemplate(L, *m.value, m.value_text, m.loc, true);
+          L.params[po + k].loc = m.loc;
+        } else {
+          if (m.start) L.starts[vo + k] = MakeTemplate(L, *m.start, AstToString(*m.start), m.loc, true);
+          if (m.fixed) L.vars[vo + k].fixed = *m.fixed;
+          if (m.state_priority) L.vars[vo + k].state_priority = *m.state_priority;
+          L.vars[vo + k].loc = m.loc;
+        }
+      }
+      template_loop_ = nullptr;
+    }
+  }
+
+  /// Which parameter (first = true) or variable of `S` a modifier of component `c` sets.
+  std::pair<bool, uint32_t> ModifierTarget(const ComponentSpec& c, const TypeLayout& S, const Modifier& m) {
+    auto p = S.param_index.find(m.key);
+    if (p != S.param_index.end()) {
+      if (!m.value) throw ModelError(m.loc, c.name + "." + m.key + " is a parameter: give it a value, e.g. " + m.key + ": 2");
+      return {true, p->second};
+    }
+    auto v = S.var_index.find(m.key);
+    if (v != S.var_index.end()) {
+      if (m.value) {
+        throw ModelError(m.loc, c.name + "." + m.key + " is a variable: give its start value as " + m.key +
+                                    ": {start: " + m.value_text + ", fixed: true}");
+      }
+      return {false, v->second};
+    }
+    std::vector<std::string> names;
+    for (const auto& p2 : S.params) names.push_back(p2.name);
+    for (const auto& v2 : S.vars) names.push_back(v2.name);
+    auto close = ClosestNames(m.key, names);
+    throw ModelError(m.key_loc, "unknown key '" + m.key + "' for " + c.name + " (" + S.type->name + ")" +
+                                    (close.empty() ? "" : " (did you mean " + JoinNames(close) + "?)") +
+                                    " (valid parameters and variables: " + JoinNames(names) +
+                                    "; reserved keys: type, count, doc)");
+  }
+
+  /// A template with its local variables and parameters moved by the given offsets.
+  static Template Rebased(const Template& t, uint32_t var_offset, uint32_t param_offset) {
+    Template r;
+    r.nodes = t.nodes;
+    r.root = t.root;
+    for (TNode& n : r.nodes) {
+      if (n.kind == TNode::kLocalVar || n.kind == TNode::kPre) n.local += var_offset;
+      if (n.kind == TNode::kLocalParam) n.local += param_offset;
+    }
+    return r;
+  }
+
+  /// The value of an expression of numbers and the loop index (a part's count, an index inside
+  /// a type, a range bound inside a type); nothing when it uses any other name.
+  static std::optional<double> ConstantValue(const Ast& a, const std::pair<std::string, double>* loop) {
+    switch (a.kind) {
+      case Ast::Kind::kNumber:
+        return a.number;
+      case Ast::Kind::kName:
+        if (loop && a.path.size() == 1 && !a.path[0].index && a.path[0].name == loop->first) return loop->second;
+        return std::nullopt;
+      case Ast::Kind::kUnary: {
+        if (a.op != "-") return std::nullopt;
+        auto x = ConstantValue(*a.args[0], loop);
+        if (!x) return std::nullopt;
+        return -*x;
+      }
+      case Ast::Kind::kSum:
+      case Ast::Kind::kProduct: {
+        std::vector<bool> inverse = InverseFlags(a.op);
+        double r = a.kind == Ast::Kind::kSum ? 0 : 1;
+        for (size_t k = 0; k < a.args.size(); ++k) {
+          auto x = ConstantValue(*a.args[k], loop);
+          if (!x) return std::nullopt;
+          if (a.kind == Ast::Kind::kSum) {
+            r += inverse[k] ? -*x : *x;
+          } else {
+            r = inverse[k] ? r / *x : r * *x;
+          }
+        }
+        return r;
+      }
+      default:
+        return std::nullopt;
+    }
+  }
+
+  /// The local name a dotted path inside a type stands for, subscripts evaluated: links[2].phi.
+  std::string LocalPath(const Ast& a, const SourceLoc& loc, const std::string& text) {
+    std::string local;
+    for (size_t k = 0; k < a.path.size(); ++k) {
+      if (k) local += ".";
+      local += a.path[k].name;
+      if (!a.path[k].index) continue;
+      std::optional<double> i = ConstantValue(*a.path[k].index, template_loop_);
+      if (!i || !std::isfinite(*i) || *i != std::floor(*i)) {
+        throw ModelError(loc.Shifted(a.column), "a subscript inside a type must be a whole number (or the index i of an array part), in '" + text + "'");
+      }
+      local += "[" + NumberText(*i) + "]";
+    }
+    return local;
+  }
+
+  /// The connection sets inside a composite: its parts' connectors (inside) and its own
+  /// (outside, named alone). Potentials are equal; the flows of inside connectors less those of
+  /// outside ones sum to zero (Modelica's rule); an inside connector connected to nothing has zero
+  /// flows; a signal set has exactly one driver (an inside output or an outside input).
+  void InnerConnections(TypeLayout* Lp, std::vector<PartPlan>& plans) {
+    TypeLayout& L = *Lp;
+    const ComponentType* type = L.type;
+    if (plans.empty() && type->connections.empty()) return;
+    struct Slot {
+      const ConnectorSlot* cs;
+      uint32_t first_var;
+      bool outside;
+      std::string name;  ///< relative to the composite
+      SourceLoc loc;     ///< the part's entry, or the connector's declaration
+    };
+    std::vector<Slot> slots;
+    for (const ConnectorSlot& cs : L.connectors) slots.push_back({&cs, cs.first_local_var, true, cs.decl->name, cs.decl->loc});
+    std::unordered_map<std::string, std::vector<size_t>> plans_of;  // part name -> its elements
+    for (size_t k = 0; k < plans.size(); ++k) {
+      PartPlan& pl = plans[k];
+      plans_of[pl.spec->name].push_back(k);
+      pl.first_slot = static_cast<uint32_t>(slots.size());
+      const uint32_t vo = L.subs[pl.sub].first_var;
+      for (const ConnectorSlot& cs : pl.layout->connectors) {
+        slots.push_back({&cs, vo + cs.first_local_var, false, pl.path + "." + cs.decl->name, pl.spec->loc});
+      }
+    }
+    std::vector<uint32_t> parent(slots.size());
+    for (uint32_t k = 0; k < parent.size(); ++k) parent[k] = k;
+    auto find = [&](uint32_t x) {
+      while (parent[x] != x) x = parent[x] = parent[parent[x]];
+      return x;
+    };
+    std::vector<SourceLoc> slot_loc(slots.size());
+    auto resolve = [&](const Ast& a, const std::string& text, const SourceLoc& loc,
+                       const std::pair<std::string, double>* loop) -> uint32_t {
+      if (a.path.size() == 1 && !a.path[0].index) {
+        auto c = L.connector_index.find(a.path[0].name);
+        if (c != L.connector_index.end()) return c->second;
+      }
+      if (a.path.size() == 2 && !a.path[1].index) {
+        auto part = plans_of.find(a.path[0].name);
+        if (part != plans_of.end()) {
+          const std::vector<size_t>& elems = part->second;
+          const PartPlan& first = plans[elems[0]];
+          size_t e = 0;
+          if (first.spec->count) {
+            if (!a.path[0].index) {
+              throw ModelError(loc, a.path[0].name + " is an array of " + std::to_string(elems.size()) +
+                                        " parts; name one element, e.g. " + a.path[0].name + "[1], in '" + text + "'");
+            }
+            std::optional<double> i = ConstantValue(*a.path[0].index, loop);
+            if (!i || *i != std::floor(*i) || *i < 1 || *i > static_cast<double>(elems.size())) {
+              throw ModelError(loc, "'" + text + "': the index must be a whole number in 1.." + std::to_string(elems.size()));
+            }
+            e = static_cast<size_t>(*i - 1);
+          } else if (a.path[0].index) {
+            throw ModelError(loc, a.path[0].name + " is not an array (it has no count:), in '" + text + "'");
+          }
+          const PartPlan& pl = plans[elems[e]];
+          auto c = pl.layout->connector_index.find(a.path[1].name);
+          if (c != pl.layout->connector_index.end()) return pl.first_slot + c->second;
+        }
+      }
+      std::vector<std::string> names;
+      for (const Slot& s : slots) names.push_back(s.name);
+      auto close = ClosestNames(a.PathText(), names);
+      throw ModelError(loc, "unknown connector '" + a.PathText() + "' in connection end '" + text + "' of " +
+                                type->name + (close.empty() ? "" : " (did you mean " + JoinNames(close) + "?)") +
+                                " (its own connectors are named alone, its parts' like mass.flange_a; valid: " +
+                                JoinNames(names) + ")");
+    };
+    auto join = [&](uint32_t x, uint32_t y, const std::string& xt, const std::string& yt, const SourceLoc& loc) {
+      CheckCompatible(slots[x].cs->type, xt, slots[y].cs->type, yt, loc, " in " + type->name);
+      if (x == y) throw ModelError(loc, "connection of " + xt + " to itself");
+      if (!slot_loc[x].known()) slot_loc[x] = loc;
+      if (!slot_loc[y].known()) slot_loc[y] = loc;
+      parent[find(x)] = find(y);
+    };
+    for (const auto& c : type->connections) {
+      auto one = [&](const std::pair<std::string, double>* loop) {
+        join(resolve(*c.a, c.a_text, c.a_loc, loop), resolve(*c.b, c.b_text, c.b_loc, loop), c.a_text, c.b_text, c.a_loc);
+      };
+      if (c.loop_var.empty()) {
+        one(nullptr);
+        continue;
+      }
+      std::optional<double> from = ConstantValue(*c.loop_from, nullptr), to = ConstantValue(*c.loop_to, nullptr);
+      const SourceLoc& loc = c.loop_loc.known() ? c.loop_loc : c.loc;
+      if (!from || !to || *from != std::floor(*from) || *to != std::floor(*to)) {
+        throw ModelError(loc, "the range of 'for: " + c.loop_text + "' inside " + type->name +
+                                  " must have whole-number bounds (a type's structure is fixed)");
+      }
+      if (*to - *from + 1 > static_cast<double>(slots.size())) {
+        throw ModelError(loc, "the range of 'for: " + c.loop_text + "' makes more connections than " + type->name +
+                                  " has connectors");
+      }
+      for (double i = *from; i <= *to; i += 1) {
+        std::pair<std::string, double> loop{c.loop_var, i};
+        one(&loop);
+      }
+    }
+    // The sets, in slot order.
+    std::vector<std::vector<uint32_t>> sets;
+    std::vector<int32_t> set_of_root(slots.size(), -1);
+    for (uint32_t k = 0; k < slots.size(); ++k) {
+      uint32_t r = find(k);
+      if (set_of_root[r] < 0) {
+        set_of_root[r] = static_cast<int32_t>(sets.size());
+        sets.emplace_back();
+      }
+      sets[set_of_root[r]].push_back(k);
+    }
+    auto add = [&](std::vector<std::pair<uint32_t, bool>> terms, std::string text, const SourceLoc& loc,
+                   EquationOrigin origin) {
+      L.equations.push_back(SignedSum(terms));
+      L.equation_info.push_back({std::move(text), loc, -1, origin});
+    };
+    auto named = [&](uint32_t slot) { return "\x01" + slots[slot].name; };
+    for (const auto& set : sets) {
+      const Slot& s0 = slots[set[0]];
+      const ConnectorType* ct = s0.cs->type;
+      SourceLoc loc;
+      for (uint32_t s : set) {
+        if (slot_loc[s].known()) {
+          loc = slot_loc[s];
+          break;
+        }
+      }
+      if (ct->is_signal) {
+        std::vector<uint32_t> drivers;
+        for (uint32_t s : set) {
+          if (slots[s].cs->type->is_input == slots[s].outside) drivers.push_back(s);
+        }
+        if (set.size() == 1) {
+          if (!s0.outside && ct->is_input) {
+            throw ModelError(s0.loc, "the signal input " + s0.name + " inside " + type->name +
+                                 " is connected to nothing; connect it to an output or to an input of " + type->name);
+          }
+          continue;
+        }
+        std::string members;
+        for (uint32_t s : set) members += (members.empty() ? "" : ", ") + slots[s].name;
+        if (drivers.size() != 1) {
+          throw ModelError(loc, "the signals " + members + " inside " + type->name + " have " +
+                                    std::to_string(drivers.size()) + " drivers; a signal set has exactly one " +
+                                    "(an output of a part, or an input of " + type->name + ")");
+        }
+        for (uint32_t s : set) {
+          if (s == drivers[0]) continue;
+          add({{slots[s].first_var, false}, {slots[drivers[0]].first_var, true}},
+              named(s) + " = " + named(drivers[0]) + " (connection)", loc, EquationOrigin::kConnection);
+        }
+        continue;
+      }
+      const auto np = static_cast<uint32_t>(ct->potentials.size());
+      if (set.size() == 1) {
+        if (s0.outside) continue;  // the type's own equations determine its own connector's flows
+        for (uint32_t k = 0; k < ct->flows.size(); ++k) {
+          add({{s0.first_var + np + k, false}}, named(set[0]) + "." + ct->flows[k].name + " = 0 (unconnected)",
+              s0.loc, EquationOrigin::kUnconnectedFlow);
+        }
+        continue;
+      }
+      std::string members;
+      for (uint32_t s : set) members += (members.empty() ? "" : ", ") + named(s);
+      for (uint32_t k = 0; k < np; ++k) {
+        for (size_t j = 1; j < set.size(); ++j) {
+          add({{slots[set[j]].first_var + k, false}, {s0.first_var + k, true}},
+              named(set[j]) + "." + ct->potentials[k].name + " = " + named(set[0]) + "." + ct->potentials[k].name +
+                  " (connection)",
+              loc, EquationOrigin::kConnection);
+        }
+      }
+      for (uint32_t k = 0; k < ct->flows.size(); ++k) {
+        std::vector<std::pair<uint32_t, bool>> terms;
+        for (uint32_t s : set) terms.push_back({slots[s].first_var + np + k, slots[s].outside});
+        add(terms, "sum of " + ct->flows[k].name + " over {" + members + "} = 0 (connection; " + type->name +
+                       "'s own connectors count negative)",
+            loc, EquationOrigin::kConnection);
+      }
+    }
+  }
+
+  /// sum of ±local variables, as a template.
+  static Template SignedSum(const std::vector<std::pair<uint32_t, bool>>& terms) {
+    Template t;
+    for (const auto& [local, negative] : terms) {
+      TNode v;
+      v.kind = TNode::kLocalVar;
+      v.local = local;
+      t.nodes.push_back(v);
+      int32_t id = static_cast<int32_t>(t.nodes.size() - 1);
+      if (t.root < 0) {
+        if (negative) {
+          TNode neg;
+          neg.kind = TNode::kOp;
+          neg.op = Op::kNeg;
+          neg.a = id;
+          t.nodes.push_back(neg);
+          id = static_cast<int32_t>(t.nodes.size() - 1);
+        }
+        t.root = id;
+        continue;
+      }
+      TNode op;
+      op.kind = TNode::kOp;
+      op.op = negative ? Op::kSub : Op::kAdd;
+      op.a = t.root;
+      op.b = id;
+      t.nodes.push_back(op);
+      t.root = static_cast<int32_t>(t.nodes.size() - 1);
+    }
+    return t;
+  }
+
+  /// Two connectors may be joined when they are of one type, or both signals of one value type.
+  static void CheckCompatible(const ConnectorType* a, const std::string& a_text, const ConnectorType* b,
+                              const std::string& b_text, const SourceLoc& loc, const std::string& where = "") {
+    bool compatible = a == b || (a->is_signal && b->is_signal && a->signal_type == b->signal_type);
+    if (!compatible) {
+      throw ModelError(loc, "cannot connect " + a_text + " (" + a->name + ") to " + b_text + " (" + b->name +
+                                ")" + where + ": connectors of different kinds");
+    }
   }
 
   /// Modelica's local balance: a component determines its own unknowns except the flow
@@ -586,22 +1132,22 @@ class Flattener {
   /// variables set by when-clauses and impacts need no equation.
   void CheckLocalBalance(const TypeLayout& L) {
     const ComponentType* type = L.type;
+    // Only the type's own connectors' flows and own inputs are left to the outside; a part's
+    // flows and inputs are the type's unknowns, which its connections determine.
+    auto outside = [&](const LocalVar& v) { return v.sub < 0 && (v.is_flow || v.is_input); };
     size_t unknowns = 0;
-    for (size_t k = 0; k < L.vars.size(); ++k) {
-      if (L.vars[k].is_flow || L.vars[k].is_input) continue;
-      unknowns += 1;
-    }
+    for (const LocalVar& v : L.vars) unknowns += !outside(v);
     std::vector<bool> assigned(L.vars.size(), false);
     for (const auto& w : L.whens) {
       for (const auto& a : w.assigns) assigned[a.first] = true;
     }
     for (const auto& im : L.impacts) assigned[im.contact] = true;
     for (size_t k = 0; k < L.vars.size(); ++k) {
-      if (assigned[k] && !L.vars[k].is_flow && !L.vars[k].is_input) --unknowns;
+      if (assigned[k] && !outside(L.vars[k])) --unknowns;
     }
-    size_t equations = type->equations.size() + type->impacts.size();
+    size_t equations = L.equations.size() + L.impacts.size();
     size_t flows = 0;
-    for (const auto& v : L.vars) flows += v.is_flow;
+    for (const auto& v : L.vars) flows += v.sub < 0 && v.is_flow;
     if (equations == unknowns) return;
     const ComponentSpec* user = current_component_;
     std::string who = user ? user->name + " (" + type->name + ")" : type->name;
@@ -609,7 +1155,8 @@ class Flattener {
                      who + " is not balanced: it has " + Counted(equations, "equation") + " for " +
                          Counted(unknowns, "unknown") + " (" + Counted(L.vars.size(), "variable") +
                          ", less " + Counted(flows, "flow variable") +
-                         " of its connectors, signal inputs and variables set by when-clauses); " +
+                         " of its connectors, signal inputs and variables set by when-clauses" +
+                         (L.subs.empty() ? "" : "; its parts' equations and its connections included") + "); " +
                          (equations > unknowns ? "remove the extra equation or add the variable it determines"
                                                : "add an equation for each variable nothing determines") +
                          " (type defined at " + type->loc.ToString() + ")");
@@ -653,14 +1200,12 @@ class Flattener {
         n.value = a.number;
         return push(n);
       case Ast::Kind::kName: {
-        std::string local;
-        for (size_t k = 0; k < a.path.size(); ++k) {
-          if (a.path[k].index) {
-            throw ModelError(loc.Shifted(a.column), "subscripts are not allowed inside a component's equations, in '" + text + "'");
-          }
-          if (k) local += ".";
-          local += a.path[k].name;
+        if (template_loop_ && a.path.size() == 1 && !a.path[0].index && a.path[0].name == template_loop_->first) {
+          n.kind = TNode::kConst;  // the element index i in a part array's modifiers
+          n.value = template_loop_->second;
+          return push(n);
         }
+        std::string local = LocalPath(a, loc, text);
         auto v = L.var_index.find(local);
         if (v != L.var_index.end()) {
           if (params_only) {
@@ -856,44 +1401,18 @@ class Flattener {
         throw ModelError(c.loc, "the name " + c.name + " is used twice");
       }
       const ComponentType* type = FindType(c.type);
-      if (!type) {
-        std::vector<std::string> names = library_.ComponentNames();
-        for (const auto& d : spec_.defines) names.push_back(d.name);
-        auto close = ClosestNames(c.type, names);
-        throw ModelError(c.type_loc, "unknown component type '" + c.type + "' for " + c.name +
-                                         (close.empty() ? "" : " (did you mean " + JoinNames(close) + "?)") +
-                                         " (valid types: " + JoinNames(names, 80) + ")");
-      }
+      if (!type) UnknownType(c);
       current_component_ = &c;
       const TypeLayout& L = Layout(type);
       ComponentArray arr{s, static_cast<uint32_t>(flat_.instances.size()), 1, c.count != nullptr};
       if (c.count) arr.count = ArrayCount(c, L);
       planned_bytes_ += EstimatedBytes(L);
       // Which modifiers set parameters and which set start values.
-      std::vector<const Modifier*> param_mod(type->parameters.size(), nullptr);
+      std::vector<const Modifier*> param_mod(L.params.size(), nullptr);
       std::vector<const Modifier*> var_mod(L.vars.size(), nullptr);
       for (const auto& m : c.modifiers) {
-        auto p = L.param_index.find(m.key);
-        auto v = L.var_index.find(m.key);
-        if (p != L.param_index.end()) {
-          if (!m.value) throw ModelError(m.loc, c.name + "." + m.key + " is a parameter: give it a value, e.g. " + m.key + ": 2");
-          param_mod[p->second] = &m;
-        } else if (v != L.var_index.end()) {
-          if (m.value) {
-            throw ModelError(m.loc, c.name + "." + m.key + " is a variable: give its start value as " + m.key +
-                                        ": {start: " + m.value_text + ", fixed: true}");
-          }
-          var_mod[v->second] = &m;
-        } else {
-          std::vector<std::string> names;
-          for (const auto& p2 : type->parameters) names.push_back(p2.name);
-          for (const auto& v2 : L.vars) names.push_back(v2.name);
-          auto close = ClosestNames(m.key, names);
-          throw ModelError(m.key_loc, "unknown key '" + m.key + "' for " + c.name + " (" + type->name + ")" +
-                                      (close.empty() ? "" : " (did you mean " + JoinNames(close) + "?)") +
-                                      " (valid parameters and variables: " + JoinNames(names) +
-                                      "; reserved keys: type, count, doc)");
-        }
+        auto [is_param, k] = ModifierTarget(c, L, m);
+        (is_param ? param_mod : var_mod)[k] = &m;
       }
       for (uint32_t k = 0; k < arr.count; ++k) {
         std::string path = arr.is_array ? c.name + "[" + std::to_string(k + 1) + "]" : c.name;
@@ -904,13 +1423,22 @@ class Flattener {
     }
   }
 
+  [[noreturn]] void UnknownType(const ComponentSpec& c) const {
+    std::vector<std::string> names = library_.ComponentNames();
+    for (const auto& d : spec_.defines) names.push_back(d.name);
+    auto close = ClosestNames(c.type, names);
+    throw ModelError(c.type_loc, "unknown component type '" + c.type + "' for " + c.name +
+                                     (close.empty() ? "" : " (did you mean " + JoinNames(close) + "?)") +
+                                     " (valid types: " + JoinNames(names, 80) + ")");
+  }
+
   /// Estimated bytes of one instance of a type through the build (core/memory_budget.h).
   static double EstimatedBytes(const TypeLayout& L) {
     size_t nodes = 0;
     for (const auto* list : {&L.equations, &L.initial_equations, &L.param_defaults, &L.starts}) {
       for (const Template& t : *list) nodes += t.nodes.size();
     }
-    return EstimatedComponentBytes(L.vars.size(), L.type->parameters.size(), nodes);
+    return EstimatedComponentBytes(L.vars.size(), L.params.size(), nodes);
   }
 
   /// The value of `count:`: a whole number of at least 1 whose components fit, with the rest of
@@ -920,7 +1448,15 @@ class Flattener {
     std::string text = AstToString(*c.count);
     std::string what = "count of " + c.name;
     double n = StructuralWhole(*c.count, text, c.loc, nullptr, what);
+    return CheckedCount(c, L, n, what, text);
+  }
+
+  /// `n` elements of type layout L, checked: a whole number of at least 1 whose components fit,
+  /// with the rest of the model, in the memory budget and in momenta's 32-bit indices.
+  uint32_t CheckedCount(const ComponentSpec& c, const TypeLayout& L, double n, std::string what,
+                        const std::string& text) {
     std::string value = NumberText(n);
+    if (!std::isfinite(n) || n != std::floor(n)) throw ModelError(c.loc, what + " must be a whole number, found " + value);
     if (value != text) what += " ('" + text + "')";
     if (n < 1) throw ModelError(c.loc, what + " must be at least 1, found " + value);
     double bytes = planned_bytes_ + n * EstimatedBytes(L);
@@ -928,14 +1464,14 @@ class Flattener {
     if (bytes > budget_->bytes) {
       throw ModelError(c.loc, what + " is " + value + ": " + value + " " + L.type->name + " components (" +
                                   Counted(L.vars.size(), "variable") + ", " +
-                                  Counted(L.type->parameters.size(), "parameter") + " each) need about " +
+                                  Counted(L.params.size(), "parameter") + " each) need about " +
                                   ByteText(bytes) + " of memory to build, more than the budget of " +
                                   ByteText(budget_->bytes) + " (" + budget_->source + ")");
     }
     // Instances, variables and parameters are numbered with 32-bit indices.
     double ids = std::max({static_cast<double>(flat_.instances.size()), static_cast<double>(flat_.variables.size()),
                            static_cast<double>(flat_.parameters.size())}) +
-                 n * static_cast<double>(std::max({L.vars.size(), L.type->parameters.size(), size_t{1}}));
+                 n * static_cast<double>(std::max({L.vars.size(), L.params.size(), L.subs.size() + 1}));
     if (ids >= 2147483648.0) {
       throw ModelError(c.loc, what + " is " + value + ": more components, variables or parameters than " +
                                   "momenta numbers (2^31)");
@@ -954,23 +1490,32 @@ class Flattener {
                       static_cast<uint32_t>(slot_instance_.size())};
     instance_data_.push_back(data);
     for (size_t k = 0; k < L.connectors.size(); ++k) slot_instance_.push_back(inst.value());
+    // A composite's parts, at every depth, are instances of their own (for messages).
+    for (const SubInstance& sub : L.subs) {
+      flat_.instances.push_back({path + "." + sub.path, sub.layout->type, sub.loc});
+      instance_data_.push_back({sub.layout, VarId(data.first_var.value() + sub.first_var),
+                                ParamId(data.first_param.value() + sub.first_param), kNoSlot});
+    }
+    auto instance_of = [&](int32_t sub) { return sub < 0 ? inst : InstanceId(inst.value() + 1 + sub); };
+    auto loc_of = [&](int32_t sub) { return sub < 0 ? c.loc : L.subs[sub].loc; };
     // Parameters.
-    for (size_t k = 0; k < type->parameters.size(); ++k) {
-      const ParameterDecl& d = type->parameters[k];
+    for (size_t k = 0; k < L.params.size(); ++k) {
+      const LocalParam& lp = L.params[k];
+      const ParameterDecl& d = *lp.decl;
       FlatParameter fp;
-      fp.name = path + "." + d.name;
+      fp.name = path + "." + lp.name;
       fp.type = d.type;
       fp.min = d.min;
       fp.max = d.max;
       fp.unit = d.unit;
       fp.doc = d.doc;
-      fp.instance = inst;
+      fp.instance = instance_of(lp.sub);
       if (const Modifier* m = param_mod[k]) {
         fp.binding = ModelExpr(*m->value, m->value_text, m->loc, index, false);
         fp.loc = m->loc;
       } else {
         fp.binding = Instantiate(L.param_defaults[k], data.first_var, data.first_param, path, d.value_text, d.loc);
-        fp.loc = c.loc;
+        fp.loc = lp.loc.known() ? lp.loc : loc_of(lp.sub);
       }
       flat_.parameters.push_back(std::move(fp));
     }
@@ -982,16 +1527,18 @@ class Flattener {
       fv.type = lv.type;
       fv.is_flow = lv.is_flow;
       fv.is_input = lv.is_input;
-      fv.instance = inst;
+      fv.instance = instance_of(lv.sub);
       fv.unit = lv.unit;
-      fv.loc = c.loc;
+      fv.loc = lv.loc.known() ? lv.loc : loc_of(lv.sub);
       if (lv.decl) {
         fv.fixed = lv.decl->fixed;
         fv.nominal = lv.decl->nominal;
         fv.state_priority = lv.decl->state_priority;
-        if (L.starts[k].root >= 0) {
-          fv.start = Instantiate(L.starts[k], data.first_var, data.first_param, path, "", lv.decl->loc);
-        }
+      }
+      if (lv.fixed) fv.fixed = *lv.fixed;
+      if (lv.state_priority) fv.state_priority = *lv.state_priority;
+      if (L.starts[k].root >= 0) {
+        fv.start = Instantiate(L.starts[k], data.first_var, data.first_param, path, "", fv.loc);
       }
       fv.discrete = L.discrete[k];
       if (const Modifier* m = var_mod[k]) {
@@ -1003,16 +1550,20 @@ class Flattener {
       flat_.variables.push_back(std::move(fv));
     }
     // Equations.
-    for (size_t k = 0; k < L.equations.size(); ++k) {
-      const EquationDecl& d = type->equations[k];
-      FlatEquation eq;
-      eq.residual = Instantiate(L.equations[k], data.first_var, data.first_param, path, d.text, c.loc);
-      eq.origin = EquationOrigin::kComponent;
-      eq.instance = inst;
-      eq.text = d.text;
-      eq.loc = d.loc;
-      flat_.equations.push_back(std::move(eq));
-    }
+    auto add_equations = [&](const std::vector<Template>& templates, const std::vector<PartInfo>& info,
+                             std::vector<FlatEquation>* out) {
+      for (size_t k = 0; k < templates.size(); ++k) {
+        const PartInfo& d = info[k];
+        FlatEquation eq;
+        eq.residual = Instantiate(templates[k], data.first_var, data.first_param, path, d.text, c.loc);
+        eq.origin = d.origin;
+        eq.instance = d.origin == EquationOrigin::kConnection ? InstanceId() : instance_of(d.sub);
+        eq.text = WithPath(d.text, path);
+        eq.loc = d.loc;
+        out->push_back(std::move(eq));
+      }
+    };
+    add_equations(L.equations, L.equation_info, &flat_.equations);
     // When-clauses and impacts.
     auto inst_expr = [&](const Template& t, const std::string& text) {
       return Instantiate(t, data.first_var, data.first_param, path, text, c.loc);
@@ -1020,18 +1571,18 @@ class Flattener {
     auto var_of = [&](uint32_t local) { return VarId(data.first_var.value() + local); };
     for (size_t k = 0; k < L.whens.size(); ++k) {
       const auto& wt = L.whens[k];
+      const PartInfo& info = L.when_info[k];
       FlatWhen w;
-      w.condition = inst_expr(wt.condition, type->whens[k].text);
+      w.condition = inst_expr(wt.condition, info.text);
       for (const auto& [target, value] : wt.assigns) w.assigns.emplace_back(var_of(target), inst_expr(value, ""));
       for (const auto& [target, value] : wt.reinits) w.reinits.emplace_back(var_of(target), inst_expr(value, ""));
-      w.instance = inst;
-      w.text = type->whens[k].text;
-      w.loc = type->whens[k].loc;
+      w.instance = instance_of(info.sub);
+      w.text = info.text;
+      w.loc = info.loc;
       flat_.whens.push_back(std::move(w));
     }
-    for (size_t k = 0; k < L.impacts.size(); ++k) {
-      const auto& it = L.impacts[k];
-      const ImpactDecl& d = type->impacts[k];
+    for (const auto& it : L.impacts) {
+      const ImpactDecl& d = *it.decl;
       FlatImpact im;
       im.gap = inst_expr(it.gap, d.gap_text);
       im.velocity = inst_expr(it.velocity, d.velocity_text);
@@ -1040,34 +1591,42 @@ class Flattener {
       im.release = inst_expr(it.release, d.release_text);
       im.force = var_of(it.force);
       im.contact = var_of(it.contact);
-      im.instance = inst;
+      im.instance = instance_of(it.sub);
       im.loc = d.loc;
       // The contact law: no force while open, no relative acceleration while closed.
       ExprPool& p = pool();
       if (p.mask(im.velocity) & kHasDer) {
-        throw ModelError(d.loc, "the impact velocity of " + type->name + " may not contain der()");
+        throw ModelError(d.loc, "the impact velocity of " + flat_.instances[im.instance.value()].type->name +
+                                    " may not contain der()");
       }
       ExprId dvel = TimeDerivative(&p, im.velocity);
       FlatEquation eq;
       eq.residual = p.If(p.Var(im.contact), dvel, p.Var(im.force));
       eq.origin = EquationOrigin::kComponent;
-      eq.instance = inst;
+      eq.instance = im.instance;
       eq.text = "0 = if " + d.contact + " then der(" + d.velocity_text + ") else " + d.force + " (impact)";
       eq.loc = d.loc;
       im.mode_equation = static_cast<uint32_t>(flat_.equations.size());
       flat_.equations.push_back(std::move(eq));
       flat_.impacts.push_back(std::move(im));
     }
-    for (size_t k = 0; k < L.initial_equations.size(); ++k) {
-      const EquationDecl& d = type->initial_equations[k];
-      FlatEquation eq;
-      eq.residual = Instantiate(L.initial_equations[k], data.first_var, data.first_param, path, d.text, c.loc);
-      eq.origin = EquationOrigin::kInitial;
-      eq.instance = inst;
-      eq.text = d.text;
-      eq.loc = d.loc;
-      flat_.initial_equations.push_back(std::move(eq));
+    add_equations(L.initial_equations, L.initial_info, &flat_.initial_equations);
+  }
+
+  /// A layout's equation text with its placeholders ('\x01': a connector relative to the
+  /// instance) replaced by the instance's path.
+  static std::string WithPath(const std::string& text, const std::string& path) {
+    if (text.find('\x01') == std::string::npos) return text;
+    std::string r;
+    for (char ch : text) {
+      if (ch == '\x01') {
+        r += path;
+        r += '.';
+      } else {
+        r += ch;
+      }
     }
+    return r;
   }
 
   // -------------------------------------------------------------------------------------------
@@ -1148,12 +1707,7 @@ class Flattener {
     auto join = [&](const EndRef& x, const EndRef& y) {
       const ConnectorSlot& cx = instance_data_[x.instance].layout->connectors[x.connector];
       const ConnectorSlot& cy = instance_data_[y.instance].layout->connectors[y.connector];
-      bool compatible = cx.type == cy.type ||
-                        (cx.type->is_signal && cy.type->is_signal && cx.type->signal_type == cy.type->signal_type);
-      if (!compatible) {
-        throw ModelError(x.loc, "cannot connect " + x.text + " (" + cx.type->name + ") to " + y.text +
-                                    " (" + cy.type->name + "): connectors of different kinds");
-      }
+      CheckCompatible(cx.type, x.text, cy.type, y.text, x.loc);
       uint32_t sx = instance_data_[x.instance].first_slot + x.connector;
       uint32_t sy = instance_data_[y.instance].first_slot + y.connector;
       if (sx == sy) throw ModelError(x.loc, "connection of " + x.text + " to itself");
@@ -1394,6 +1948,8 @@ class Flattener {
   std::vector<double> model_values_;  ///< model parameters' values for structural expressions
   std::map<std::string, double> structural_;
   const ComponentSpec* current_component_ = nullptr;  ///< for messages about its type
+  std::vector<const ComponentType*> laying_out_;      ///< types being laid out (cycle detection)
+  const std::pair<std::string, double>* template_loop_ = nullptr;  ///< `i` in a part's modifiers
   std::vector<uint8_t> param_state_;  ///< model parameters: 0 new, 1 being evaluated, 2 done
   std::vector<double> param_value_;
 };

@@ -11,35 +11,6 @@
 
 namespace momenta {
 
-/// `key: value` in a component entry: a parameter value, or start/fixed/stateSelect of a variable.
-struct Modifier {
-  std::string key;
-  AstPtr value;      ///< parameter value; null for a variable modifier
-  std::string value_text;
-  AstPtr start;      ///< variable modifier: start value (may be null)
-  std::optional<bool> fixed;
-  std::optional<int> state_priority;  ///< stateSelect, as VariableDecl::state_priority
-  SourceLoc loc;      ///< the value
-  SourceLoc key_loc;  ///< the key
-};
-
-struct ComponentSpec {
-  std::string name, type, doc;
-  AstPtr count;  ///< null for a single component
-  std::vector<Modifier> modifiers;
-  SourceLoc loc, type_loc;
-};
-
-struct ConnectionSpec {
-  AstPtr a, b;
-  std::string a_text, b_text;
-  std::string loop_var;  ///< empty unless `for:`
-  AstPtr loop_from, loop_to;
-  std::string loop_text;  ///< the `for:` text, e.g. "i in 1:n-1"
-  SourceLoc loop_loc;     ///< where the `for:` text starts
-  SourceLoc loc, a_loc, b_loc;
-};
-
 struct OutputSpec {
   std::string text;
   AstPtr expr;
@@ -80,8 +51,15 @@ inline std::string OutputGridProblem(double start, double stop, double interval)
   return "";
 }
 
+/// A file named in `uses:`, as written (relative to the model's own file).
+struct UsesSpec {
+  std::string path;
+  SourceLoc loc;
+};
+
 struct ModelSpec {
   std::string name, doc, file;
+  std::vector<UsesSpec> uses;  ///< read by LoadModelFile: their types are in `defines`
   std::vector<ParameterDecl> parameters;
   std::vector<ComponentType> defines;
   std::vector<ComponentSpec> components;
@@ -93,6 +71,10 @@ struct ModelSpec {
   std::vector<OutputSpec> outputs;
   SourceLoc loc;
 };
+
+/// A model as a component type (its parameters, variables, equations, components and
+/// connections; not its experiment or outputs), so that one model can be a part of another.
+ComponentType ModelAsType(const ModelSpec& m);
 
 /// Reads a model file. Throws ModelError with file:line:col for anything wrong in it.
 ModelSpec LoadModelFile(const std::string& path);

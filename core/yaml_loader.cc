@@ -332,7 +332,7 @@ class Reader {
     ExpectMap(n, "component type " + name);
     CheckKeys(n, "component type " + name,
               {"kind", "doc", "parameters", "connectors", "variables", "equations",
-               "initial_equations", "when", "impact"});
+               "initial_equations", "when", "impact", "components", "connections"});
     if (n["doc"]) t.doc = Scalar(n["doc"], name + ".doc");
     if (n["parameters"] && !n["parameters"].IsNull()) {
       ExpectMap(n["parameters"], "parameters of " + name);
@@ -369,7 +369,23 @@ class Reader {
     }
     if (n["when"]) t.whens = Whens(n["when"], name);
     if (n["impact"]) t.impacts.push_back(Impact(n["impact"], name));
+    Parts(n, &t.components, &t.connections);
     return t;
+  }
+
+  /// `components:` and `connections:` of a model or a composite type.
+  void Parts(const YAML::Node& n, std::vector<ComponentSpec>* components,
+             std::vector<ConnectionSpec>* connections) const {
+    if (n["components"] && !n["components"].IsNull()) {
+      ExpectMap(n["components"], "components");
+      for (auto it = n["components"].begin(); it != n["components"].end(); ++it) {
+        components->push_back(ComponentEntry(Name(it->first, "component"), it->second));
+      }
+    }
+    if (n["connections"] && !n["connections"].IsNull()) {
+      if (!n["connections"].IsSequence()) Fail(n["connections"], "connections must be a list");
+      for (const auto& c : n["connections"]) connections->push_back(Connection(c));
+    }
   }
 
   void LibraryEntries(const YAML::Node& root, Library* lib, std::vector<ComponentType>* defines,
@@ -381,7 +397,7 @@ class Reader {
       ExpectMap(n, "type " + name);
       std::string kind = n["kind"] ? Scalar(n["kind"], name + ".kind") : "component";
       if (kind == "connector") {
-        if (user) Fail(n["kind"], "define: holds component types only; connector types come from the library");
+        if (user) Fail(n["kind"], "a model's define: section and a uses: file hold component types only; connector types come from the library");
         lib->AddConnector(Connector(name, n));
       } else if (kind == "component") {
         ComponentType t = Component(name, n, user);
@@ -483,11 +499,16 @@ class Reader {
       throw ModelError(Loc(root), "a model file must be a mapping with keys such as model, components, connections");
     }
     CheckKeys(root, "the model",
-              {"model", "doc", "parameters", "define", "components", "connections", "variables",
+              {"model", "doc", "uses", "parameters", "define", "components", "connections", "variables",
                "equations", "initial_equations", "when", "experiment", "outputs"});
     if (!root["model"]) Fail(root, "the model needs a name: 'model: MyModel'");
     m.name = Scalar(root["model"], "model");
     if (root["doc"]) m.doc = Scalar(root["doc"], "doc");
+    if (root["uses"] && !root["uses"].IsNull()) {
+      const YAML::Node& u = root["uses"];
+      if (!u.IsSequence()) Fail(u, "uses must be a list of YAML files, e.g. uses: [mylib.yaml]");
+      for (const auto& f : u) m.uses.push_back({Scalar(f, "a uses: file"), TextLoc(f)});
+    }
     if (root["parameters"] && !root["parameters"].IsNull()) {
       ExpectMap(root["parameters"], "parameters");
       for (auto it = root["parameters"].begin(); it != root["parameters"].end(); ++it) {
@@ -498,16 +519,7 @@ class Reader {
       Library scratch;
       LibraryEntries(root["define"], &scratch, &m.defines, true);
     }
-    if (root["components"] && !root["components"].IsNull()) {
-      ExpectMap(root["components"], "components");
-      for (auto it = root["components"].begin(); it != root["components"].end(); ++it) {
-        m.components.push_back(ComponentEntry(Name(it->first, "component"), it->second));
-      }
-    }
-    if (root["connections"] && !root["connections"].IsNull()) {
-      if (!root["connections"].IsSequence()) Fail(root["connections"], "connections must be a list");
-      for (const auto& c : root["connections"]) m.connections.push_back(Connection(c));
-    }
+    Parts(root, &m.components, &m.connections);
     if (root["variables"] && !root["variables"].IsNull()) {
       ExpectMap(root["variables"], "variables");
       for (auto it = root["variables"].begin(); it != root["variables"].end(); ++it) {
@@ -695,9 +707,30 @@ YAML::Node ParseYaml(const std::string& text, const std::string& file, const std
   return root;
 }
 
-}  // namespace
+/// The text of a model or library file, refused when it is a directory or larger than a model
+/// can sensibly be.
+std::string ReadModelText(const std::string& path, const char* what) {
+  // A directory opens as a stream on Linux and reads as nothing; a device may never end.
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) {
+    throw ModelError(path + ": is a directory, not a " + what);
+  }
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw ModelError(path + ": cannot open the " + what);
+  std::string text;
+  char chunk[1 << 16];
+  while (in.read(chunk, sizeof chunk) || in.gcount() > 0) {
+    text.append(chunk, static_cast<size_t>(in.gcount()));
+    if (text.size() > kMaxModelFileBytes) {
+      throw ModelError(path + ": the " + what + " is larger than " +
+                       std::to_string(kMaxModelFileBytes >> 20) + " MiB; a model is a short text");
+    }
+  }
+  if (in.bad()) throw ModelError(path + ": cannot read the " + what);
+  return text;
+}
 
-ModelSpec LoadModelString(const std::string& yaml, const std::string& file_name) {
+ModelSpec ParseModel(const std::string& yaml, const std::string& file_name) {
   Reader reader(file_name);
   YAML::Node root = ParseYaml(yaml, file_name, "model file");
   try {
@@ -713,25 +746,74 @@ ModelSpec LoadModelString(const std::string& yaml, const std::string& file_name)
   }
 }
 
-ModelSpec LoadModelFile(const std::string& path) {
-  // A directory opens as a stream on Linux and reads as nothing; a device may never end.
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) {
-    throw ModelError(path + ": is a directory, not a model file");
-  }
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw ModelError(path + ": cannot open the model file");
-  std::string text;
-  char chunk[1 << 16];
-  while (in.read(chunk, sizeof chunk) || in.gcount() > 0) {
-    text.append(chunk, static_cast<size_t>(in.gcount()));
-    if (text.size() > kMaxModelFileBytes) {
-      throw ModelError(path + ": the model file is larger than " +
-                       std::to_string(kMaxModelFileBytes >> 20) + " MiB; a model is a short text");
+/// Appends to spec->defines the types of every file spec->uses names (paths relative to the
+/// directory of spec->file), and of the files those use, each file once: a model file becomes a
+/// type of its model's name (with its own define: types), a library file gives its component types.
+void LoadUses(ModelSpec* spec, std::set<std::string>* loaded) {
+  namespace fs = std::filesystem;
+  for (const UsesSpec& u : spec->uses) {
+    fs::path path = fs::path(u.path).is_absolute() ? fs::path(u.path) : fs::path(spec->file).parent_path() / u.path;
+    std::error_code ec;
+    if (!fs::exists(path, ec)) {
+      throw ModelError(u.loc, "uses: no file '" + u.path + "' (looked for " + path.lexically_normal().string() + ")");
+    }
+    std::string key = fs::weakly_canonical(path, ec).string();
+    if (!loaded->insert(key).second) continue;
+    std::string file = path.lexically_normal().string();
+    std::string text;
+    try {
+      text = ReadModelText(file, "file in uses:");
+    } catch (const ModelError& e) {
+      throw ModelError(u.loc, std::string("uses: ") + e.what());
+    }
+    YAML::Node root = ParseYaml(text, file, "file in uses:");
+    if (root.IsMap() && root["model"]) {
+      ModelSpec used = ParseModel(text, file);
+      LoadUses(&used, loaded);
+      for (auto& d : used.defines) spec->defines.push_back(std::move(d));
+      spec->defines.push_back(ModelAsType(used));
+    } else {
+      Library scratch;
+      Reader(file).LibraryEntries(root, &scratch, &spec->defines, true);
     }
   }
-  if (in.bad()) throw ModelError(path + ": cannot read the model file");
-  return LoadModelString(text, path);
+}
+
+}  // namespace
+
+ComponentType ModelAsType(const ModelSpec& m) {
+  ComponentType t;
+  t.name = m.name;
+  t.doc = m.doc;
+  t.parameters = m.parameters;
+  t.variables = m.variables;
+  t.equations = m.equations;
+  t.initial_equations = m.initial_equations;
+  t.whens = m.whens;
+  t.components = m.components;
+  t.connections = m.connections;
+  t.loc = m.loc;
+  t.user_defined = true;
+  return t;
+}
+
+ModelSpec LoadModelString(const std::string& yaml, const std::string& file_name) {
+  ModelSpec spec = ParseModel(yaml, file_name);
+  if (!spec.uses.empty()) {
+    std::set<std::string> loaded;
+    std::error_code ec;
+    loaded.insert(std::filesystem::weakly_canonical(file_name, ec).string());
+    // The used types first, so that a clash is reported at the model's own definition.
+    std::vector<ComponentType> own = std::move(spec.defines);
+    spec.defines.clear();
+    LoadUses(&spec, &loaded);
+    for (auto& d : own) spec.defines.push_back(std::move(d));
+  }
+  return spec;
+}
+
+ModelSpec LoadModelFile(const std::string& path) {
+  return LoadModelString(ReadModelText(path, "model file"), path);
 }
 
 void LoadLibraryString(const std::string& yaml, const std::string& file_name, Library* library) {

@@ -154,6 +154,22 @@ connections:
   EXPECT_EQ(first.report.states, (States{"m1.s", "m1.v"}));
   Built second = testing::BuildYaml(rod("", ", s: {stateSelect: prefer}, v: {stateSelect: prefer}"));
   EXPECT_EQ(second.report.states, (States{"m2.s", "m2.v"}));
+  // The same as a part's modifier inside a composite type.
+  Built inside = testing::BuildYaml(R"yaml(
+model: Composite
+define:
+  Dumbbell:
+    components:
+      m1: {type: Mass, m: 1}
+      rod: {type: Rod, L: 1}
+      m2: {type: Mass, m: 2, s: {stateSelect: prefer}, v: {stateSelect: prefer}}
+    connections:
+      - [m1.flange_b, rod.flange_a]
+      - [rod.flange_b, m2.flange_a]
+components:
+  bell: {type: Dumbbell}
+)yaml");
+  EXPECT_EQ(inside.report.states, (States{"bell.m2.s", "bell.m2.v"}));
   EXPECT_EQ(testing::BuildError(rod(", s: {stateSelect: sometimes}", "")),
             "test.yaml:4:43: unknown stateSelect 'sometimes' for m1.s (valid choices: never, avoid, default, prefer, "
             "always)");
