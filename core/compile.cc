@@ -169,11 +169,17 @@ std::shared_ptr<CompiledModel> CompileModel(EquationSystem sys, const Structure&
     m->initial_exprs.erase(m->initial_exprs.begin() + g);
     m->initial_origin.erase(m->initial_origin.begin() + g);
   }
-  for (size_t k = 0; k < m->redundant_exprs.size(); ++k) {
+  constexpr size_t kNotesShown = 10;
+  for (size_t k = 0; k < m->redundant_exprs.size() && k < kNotesShown; ++k) {
     std::string from = m->redundant_from[k];
     for (size_t pos = 0; (pos = from.find('\n', pos)) != std::string::npos; pos += 5) from.replace(pos, 1, "\n    ");
     report->notes.push_back("initial conditions: the " + m->redundant_origin[k] + " is redundant: it follows from\n    " +
                             from + "\n  It is left out of the initial system; initialisation checks that it holds.");
+  }
+  if (m->redundant_exprs.size() > kNotesShown) {
+    report->notes.push_back("initial conditions: " + std::to_string(m->redundant_exprs.size() - kNotesShown) +
+                            " more redundant ones are left out and checked the same way (`check -v` lists the "
+                            "initial equations kept)");
   }
   const std::vector<uint32_t>& defaulted = plan.defaulted;
   for (uint32_t y : defaulted) {

@@ -39,13 +39,14 @@ class InitGraph {
 
   uint32_t n() const { return n_; }
   uint32_t num_rows() const { return static_cast<uint32_t>(rows_.size()); }
+  uint32_t num_cols() const { return num_cols_; }
+  const std::vector<uint32_t>& row(uint32_t r) const { return rows_[r]; }
 
-  /// The graph of `rows` (indices into [F; G]) followed by one-column rows `extra`.
-  BipartiteGraph Graph(const std::vector<uint32_t>& rows, const std::vector<uint32_t>& extra = {}) const {
+  /// The graph of `rows` (indices into [F; G]).
+  BipartiteGraph Graph(const std::vector<uint32_t>& rows) const {
     BipartiteGraph g;
     g.num_cols = num_cols_;
     for (uint32_t r : rows) g.AddRow(rows_[r]);
-    for (uint32_t c : extra) g.AddRow({c});
     return g;
   }
 
@@ -59,63 +60,19 @@ std::string RowOrigin(const CompiledModel& m, uint32_t row) {
   return row < n ? m.residual_origin[row] : m.initial_origin[row - n];
 }
 
-/// Splits the over-determined initial conditions into kept and redundant ones.
-void FindRedundant(const InitGraph& ig, const CompiledModel& m, std::vector<uint32_t>* kept, InitialConditionPlan* plan) {
-  const uint32_t n = ig.n();
-  std::vector<uint32_t> all(ig.num_rows());
-  for (uint32_t r = 0; r < ig.num_rows(); ++r) all[r] = r;
-  BipartiteGraph g = ig.Graph(all);
-  Matching match = MaximumMatching(g);
-  *kept = all;
-  if (match.size == g.num_rows()) return;
-  std::vector<uint32_t> over_rows, over_cols;
-  OverDeterminedPart(g, match, &over_rows, &over_cols);
-  // Conditions outside the over-determined part are matched regardless; those inside are taken
-  // in declaration order while each still adds to the matching.
-  std::vector<bool> in_over(ig.num_rows(), false);
-  for (uint32_t r : over_rows) in_over[r] = r >= n;
-  std::vector<uint32_t> trial_rows;
-  for (uint32_t r = 0; r < ig.num_rows(); ++r) {
-    if (!in_over[r]) trial_rows.push_back(r);
-  }
-  std::vector<uint32_t> redundant;
-  for (uint32_t r = n; r < ig.num_rows(); ++r) {
-    if (!in_over[r]) continue;
-    trial_rows.push_back(r);
-    BipartiteGraph trial = ig.Graph(trial_rows);
-    if (MaximumMatching(trial).size < trial.num_rows()) {
-      trial_rows.pop_back();
-      redundant.push_back(r);
+/// "a\nb\n…": what a redundant condition follows from, the other conditions first.
+std::string Sources(const CompiledModel& m, std::vector<uint32_t> rows) {
+  const size_t n = m.unknowns.size();
+  std::stable_sort(rows.begin(), rows.end(), [&](uint32_t a, uint32_t b) { return (a >= n) > (b >= n); });
+  std::ostringstream from;
+  for (size_t k = 0; k < rows.size(); ++k) {
+    if (k == 12) {
+      from << "\n… and " << rows.size() - 12 << " more";
+      break;
     }
+    from << (k ? "\n" : "") << RowOrigin(m, rows[k]);
   }
-  std::sort(trial_rows.begin(), trial_rows.end());
-  *kept = trial_rows;
-  // What each redundant condition follows from: the over-determined part it makes with the rest.
-  for (uint32_t r : redundant) {
-    std::vector<uint32_t> with = trial_rows;
-    with.push_back(r);
-    BipartiteGraph tg = ig.Graph(with);
-    Matching tm = MaximumMatching(tg);
-    std::vector<uint32_t> part_rows, part_cols;
-    OverDeterminedPart(tg, tm, &part_rows, &part_cols);
-    std::vector<uint32_t> sources;
-    for (uint32_t local : part_rows) {
-      if (with[local] != r) sources.push_back(with[local]);
-    }
-    // The other conditions first, then the model's equations.
-    std::stable_sort(sources.begin(), sources.end(), [&](uint32_t a, uint32_t b) { return (a >= n) > (b >= n); });
-    std::ostringstream from;
-    size_t shown = 0;
-    for (uint32_t s : sources) {
-      if (shown++ == 12) {
-        from << "\n… and " << sources.size() - 12 << " more";
-        break;
-      }
-      from << (shown > 1 ? "\n" : "") << RowOrigin(m, s);
-    }
-    plan->redundant.push_back(r - n);
-    plan->redundant_from.push_back(from.str());
-  }
+  return from.str();
 }
 
 }  // namespace
@@ -126,59 +83,84 @@ InitialConditionPlan PlanInitialConditions(const EquationSystem& sys, const Comp
   InitialConditionPlan plan;
   InitGraph ig(sys, m, y_of_var, state_of_y);
   const uint32_t n = ig.n();
-  std::vector<uint32_t> kept;
-  FindRedundant(ig, m, &kept, &plan);
 
-  // Columns left free: fix the start values of the states their alternating paths reach.
-  BipartiteGraph g = ig.Graph(kept);
+  // Too many: the conditions in the over-determined part are taken in declaration order while
+  // each can still be matched; the others are redundant.
+  std::vector<uint32_t> base(ig.num_rows()), over;
+  for (uint32_t r = 0; r < ig.num_rows(); ++r) base[r] = r;
+  BipartiteGraph g = ig.Graph(base);
   Matching match = MaximumMatching(g);
+  if (match.size < g.num_rows()) {
+    std::vector<uint32_t> over_rows, over_cols;
+    OverDeterminedPart(g, match, &over_rows, &over_cols);
+    std::vector<bool> in_over(ig.num_rows(), false);
+    for (uint32_t r : over_rows) in_over[r] = r >= n;
+    base.clear();
+    for (uint32_t r = 0; r < ig.num_rows(); ++r) (in_over[r] ? over : base).push_back(r);
+    g = ig.Graph(base);
+    match = MaximumMatching(g);
+  }
   MOMENTA_CHECK(match.size == g.num_rows());
-  std::vector<uint32_t> under_rows, under_cols;
-  UnderDeterminedPart(g, match, &under_rows, &under_cols);
-  std::vector<uint32_t> defaulted;
-  for (uint32_t c : under_cols) {
-    if (c < n && m.is_state[c]) defaulted.push_back(c);
+  IncrementalMatching im(g, match);
+  std::vector<uint32_t> ids = base;  // im's rows -> rows of [F; G]
+  std::vector<uint32_t> redundant;
+  for (uint32_t r : over) {
+    if (im.TryAdd(ig.row(r))) {
+      ids.push_back(r);
+    } else {
+      redundant.push_back(r);
+    }
   }
-  // Variables whose derivatives index reduction made dummy (the positions and velocities of a
-  // constrained mechanism) are what the user would have fixed: when there are such, or when the
-  // free states are more than the degrees of freedom, take the start values one at a time,
-  // those first, while each still adds one.
-  std::vector<bool> has_dummy_derivative(n, false);
-  bool any_dummy = false;
-  for (const FlatVariable& fv : sys.flat->variables) {
-    if (fv.derivative_order != 1 || !fv.derivative_of.valid()) continue;
-    int32_t y = y_of_var[fv.derivative_of.value()];
-    if (y >= 0) has_dummy_derivative[y] = any_dummy = true;
+  for (uint32_t r : redundant) {
+    std::vector<uint32_t> from;
+    for (uint32_t k : im.Reach(ig.row(r))) from.push_back(ids[k]);
+    std::sort(from.begin(), from.end());
+    plan.redundant.push_back(r - n);
+    plan.redundant_from.push_back(Sources(m, from));
   }
-  Matching m2 = MaximumMatching(ig.Graph(kept, defaulted));
-  if (!defaulted.empty() && (any_dummy || m2.size < kept.size() + defaulted.size())) {
+
+  // Too few: the start values of states in the under-determined part, one at a time while each
+  // still adds one. Variables whose derivatives index reduction made dummy (the positions and
+  // velocities of a constrained mechanism) are what the user would have fixed: they go first.
+  if (ids.size() < ig.num_cols()) {
+    std::vector<uint32_t> kept = ids;
+    std::sort(kept.begin(), kept.end());
+    BipartiteGraph gk = ig.Graph(kept);
+    Matching mk = MaximumMatching(gk);
+    std::vector<uint32_t> under_rows, under_cols;
+    UnderDeterminedPart(gk, mk, &under_rows, &under_cols);
+    std::sort(under_cols.begin(), under_cols.end());
+    std::vector<bool> has_dummy_derivative(n, false);
+    for (const FlatVariable& fv : sys.flat->variables) {
+      if (fv.derivative_order != 1 || !fv.derivative_of.valid()) continue;
+      int32_t y = y_of_var[fv.derivative_of.value()];
+      if (y >= 0) has_dummy_derivative[y] = true;
+    }
     std::vector<uint32_t> order;
     for (uint32_t c : under_cols) {
       if (c < n && has_dummy_derivative[c]) order.push_back(c);
     }
-    order.insert(order.end(), defaulted.begin(), defaulted.end());
-    std::vector<uint32_t> taken;
-    for (uint32_t c : order) {
-      if (std::find(taken.begin(), taken.end(), c) != taken.end()) continue;
-      taken.push_back(c);
-      if (MaximumMatching(ig.Graph(kept, taken)).size < kept.size() + taken.size()) taken.pop_back();
+    for (uint32_t c : under_cols) {
+      if (c < n && m.is_state[c] && !has_dummy_derivative[c]) order.push_back(c);
     }
-    defaulted.swap(taken);
-    m2 = MaximumMatching(ig.Graph(kept, defaulted));
+    for (uint32_t c : order) {
+      if (im.TryAdd({c})) plan.defaulted.push_back(c);
+    }
   }
-  if (m2.size < g.num_cols) {
+  std::vector<uint32_t> free_cols;
+  for (uint32_t c = 0; c < ig.num_cols(); ++c) {
+    if (!im.ColumnMatched(c)) free_cols.push_back(c);
+  }
+  if (!free_cols.empty()) {
     std::ostringstream msg;
     msg << sys.flat->file << ": the initial conditions of " << sys.flat->model_name << " leave unknowns undetermined:";
-    size_t shown = 0;
-    for (uint32_t c = 0; c < g.num_cols; ++c) {
-      if (m2.col_to_row[c] >= 0) continue;
-      if (shown++ == 12) break;
+    for (size_t k = 0; k < free_cols.size() && k < 12; ++k) {
+      const uint32_t c = free_cols[k];
       uint32_t y = c < n ? c : m.state_y[c - n];
       msg << "\n    " << (c < n ? "" : "der of ") << sys.flat->DescribeVariable(m.unknowns[y]);
     }
     throw ModelError(msg.str());
   }
-  plan.defaulted = defaulted;
   return plan;
 }
 
