@@ -387,7 +387,7 @@ void AddStateSet(EquationSystem* sys, const DynamicSet& set, size_t number) {
   ExprPool& p = *sys->pool;
   const std::string prefix = "stateSet" + std::to_string(number);
   const Candidate& start = set.cands[set.selectable[set.start_choice]];
-  const FlatVariable& first = sys->flat->variables[set.cands[set.selectable[0]].var];
+  const FlatVariable first = sys->flat->variables[set.cands[set.selectable[0]].var];  // a copy: AddVariable grows the vector
   const InstanceId instance = first.instance;
   const SourceLoc loc = first.loc;
   const size_t n = set.selectable.size();
