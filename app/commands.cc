@@ -170,6 +170,8 @@ int RunSimulate(const SimulateArgs& args) {
               << rows << " rows)\n";
     return code;
   }
+  // Notes on what initialisation accepted (redundant initial conditions that hold).
+  for (const auto& note : report.notes) std::cerr << args.model << ": note: " << note << "\n";
   if (stats.interrupted) {
     std::cerr << args.model << ": interrupted at t = " << FormatDouble(stats.interrupted_at) << "; " << rows
               << " rows kept in " << out_path << " (up to t = " << FormatDouble(last_t) << ")\n";
@@ -276,6 +278,7 @@ int RunCheck(const CheckArgs& args) {
     }
   }
   for (const auto& w : report.warnings) o << "warning: " << w << "\n";
+  for (const auto& note : report.notes) o << "note: " << note << "\n";
   return kExitOk;
 }
 

@@ -67,7 +67,7 @@ EquationSystem EliminateAliases(EquationSystem sys, AliasStats* stats) {
   std::vector<bool> diff = DifferentiatedVariables(sys);
   AliasForest forest(&p, n);
 
-  // Which root survives: impact forces, states, `state: prefer`, a fixed start, then order.
+  // Which root survives: impact forces, states, `stateSelect: prefer`, a fixed start, then order.
   // Impact forces stay (their equation gives way to Newton's law at an impact).
   std::vector<bool> keep(n, false);
   for (const auto& im : sys.impacts) keep[im.force.value()] = true;

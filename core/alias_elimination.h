@@ -13,7 +13,7 @@ struct AliasStats {
 };
 
 /// Removes every alias equation. The variable that stays of an alias set is, in order of
-/// preference: one whose derivative appears, one with `state: prefer`, the first declared.
+/// preference: one whose derivative appears, one with `stateSelect: prefer`, the first declared.
 EquationSystem EliminateAliases(EquationSystem sys, AliasStats* stats);
 
 }  // namespace momenta

@@ -12,6 +12,7 @@
 #include "core/index_reduction.h"
 #include "core/pantelides.h"
 #include "core/pruning.h"
+#include "core/state_select.h"
 #include "core/structural_analysis.h"
 #include "core/structural_conditions.h"
 
@@ -107,6 +108,7 @@ std::shared_ptr<const CompiledModel> BuildModel(const ModelSpec& spec, const Lib
       }
       report->dummy_derivatives = sel.dummy_derivatives;
       report->state_choices = sel.choices;
+      report->warnings.insert(report->warnings.end(), sel.warnings.begin(), sel.warnings.end());
     }
   }
   // From here on the flat system is the one index reduction may have extended.
@@ -117,6 +119,7 @@ std::shared_ptr<const CompiledModel> BuildModel(const ModelSpec& spec, const Lib
   for (const auto& o : model->outputs) output_names.push_back(o.text);
 
   Structure st = AnalyseStructure(sys);
+  CheckStateSelect(sys, st, &report->warnings);
   {
     std::ostringstream note;
     note << st.num_states << " states, structurally regular, index <= 1";

@@ -23,6 +23,7 @@ struct PassReport {
 struct BuildReport {
   std::vector<PassReport> passes;
   std::vector<std::string> warnings;
+  std::vector<std::string> notes;       ///< what was accepted but deserves a word (redundant initial conditions)
   std::vector<std::string> pruned;      ///< names of pruned variables
   std::vector<std::string> states;      ///< names of the states
   size_t num_components = 0, num_parameters = 0;

@@ -6,6 +6,7 @@
 #include <unordered_set>
 
 #include "core/graph.h"
+#include "core/initial_conditions.h"
 
 namespace momenta {
 
@@ -17,108 +18,6 @@ struct Slots {
   std::vector<int32_t> disc_of_var;  ///< flat variable -> discrete index
   std::vector<int32_t> state_of_y;   ///< y index -> state slot
 };
-
-/// Checks that the initial conditions determine the model; returns the y indices of states whose
-/// start values must be taken as fixed. Throws ModelError when they over-determine it.
-std::vector<uint32_t> CompleteInitialConditions(const EquationSystem& sys, const CompiledModel& m,
-                                                const Slots& slots) {
-  const ExprPool& p = *sys.pool;
-  const uint32_t n = static_cast<uint32_t>(m.unknowns.size());
-  BipartiteGraph g;
-  g.num_cols = n + static_cast<uint32_t>(m.state_y.size());
-  auto row_of = [&](ExprId e) {
-    std::vector<uint32_t> row;
-    for (ExprId leaf : CollectLeaves(p, e, kHasVar | kHasDer)) {
-      const Node& nd = p.node(leaf);
-      int32_t y = slots.y_of_var[nd.a];
-      if (y < 0) continue;
-      if (nd.op == Op::kDer) {
-        int32_t s = slots.state_of_y[y];
-        if (s >= 0) row.push_back(n + static_cast<uint32_t>(s));
-      } else {
-        row.push_back(static_cast<uint32_t>(y));
-      }
-    }
-    std::sort(row.begin(), row.end());
-    row.erase(std::unique(row.begin(), row.end()), row.end());
-    return row;
-  };
-  for (ExprId r : m.residual_exprs) g.AddRow(row_of(r));
-  for (ExprId r : m.initial_exprs) g.AddRow(row_of(r));
-  Matching match = MaximumMatching(g);
-  if (match.size < g.num_rows()) {
-    std::vector<uint32_t> rows, over_cols;
-    OverDeterminedPart(g, match, &rows, &over_cols);
-    std::ostringstream msg;
-    msg << sys.flat->file << ": the initial conditions of " << sys.flat->model_name
-        << " over-determine it: these equations fix more than the " << over_cols.size()
-        << " unknowns they involve:";
-    size_t shown = 0;
-    for (uint32_t r : rows) {
-      if (shown++ == 12) break;
-      msg << "\n    " << (r < n ? m.residual_origin[r] : m.initial_origin[r - n]);
-    }
-    msg << "\n  Remove one of the fixed start values (or set fixed: false).";
-    throw ModelError(msg.str());
-  }
-  // Columns left free: fix the start values of the states their alternating paths reach.
-  std::vector<uint32_t> under_rows, under_cols;
-  UnderDeterminedPart(g, match, &under_rows, &under_cols);
-  std::vector<uint32_t> defaulted;
-  for (uint32_t c : under_cols) {
-    if (c < n && m.is_state[c]) defaulted.push_back(c);
-  }
-  BipartiteGraph g2 = g;
-  for (uint32_t c : defaulted) g2.AddRow({c});
-  Matching m2 = MaximumMatching(g2);
-  if (m2.size < g2.num_rows()) {
-    // Fewer degrees of freedom than free states (states tied by constraints, or state sets of
-    // dynamic state selection): take the start values one at a time, while each still adds one.
-    // Variables whose derivatives index reduction made dummy (the positions and velocities of a
-    // constrained mechanism) are tried first: they are what the user would have fixed.
-    std::vector<bool> has_dummy_derivative(n, false);
-    for (const FlatVariable& fv : sys.flat->variables) {
-      if (fv.derivative_order != 1 || !fv.derivative_of.valid()) continue;
-      int32_t y = slots.y_of_var[fv.derivative_of.value()];
-      if (y >= 0) has_dummy_derivative[y] = true;
-    }
-    std::vector<uint32_t> order;
-    for (uint32_t c = 0; c < n; ++c) {
-      if (has_dummy_derivative[c]) order.push_back(c);
-    }
-    order.insert(order.end(), defaulted.begin(), defaulted.end());
-    std::vector<uint32_t> taken;
-    g2 = g;
-    size_t matched = match.size;
-    for (uint32_t c : order) {
-      BipartiteGraph trial = g2;
-      trial.AddRow({c});
-      Matching mt = MaximumMatching(trial);
-      if (mt.size == trial.num_rows()) {
-        g2 = std::move(trial);
-        taken.push_back(c);
-        matched = mt.size;
-      }
-    }
-    defaulted.swap(taken);
-    m2 = MaximumMatching(g2);
-    MOMENTA_CHECK(m2.size == matched);
-  }
-  if (m2.size < g2.num_cols) {
-    std::ostringstream msg;
-    msg << sys.flat->file << ": the initial conditions of " << sys.flat->model_name
-        << " leave unknowns undetermined:";
-    size_t shown = 0;
-    for (uint32_t c = 0; c < g2.num_cols; ++c) {
-      if (m2.col_to_row[c] >= 0) continue;
-      if (shown++ == 12) break;
-      uint32_t y = c < n ? c : m.state_y[c - n];
-      msg << "\n    " << (c < n ? "" : "der of ") << sys.flat->DescribeVariable(m.unknowns[y]);
-    }
-    throw ModelError(msg.str());
-  }
-  return defaulted;
-}
 
 struct Entry {
   int32_t row, col;
@@ -259,8 +158,30 @@ std::shared_ptr<CompiledModel> CompileModel(EquationSystem sys, const Structure&
   m->guards = sys.guards;
   for (const auto& g : sys.guards) m->guard_text.push_back(ToString(p, g.divisor, names));
 
-  // States without an initial condition take their start value (as Modelica tools do).
-  std::vector<uint32_t> defaulted = CompleteInitialConditions(sys, *m, slots);
+  // Redundant initial conditions are left out (and checked at the solution); states without an
+  // initial condition take their start value (as Modelica tools do).
+  InitialConditionPlan plan = PlanInitialConditions(sys, *m, slots.y_of_var, slots.state_of_y);
+  for (size_t k = plan.redundant.size(); k-- > 0;) {
+    const uint32_t g = plan.redundant[k];
+    m->redundant_exprs.insert(m->redundant_exprs.begin(), m->initial_exprs[g]);
+    m->redundant_origin.insert(m->redundant_origin.begin(), m->initial_origin[g]);
+    m->redundant_from.insert(m->redundant_from.begin(), plan.redundant_from[k]);
+    m->initial_exprs.erase(m->initial_exprs.begin() + g);
+    m->initial_origin.erase(m->initial_origin.begin() + g);
+  }
+  constexpr size_t kNotesShown = 10;
+  for (size_t k = 0; k < m->redundant_exprs.size() && k < kNotesShown; ++k) {
+    std::string from = m->redundant_from[k];
+    for (size_t pos = 0; (pos = from.find('\n', pos)) != std::string::npos; pos += 5) from.replace(pos, 1, "\n    ");
+    report->notes.push_back("initial conditions: the " + m->redundant_origin[k] + " is redundant: it follows from\n    " +
+                            from + "\n  It is left out of the initial system; initialisation checks that it holds.");
+  }
+  if (m->redundant_exprs.size() > kNotesShown) {
+    report->notes.push_back("initial conditions: " + std::to_string(m->redundant_exprs.size() - kNotesShown) +
+                            " more redundant ones are left out and checked the same way (`check -v` lists the "
+                            "initial equations kept)");
+  }
+  const std::vector<uint32_t>& defaulted = plan.defaulted;
   for (uint32_t y : defaulted) {
     VarId v = m->unknowns[y];
     m->initial_exprs.push_back(p.Sub(p.Var(v), sys.guess[v.value()]));
@@ -269,10 +190,13 @@ std::shared_ptr<CompiledModel> CompileModel(EquationSystem sys, const Structure&
   }
   if (!m->defaulted_starts.empty()) {
     std::ostringstream w;
-    w << "initial conditions: no fixed start value determines ";
-    for (size_t k = 0; k < m->defaulted_starts.size() && k < 10; ++k) w << (k ? ", " : "") << m->defaulted_starts[k];
-    if (m->defaulted_starts.size() > 10) w << " and " << m->defaulted_starts.size() - 10 << " more";
-    w << "; their start values are used (add fixed: true to say so)";
+    const size_t dof = m->state_y.size(), missing = m->defaulted_starts.size();
+    w << "initial conditions: the model has " << dof << (dof == 1 ? " degree" : " degrees")
+      << " of freedom and its fixed start values and initial equations determine " << dof - missing
+      << "; the start " << (missing == 1 ? "value" : "values") << " of ";
+    for (size_t k = 0; k < missing && k < 10; ++k) w << (k ? ", " : "") << m->defaulted_starts[k];
+    if (missing > 10) w << " and " << missing - 10 << " more";
+    w << (missing == 1 ? " is" : " are") << " used as well (add fixed: true to say so)";
     report->warnings.push_back(w.str());
   }
 
@@ -282,6 +206,7 @@ std::shared_ptr<CompiledModel> CompileModel(EquationSystem sys, const Structure&
     for (ExprId& e : m->residual_exprs) fn(e);
     for (ExprId& e : m->output_exprs) fn(e);
     for (ExprId& e : m->initial_exprs) fn(e);
+    for (ExprId& e : m->redundant_exprs) fn(e);
     for (auto& d : sys.discrete) fn(d.value);
     for (auto& w : sys.whens) {
       fn(w.condition);
@@ -361,6 +286,7 @@ std::shared_ptr<CompiledModel> CompileModel(EquationSystem sys, const Structure&
     std::vector<ExprId> roots = m->residual_exprs;
     roots.insert(roots.end(), m->initial_exprs.begin(), m->initial_exprs.end());
     m->init_residual = compiler.Compile(roots);
+    m->redundant_residual = compiler.Compile(m->redundant_exprs);
     for (size_t gi = 0; gi < m->initial_exprs.size(); ++gi) {
       ExprId r = m->initial_exprs[gi];
       int32_t row = static_cast<int32_t>(n + gi);
@@ -473,7 +399,7 @@ std::shared_ptr<CompiledModel> CompileModel(EquationSystem sys, const Structure&
     m->impact_gradients = compiler.Compile(gradients);
   }
 
-  compiler.Finish({&m->residual, &m->jacobian, &m->outputs, &m->start_values, &m->init_residual,
+  compiler.Finish({&m->residual, &m->jacobian, &m->outputs, &m->start_values, &m->init_residual, &m->redundant_residual,
                    &m->init_jacobian, &m->guard_values, &m->discrete_starts, &m->discrete_update,
                    &m->zero_crossings, &m->zero_crossing_rates, &m->when_conditions,
                    &m->when_values, &m->impact_values, &m->impact_gradients,
@@ -486,6 +412,7 @@ std::shared_ptr<CompiledModel> CompileModel(EquationSystem sys, const Structure&
        << m->jacobian_pattern.nnz() << " nonzeros), " << m->parameters.size()
        << " parameter instructions; " << m->initial_exprs.size() << " initial equations";
   if (!defaulted.empty()) note << " (" << defaulted.size() << " start values taken)";
+  if (!m->redundant_exprs.empty()) note << " (" << m->redundant_exprs.size() << " redundant left out)";
   if (nc || nd) note << "; " << nc << " event conditions, " << nd << " discrete variables";
   report->compile_note = note.str();
   return m;

@@ -44,6 +44,10 @@ struct CompiledModel {
   std::vector<ExprId> initial_exprs;          ///< G
   std::vector<std::string> initial_origin;
   std::vector<std::string> defaulted_starts;  ///< states whose start value was taken as fixed
+  /// Initial conditions left out as redundant (initial_conditions.h), checked at the solution:
+  /// each one's residual, description and what it follows from (one item a line).
+  std::vector<ExprId> redundant_exprs;
+  std::vector<std::string> redundant_origin, redundant_from;
 
   // Parameter-dependent checks: divisors that must not be zero.
   std::vector<DivisorGuard> guards;
@@ -100,6 +104,7 @@ struct CompiledModel {
   Program start_values;  ///< out: guesses for y (n)
   Program init_residual; ///< out: [F; G]
   Program init_jacobian; ///< out: d[F; G]/dz in `init_pattern` order
+  Program redundant_residual;  ///< out: the redundant initial conditions' residuals at z
   SparsePattern init_pattern;
   Program guard_values;  ///< out: the divisors
 

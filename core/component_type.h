@@ -41,7 +41,8 @@ struct VariableDecl {
   bool fixed = false;
   double nominal = 1.0;
   std::optional<double> min, max;
-  int state_priority = 0;  ///< +1 prefer, -1 avoid
+  /// `stateSelect:` never -2, avoid -1, default 0, prefer 1, always 2 (MSL's StateSelect).
+  int state_priority = 0;
   ValueType type = ValueType::kReal;
   Shape shape;  ///< declared `shape:`; empty for a scalar
   SourceLoc loc;
@@ -102,13 +103,14 @@ struct ConnectorDecl {
   SourceLoc loc;
 };
 
-/// `key: value` in a component entry: a parameter value, or start/fixed of a variable.
+/// `key: value` in a component entry: a parameter value, or start/fixed/stateSelect of a variable.
 struct Modifier {
   std::string key;
   AstPtr value;      ///< parameter value; null for a variable modifier
   std::string value_text;
   AstPtr start;      ///< variable modifier: start value (may be null)
   std::optional<bool> fixed;
+  std::optional<int> state_priority;  ///< stateSelect, as VariableDecl::state_priority
   SourceLoc loc;      ///< the value
   SourceLoc key_loc;  ///< the key
 };

@@ -18,8 +18,14 @@ namespace {
 /// Components with more equations than this are chosen structurally (by a matching that
 /// follows the preferences) instead of by dense elimination.
 constexpr size_t kDenseLimit = 200;
-/// A pivot must be at least this fraction of its row's largest entry.
+/// A pivot must be at least this fraction of its row's largest entry (`stateSelect: never`
+/// candidates: kNeverPivotFraction, so they become dummy whenever the block allows it).
 constexpr double kPivotFraction = 0.1;
+constexpr double kNeverPivotFraction = 1e-8;
+
+/// stateSelect priorities (FlatVariable::state_priority).
+constexpr int kNever = -2;
+constexpr int kAlways = 2;
 
 /// A state set switches when its current choice's pivot falls below this fraction of the best.
 constexpr double kSwitchFraction = 0.5;
@@ -36,8 +42,11 @@ struct Candidate {
 /// candidate currently selected, carries the block's degree of freedom.
 struct DynamicSet {
   std::vector<uint32_t> rows;    ///< indices into sys.equations
-  std::vector<Candidate> cands;  ///< derivatives der^k(v); the set state is one der^(k-1)(v)
-  uint32_t start_choice = 0;     ///< the candidate that stays a state at the start values
+  std::vector<Candidate> cands;  ///< derivatives der^k(v), all made dummy
+  /// The candidates (indices into cands) whose der^(k-1)(v) the set state may be: those of the
+  /// highest stateSelect priority in the block.
+  std::vector<uint32_t> selectable;
+  uint32_t start_choice = 0;     ///< index into selectable: the state at the start values
 };
 uint64_t Key(uint32_t v, uint32_t k) { return (static_cast<uint64_t>(v) << 32) | k; }
 
@@ -107,17 +116,37 @@ class LevelChoice {
       if (comp_rows.size() <= kDenseLimit) chosen = ChooseByPivoting(comp_rows, comp_cols, row_cols, cands);
       if (chosen.size() < comp_rows.size()) chosen = ChooseByStructure(comp_rows, comp_cols, row_cols, cands);
       if (chosen.size() < comp_rows.size()) Fail(rows, comp_rows, comp_cols, cands);
+      CheckAlways(rows, comp_rows, comp_cols, chosen, cands);
       if (IsDynamic(comp_rows, comp_cols, row_cols)) {
-        // Every candidate becomes a dummy; the set's state follows the best pivot during the run.
+        // Every candidate becomes a dummy; the set's state follows the best pivot during the run,
+        // among the candidates of the highest stateSelect priority. One such candidate alone is
+        // the state throughout (the static choice made above).
         DynamicSet set;
-        for (uint32_t r : comp_rows) set.rows.push_back(rows[r]);
+        int top = kNever;
+        for (uint32_t c : comp_cols) top = std::max(top, Priority(cands[c]));
+        int32_t kept = -1;
         for (uint32_t c : comp_cols) {
-          if (std::find(chosen.begin(), chosen.end(), c) == chosen.end()) set.start_choice = static_cast<uint32_t>(set.cands.size());
+          const bool is_kept = std::find(chosen.begin(), chosen.end(), c) == chosen.end();
+          if (Priority(cands[c]) == top) {
+            if (is_kept) kept = static_cast<int32_t>(set.selectable.size());
+            set.selectable.push_back(static_cast<uint32_t>(set.cands.size()));
+          }
           set.cands.push_back(cands[c]);
-          selected.push_back(cands[c]);
         }
-        choices->push_back(DescribeDynamic(set));
-        sets->push_back(std::move(set));
+        if (set.selectable.size() >= 2 && kept >= 0) {
+          set.start_choice = static_cast<uint32_t>(kept);
+          for (uint32_t r : comp_rows) set.rows.push_back(rows[r]);
+          for (const Candidate& c : set.cands) selected.push_back(c);
+          choices->push_back(DescribeDynamic(set));
+          if (top == kNever && set.cands[set.selectable[0]].order == 1) {
+            warnings_.push_back("stateSelect: never on each of " + SelectableNames(set) +
+                                ", but one of them must be a state (a state set selects it during the run)");
+          }
+          sets->push_back(std::move(set));
+          continue;
+        }
+        choices->push_back(DescribeChoice(comp_cols, chosen, cands) + " (static: stateSelect)");
+        for (uint32_t c : chosen) selected.push_back(cands[c]);
         continue;
       }
       if (comp_cols.size() > comp_rows.size()) choices->push_back(DescribeChoice(comp_cols, chosen, cands));
@@ -127,10 +156,12 @@ class LevelChoice {
   }
 
  private:
-  /// Smaller is made dummy first: `avoid` before `prefer`, higher derivatives first.
-  std::tuple<int, int> Preference(const Candidate& c) const {
-    return {sys_.flat->variables[c.var].state_priority, -static_cast<int>(c.order)};
-  }
+  /// The candidate's variable's stateSelect priority (its derivatives of every order share it).
+  int Priority(const Candidate& c) const { return sys_.flat->variables[c.var].state_priority; }
+
+  /// Smaller is made dummy first: `never` before `avoid` before `default` before `prefer`
+  /// before `always`, higher derivatives first.
+  std::tuple<int, int> Preference(const Candidate& c) const { return {Priority(c), -static_cast<int>(c.order)}; }
 
   /// Gaussian elimination with a pivot search that honours the preferences; returns the chosen
   /// columns, or fewer than the rows when the start values make the block singular.
@@ -157,16 +188,24 @@ class LevelChoice {
       std::tuple<int, int, double, double> best{0, 0, 0.0, 0.0};
       for (size_t i = 0; i < nr; ++i) {
         if (row_done[i]) continue;
-        double row_max = 0;
+        // The row's largest entry among the candidates that may be made dummy (`always` ones
+        // only when nothing else can).
+        double row_max = 0, row_max_all = 0;
         for (size_t j = 0; j < nc; ++j) {
-          if (!col_done[j]) row_max = std::max(row_max, std::fabs(a[i * nc + j]));
+          if (col_done[j]) continue;
+          const double v = std::fabs(a[i * nc + j]);
+          row_max_all = std::max(row_max_all, v);
+          if (Priority(cands[comp_cols[j]]) != kAlways) row_max = std::max(row_max, v);
         }
+        const bool forced = !(row_max > 0);
+        if (forced) row_max = row_max_all;
         if (!(row_max > 0) || !std::isfinite(row_max)) continue;
         for (size_t j = 0; j < nc; ++j) {
           const double v = std::fabs(a[i * nc + j]);
-          if (col_done[j] || v < kPivotFraction * row_max) continue;
-          auto [prio, neg_order] = Preference(cands[comp_cols[j]]);
-          std::tuple<int, int, double, double> key{prio, neg_order, -v / row_max, -v};
+          const int prio = Priority(cands[comp_cols[j]]);
+          const double fraction = prio == kNever ? kNeverPivotFraction : kPivotFraction;
+          if (col_done[j] || v < fraction * row_max || (prio == kAlways && !forced) || !(v > 0)) continue;
+          std::tuple<int, int, double, double> key{prio, -static_cast<int>(cands[comp_cols[j]].order), -v / row_max, -v};
           if (bi < 0 || key < best) {
             best = key;
             bi = static_cast<int64_t>(i);
@@ -226,15 +265,21 @@ class LevelChoice {
     return false;
   }
 
+  /// "{x, y}": the variables a state set may select.
+  std::string SelectableNames(const DynamicSet& set) const {
+    std::string s = "{";
+    for (size_t k = 0; k < set.selectable.size(); ++k) {
+      const Candidate& c = set.cands[set.selectable[k]];
+      s += (k ? ", " : "") + DerName(sys_.flat->variables[c.var].name, c.order - 1);
+    }
+    return s + "}";
+  }
+
   std::string DescribeDynamic(const DynamicSet& set) const {
     std::ostringstream s;
-    s << "dynamic: one of {";
-    for (size_t k = 0; k < set.cands.size(); ++k) {
-      const Candidate& c = set.cands[k];
-      s << (k ? ", " : "") << DerName(sys_.flat->variables[c.var].name, c.order - 1);
-    }
-    s << "} is a state, chosen during the run by the largest pivot (at the start: "
-      << DerName(sys_.flat->variables[set.cands[set.start_choice].var].name, set.cands[set.start_choice].order - 1) << ")";
+    const Candidate& start = set.cands[set.selectable[set.start_choice]];
+    s << "dynamic: one of " << SelectableNames(set) << " is a state, chosen during the run by the largest pivot (at the start: "
+      << DerName(sys_.flat->variables[start.var].name, start.order - 1) << ")";
     return s.str();
   }
 
@@ -246,6 +291,24 @@ class LevelChoice {
     s << "} " << chosen.size() << " made dummy: ";
     for (size_t k = 0; k < chosen.size(); ++k) s << (k ? ", " : "") << Name(cands[chosen[k]]);
     return s.str();
+  }
+
+  /// A variable with `stateSelect: always` whose first derivative was made dummy cannot be a
+  /// state: the block's equations determine it from the other candidates.
+  void CheckAlways(const std::vector<uint32_t>& rows, const std::vector<uint32_t>& comp_rows,
+                   const std::vector<uint32_t>& comp_cols, const std::vector<uint32_t>& chosen,
+                   const std::vector<Candidate>& cands) const {
+    for (uint32_t c : chosen) {
+      if (Priority(cands[c]) != kAlways || cands[c].order != 1) continue;
+      const FlatVariable& v = sys_.flat->variables[cands[c].var];
+      std::ostringstream msg;
+      msg << "stateSelect: always on " << v.name << " cannot be honoured: the other states determine "
+          << v.name << " through";
+      for (uint32_t r : comp_rows) msg << "\n    " << sys_.Describe(sys_.equations[rows[r]]);
+      msg << "\n  (index reduction must make " << DerName(v.name, 1) << " a dummy derivative). Use stateSelect: prefer on "
+          << v.name << ", or always on fewer variables.";
+      throw ModelError(v.loc, msg.str());
+    }
   }
 
   [[noreturn]] void Fail(const std::vector<uint32_t>& rows, const std::vector<uint32_t>& comp_rows,
@@ -260,6 +323,11 @@ class LevelChoice {
     throw ModelError(msg.str());
   }
 
+ public:
+  const std::vector<std::string>& warnings() const { return warnings_; }
+
+ private:
+  std::vector<std::string> warnings_;  ///< `stateSelect: never` that could not be honoured
   EquationSystem& sys_;
   ExprPool& p_;
   const std::vector<double>& params_;
@@ -318,14 +386,16 @@ ExprId Determinant(ExprPool* pool, const std::vector<std::vector<ExprId>>& a) {
 void AddStateSet(EquationSystem* sys, const DynamicSet& set, size_t number) {
   ExprPool& p = *sys->pool;
   const std::string prefix = "stateSet" + std::to_string(number);
-  const FlatVariable& first = sys->flat->variables[set.cands[0].var];
+  const Candidate& start = set.cands[set.selectable[set.start_choice]];
+  const FlatVariable first = sys->flat->variables[set.cands[set.selectable[0]].var];  // a copy: AddVariable grows the vector
   const InstanceId instance = first.instance;
   const SourceLoc loc = first.loc;
-  const size_t n = set.cands.size();
-  // The candidates, their lower derivatives and the pivot of each choice.
+  const size_t n = set.selectable.size();
+  // The candidates, the selectable ones' lower derivatives and the pivot of each choice.
   std::vector<ExprId> der, lower, pivot;
-  for (const Candidate& c : set.cands) {
-    der.push_back(p.Der(VarId(c.var), c.order));
+  for (const Candidate& c : set.cands) der.push_back(p.Der(VarId(c.var), c.order));
+  for (uint32_t k : set.selectable) {
+    const Candidate& c = set.cands[k];
     lower.push_back(c.order == 1 ? p.Var(VarId(c.var)) : p.Der(VarId(c.var), c.order - 1));
   }
   std::vector<std::vector<ExprId>> jac;
@@ -334,11 +404,11 @@ void AddStateSet(EquationSystem* sys, const DynamicSet& set, size_t number) {
     for (ExprId d : der) row.push_back(PartialDerivative(&p, sys->equations[r].residual, d));
     jac.push_back(row);
   }
-  for (size_t j = 0; j < n; ++j) {
+  for (uint32_t j : set.selectable) {
     std::vector<std::vector<ExprId>> rest;
     for (const auto& row : jac) {
       std::vector<ExprId> r;
-      for (size_t c = 0; c < n; ++c) {
+      for (size_t c = 0; c < row.size(); ++c) {
         if (c != j) r.push_back(row[c]);
       }
       rest.push_back(r);
@@ -359,16 +429,18 @@ void AddStateSet(EquationSystem* sys, const DynamicSet& set, size_t number) {
   state_var.nominal = first.nominal;
   state_var.instance = instance;
   state_var.loc = loc;
-  VarId state = sys->AddVariable(std::move(state_var), sys->guess[set.cands[set.start_choice].var]);
+  VarId state = sys->AddVariable(std::move(state_var), sys->guess[start.var]);
   std::string candidates;
   for (size_t k = 0; k < n; ++k) {
-    const Candidate& c = set.cands[k];
+    const Candidate& c = set.cands[set.selectable[k]];
     candidates += (k ? ", " : "") + DerName(sys->flat->variables[c.var].name, c.order - 1);
   }
   auto equation = [&](ExprId residual, const std::string& text) { AddMadeEquation(sys, residual, instance, text, loc); };
   ExprId sel_now = p.Var(sel);
   equation(p.Sub(p.Var(state), Choice(&p, sel_now, lower)), prefix + ".x = the selected one of " + candidates);
-  equation(p.Sub(p.Der(state), Choice(&p, sel_now, der)), "der(" + prefix + ".x) = der(the selected one of " + candidates + ")");
+  std::vector<ExprId> selectable_der;
+  for (uint32_t k : set.selectable) selectable_der.push_back(der[k]);
+  equation(p.Sub(p.Der(state), Choice(&p, sel_now, selectable_der)), "der(" + prefix + ".x) = der(the selected one of " + candidates + ")");
   // Switch to the best pivot when the current one is much worse.
   ExprId best = pivot[0];
   for (size_t j = 1; j < n; ++j) best = p.Binary(Op::kMax, best, pivot[j]);
@@ -432,6 +504,7 @@ StateSelection SelectDummyDerivatives(EquationSystem* sys, const DifferentiatedS
     }
     rows.swap(next);
   }
+  out.warnings = chooser.warnings();
 
   // Rewrite: dummy derivatives become algebraic variables; derivatives of order two or more that
   // stay derivatives go through new states (first-order form).

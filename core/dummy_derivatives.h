@@ -11,8 +11,11 @@
 /// the next level works on the equations h differentiated once less with z_selected's lower
 /// derivatives as candidates. The block is chosen by elimination with pivoting on dh/dz at the
 /// start values (a pivot must be within a factor of ten of its row's largest entry; among those,
-/// variables with `state: avoid` are made dummy first and `prefer` last, then higher derivatives,
-/// then larger pivots), falling back to the structure where the start values give zeros.
+/// lower stateSelect priorities are made dummy first — never, avoid, default, prefer, always —
+/// then higher derivatives, then larger pivots; `never` takes any nonzero pivot and `always` only
+/// when its row has no other), falling back to the structure where the start values give zeros.
+/// A block whose choice depends on the motion becomes a state set over the candidates of its
+/// highest priority (one such candidate alone is kept statically).
 ///
 /// Then every derivative of order two or more that is not a dummy is rewritten in first-order
 /// form: der(der(x)) = der(x_d) with a new state x_d = der(x) ("der(x)"), so that IDA sees one
@@ -30,6 +33,7 @@ struct StateSelection {
   std::vector<std::string> new_states;         ///< first-order form: "der(spring.x)"
   /// Where a choice was made: the candidates and how many of them stay states, in words.
   std::vector<std::string> choices;
+  std::vector<std::string> warnings;  ///< stateSelect: never that could not be honoured
 };
 
 /// Chooses the dummy derivatives of `sys` (after Pantelides) and rewrites the system in them;

@@ -22,7 +22,7 @@ struct FlatVariable {
   ExprId start;      ///< parameter-only start value (invalid: 0)
   bool fixed = false;
   double nominal = 1.0;
-  int state_priority = 0;
+  int state_priority = 0;  ///< stateSelect: never -2, avoid -1, default 0, prefer 1, always 2
   bool is_flow = false;
   bool is_input = false;  ///< an unconnected signal input would be one of these
   /// Constant between events: Boolean and Integer variables, Reals assigned in when-clauses,

@@ -96,6 +96,7 @@ struct LocalVar {
   std::string unit;
   int32_t sub = -1;            ///< the part of a composite it belongs to (-1: the type itself)
   std::optional<bool> fixed;   ///< set by a composite's modifier
+  std::optional<int> state_priority;  ///< stateSelect, set by a composite's modifier
   SourceLoc loc;               ///< a composite's modifier, if one sets it
 };
 
@@ -807,6 +808,7 @@ class Flattener {
         } else {
           if (m.start) L.starts[vo + k] = MakeTemplate(L, *m.start, AstToString(*m.start), m.loc, true);
           if (m.fixed) L.vars[vo + k].fixed = *m.fixed;
+          if (m.state_priority) L.vars[vo + k].state_priority = *m.state_priority;
           L.vars[vo + k].loc = m.loc;
         }
       }
@@ -1539,6 +1541,7 @@ class Flattener {
         fv.state_priority = lv.decl->state_priority;
       }
       if (lv.fixed) fv.fixed = *lv.fixed;
+      if (lv.state_priority) fv.state_priority = *lv.state_priority;
       if (L.starts[k].root >= 0) {
         fv.start = Instantiate(L.starts[k], data.first_var, data.first_param, path, "", fv.loc);
       }
@@ -1546,6 +1549,7 @@ class Flattener {
       if (const Modifier* m = var_mod[k]) {
         if (m->start) fv.start = ModelExpr(*m->start, AstToString(*m->start), m->loc, index, false);
         if (m->fixed) fv.fixed = *m->fixed;
+        if (m->state_priority) fv.state_priority = *m->state_priority;
         fv.loc = m->loc;
       }
       flat_.variables.push_back(std::move(fv));

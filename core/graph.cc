@@ -9,6 +9,69 @@ void BipartiteGraph::AddRow(const std::vector<uint32_t>& row_cols) {
   row_start.push_back(static_cast<uint32_t>(cols.size()));
 }
 
+IncrementalMatching::IncrementalMatching(const BipartiteGraph& g, const Matching& m)
+    : col_to_row_(m.col_to_row), seen_(g.num_cols, 0) {
+  rows_.reserve(g.num_rows());
+  for (uint32_t r = 0; r < g.num_rows(); ++r) {
+    rows_.emplace_back(g.cols.begin() + g.row_start[r], g.cols.begin() + g.row_start[r + 1]);
+  }
+}
+
+bool IncrementalMatching::TryAdd(const std::vector<uint32_t>& cols) {
+  const uint32_t root = static_cast<uint32_t>(rows_.size());
+  rows_.push_back(cols);
+  ++stamp_;
+  struct Frame {
+    uint32_t row;
+    size_t pos;
+  };
+  std::vector<Frame> stack{{root, 0}};
+  std::vector<uint32_t> via;  // via[k]: the column from frame k to frame k+1
+  while (!stack.empty()) {
+    const uint32_t row = stack.back().row;
+    if (stack.back().pos == rows_[row].size()) {
+      stack.pop_back();
+      if (!via.empty()) via.pop_back();
+      continue;
+    }
+    const uint32_t c = rows_[row][stack.back().pos++];
+    if (seen_[c] == stamp_) continue;
+    seen_[c] = stamp_;
+    via.push_back(c);
+    const int32_t next = col_to_row_[c];
+    if (next >= 0) {
+      stack.push_back({static_cast<uint32_t>(next), 0});
+      continue;
+    }
+    // A free column: each row on the path takes the column after it.
+    for (size_t k = 0; k < stack.size(); ++k) col_to_row_[via[k]] = static_cast<int32_t>(stack[k].row);
+    return true;
+  }
+  rows_.pop_back();
+  return false;
+}
+
+std::vector<uint32_t> IncrementalMatching::Reach(const std::vector<uint32_t>& cols) {
+  ++stamp_;
+  std::vector<uint32_t> rows;
+  std::vector<bool> row_seen(rows_.size(), false);
+  auto visit = [&](uint32_t c) {
+    if (seen_[c] == stamp_) return;
+    seen_[c] = stamp_;
+    const int32_t r = col_to_row_[c];
+    if (r >= 0 && !row_seen[r]) {
+      row_seen[r] = true;
+      rows.push_back(static_cast<uint32_t>(r));
+    }
+  };
+  for (uint32_t c : cols) visit(c);
+  for (size_t k = 0; k < rows.size(); ++k) {
+    for (uint32_t c : rows_[rows[k]]) visit(c);
+  }
+  std::sort(rows.begin(), rows.end());
+  return rows;
+}
+
 Matching MaximumMatching(const BipartiteGraph& g) {
   const uint32_t nr = g.num_rows();
   Matching m;

@@ -28,6 +28,28 @@ struct Matching {
 
 Matching MaximumMatching(const BipartiteGraph& g);
 
+/// A maximum matching that grows one row at a time: each row added is kept when an augmenting
+/// path from it exists (so the matching stays perfect on the rows kept), found by a depth-first
+/// search over what the row reaches only — cheap when the rows are local (one pendulum's initial
+/// conditions among a thousand).
+class IncrementalMatching {
+ public:
+  /// Starts from `g` and a matching `m` of it in which every row is matched.
+  IncrementalMatching(const BipartiteGraph& g, const Matching& m);
+  /// Adds the row `cols` when it can be matched too; returns whether it was.
+  bool TryAdd(const std::vector<uint32_t>& cols);
+  /// Rows (in order of addition, those of `g` first) reachable from `cols` by alternating paths:
+  /// the rows a row with these columns would compete with.
+  std::vector<uint32_t> Reach(const std::vector<uint32_t>& cols);
+  bool ColumnMatched(uint32_t c) const { return col_to_row_[c] >= 0; }
+
+ private:
+  std::vector<std::vector<uint32_t>> rows_;
+  std::vector<int32_t> col_to_row_;
+  std::vector<uint32_t> seen_;
+  uint32_t stamp_ = 0;
+};
+
 /// Rows and columns reachable by alternating paths from the unmatched rows: the part of the
 /// system with more equations than unknowns.
 void OverDeterminedPart(const BipartiteGraph& g, const Matching& m, std::vector<uint32_t>* rows,

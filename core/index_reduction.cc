@@ -48,6 +48,10 @@ void DerivativeAliases(EquationSystem* sys, IndexStats* stats) {
   for (auto& o : sys->outputs) o = rewrite.Apply(o);
 }
 
+/// stateSelect priorities (FlatVariable::state_priority).
+constexpr int kNever = -2;
+constexpr int kAlways = 2;
+
 /// Step 2: constraints among differentiated variables.
 void ConstrainedStates(EquationSystem* sys, IndexStats* stats) {
   ExprPool& p = *sys->pool;
@@ -81,20 +85,27 @@ void ConstrainedStates(EquationSystem* sys, IndexStats* stats) {
       kept.push_back(eq);
       continue;
     }
-    // Eliminate the variable in the fewest constraints, then the one that least wants to be a
-    // state (avoid < default < prefer), then the one declared last.
-    std::sort(vars.begin(), vars.end(), [&](ExprId a, ExprId b) {
-      uint32_t va = p.node(a).a, vb = p.node(b).a;
-      return std::make_tuple(constraint_count[va], flat.variables[va].state_priority, -static_cast<int64_t>(va)) <
-             std::make_tuple(constraint_count[vb], flat.variables[vb].state_priority, -static_cast<int64_t>(vb));
-    });
+    // Eliminate a `stateSelect: never` variable first, then the variable in the fewest
+    // constraints, then the one that least wants to be a state (avoid < default < prefer), then
+    // the one declared last. An `always` variable is never eliminated here, nor anything while a
+    // `never` one cannot be: such constraints go to Pantelides and the dummy derivatives, which
+    // honour the priorities whether or not the constraint is linear.
+    auto rank = [&](uint32_t v) {
+      const int prio = flat.variables[v].state_priority;
+      return std::make_tuple(prio == kNever ? 0 : prio == kAlways ? 2 : 1, constraint_count[v], prio, -static_cast<int64_t>(v));
+    };
+    std::sort(vars.begin(), vars.end(), [&](ExprId a, ExprId b) { return rank(p.node(a).a) < rank(p.node(b).a); });
     bool eliminated = false;
     for (ExprId x : vars) {
+      const int prio = flat.variables[p.node(x).a].state_priority;
+      if (prio == kAlways) break;
       ExprId coefficient;
       ExprId value = SolveFor(&p, r, x, true, &coefficient);
-      if (!value.valid()) continue;
-      ExprId dvalue = TimeDerivative(&p, value);
-      if (!dvalue.valid()) continue;
+      ExprId dvalue = value.valid() ? TimeDerivative(&p, value) : ExprId();
+      if (!dvalue.valid()) {
+        if (prio == kNever) break;
+        continue;
+      }
       uint32_t v = p.node(x).a;
       s.Set(x, value);
       s.Set(p.Der(VarId(v)), dvalue);

@@ -10,7 +10,9 @@
 ///    It is solved for one of its variables x (linear, with a numeric or parameter coefficient),
 ///    and x and der(x) are replaced everywhere by the solution and its time derivative — the
 ///    dummy-derivative method for constraints that are linear in the chosen variable. A variable
-///    with `state: avoid` (or without `state: prefer`) is chosen first.
+///    with `stateSelect: never` is chosen first, then the one in the fewest constraints, then one
+///    with `avoid` (or without `prefer`); `always` variables are never chosen, and a constraint
+///    whose `never` variable cannot be solved for is left to Pantelides' algorithm.
 ///
 /// This is the fast path for the constraints acausal connection produces most often (a chain of
 /// 100 000 masses reduces in linear time with banded results). What remains of index > 1

@@ -149,4 +149,10 @@ void ModelState::InitJacobian(double t, const double* z, double* values) {
   regs_[RegisterLayout::kInitial] = 0.0;
 }
 
+void ModelState::RedundantResidual(double t, const double* z, double* out) {
+  LoadZ(t, z);
+  model_->redundant_residual.Run(regs_.data(), out);
+  regs_[RegisterLayout::kInitial] = 0.0;
+}
+
 }  // namespace momenta

@@ -26,6 +26,8 @@ class ModelState {
   /// z = [y; y' of states]
   void InitResidual(double t, const double* z, double* out);
   void InitJacobian(double t, const double* z, double* values);
+  /// The residuals of the initial conditions left out as redundant, at z = [y; y' of the states].
+  void RedundantResidual(double t, const double* z, double* out);
 
   const CompiledModel& model() const { return *model_; }
 

@@ -199,6 +199,17 @@ class Reader {
     return p;
   }
 
+  /// `stateSelect:` (MSL's StateSelect) as a priority: never -2, avoid -1, default 0, prefer 1,
+  /// always 2.
+  int StateSelect(const YAML::Node& n, const std::string& what) const {
+    static const char* const kChoices[] = {"never", "avoid", "default", "prefer", "always"};
+    std::string s = Scalar(n, what + ".stateSelect");
+    for (int k = 0; k < 5; ++k) {
+      if (s == kChoices[k]) return k - 2;
+    }
+    Fail(n, "unknown stateSelect '" + s + "' for " + what + " (valid choices: never, avoid, default, prefer, always)");
+  }
+
   VariableDecl Variable(const std::string& name, const YAML::Node& n,
                         const std::string& owner) const {
     VariableDecl v;
@@ -208,7 +219,7 @@ class Reader {
     if (n.IsNull()) return v;
     ExpectMap(n, "variable " + what);
     CheckKeys(n, "variable " + what,
-              {"unit", "doc", "start", "fixed", "nominal", "min", "max", "state", "type", "shape"});
+              {"unit", "doc", "start", "fixed", "nominal", "min", "max", "stateSelect", "type", "shape"});
     if (n["shape"]) v.shape = ReadShape(n["shape"], what);
     if (n["unit"]) v.unit = Scalar(n["unit"], what + ".unit");
     if (n["doc"]) v.doc = Scalar(n["doc"], what + ".doc");
@@ -221,17 +232,7 @@ class Reader {
     v.min = OptionalNumber(n, "min", what);
     v.max = OptionalNumber(n, "max", what);
     if (n["type"]) v.type = Type(n["type"], what);
-    if (n["state"]) {
-      std::string s = Scalar(n["state"], what + ".state");
-      if (s == "prefer") {
-        v.state_priority = 1;
-      } else if (s == "avoid") {
-        v.state_priority = -1;
-      } else if (s != "default") {
-        Fail(n["state"], "unknown state choice '" + s + "' for " + what +
-                             " (valid choices: prefer, avoid, default)");
-      }
-    }
+    if (n["stateSelect"]) v.state_priority = StateSelect(n["stateSelect"], what);
     return v;
   }
 
@@ -469,9 +470,10 @@ class Reader {
       m.loc = Loc(it->first);
       m.key_loc = m.loc;
       if (it->second.IsMap()) {
-        CheckKeys(it->second, name + "." + key, {"start", "fixed"});
+        CheckKeys(it->second, name + "." + key, {"start", "fixed", "stateSelect"});
         if (it->second["start"]) m.start = Expression(it->second["start"], "start of " + name + "." + key);
         if (it->second["fixed"]) m.fixed = Bool(it->second["fixed"], name + "." + key + ".fixed");
+        if (it->second["stateSelect"]) m.state_priority = StateSelect(it->second["stateSelect"], name + "." + key);
       } else {
         m.value = Expression(it->second, name + "." + key);
         m.value_text = ValueText(it->second, name + "." + key);

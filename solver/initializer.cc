@@ -58,6 +58,30 @@ struct KinsolDeleter {
   void operator()(void* mem) const { KINFree(&mem); }
 };
 
+/// The initial conditions left out as redundant must hold at the solution of the others (to
+/// 1e-8 of the largest value, at least 1e-8): otherwise they contradict them, a ModelError.
+void CheckRedundant(ModelState* state, double t0, const double* z) {
+  const CompiledModel& m = state->model();
+  if (m.redundant_exprs.empty()) return;
+  std::vector<double> r(m.redundant_exprs.size());
+  state->RedundantResidual(t0, z, r.data());
+  double scale = 1.0;
+  for (size_t k = 0; k < m.num_unknowns(); ++k) scale = std::max(scale, std::fabs(z[k]));
+  std::ostringstream msg;
+  size_t violated = 0;
+  for (size_t k = 0; k < r.size(); ++k) {
+    if (std::fabs(r[k]) <= 1e-8 * scale) continue;
+    std::string from = m.redundant_from[k];
+    for (size_t pos = 0; (pos = from.find('\n', pos)) != std::string::npos; pos += 5) from.replace(pos, 1, "\n    ");
+    msg << (violated++ ? "\n  and the " : "") << m.redundant_origin[k] << " is off by " << r[k]
+        << " at the solution of the others; it follows from\n    " << from;
+  }
+  if (violated == 0) return;
+  throw ModelError("at initialisation: the initial conditions contradict each other: the " + msg.str() +
+                   "\n  Make the fixed start values consistent, or set fixed: false on " +
+                   (violated == 1 ? "it." : "them."));
+}
+
 }  // namespace
 
 InitialValues SolveInitialization(ModelState* state, double t0, bool sparse) {
@@ -121,6 +145,7 @@ InitialValues SolveInitialization(ModelState* state, double t0, bool sparse) {
         << ". Check the fixed start values and the parameters, or give better start values.";
     throw SolverError(msg.str());
   }
+  CheckRedundant(state, t0, zv);
   for (size_t k = 0; k < n; ++k) out.y[k] = zv[k];
   for (size_t s = 0; s < ns; ++s) out.yp[m.state_y[s]] = zv[n + s];
   return out;

@@ -17,7 +17,9 @@ struct InitialValues {
   double max_residual = 0;
 };
 
-/// Throws SolverError naming the equation with the largest residual when Newton fails.
+/// Throws SolverError naming the equation with the largest residual when Newton fails, and
+/// ModelError naming them when initial conditions left out as redundant do not hold at the
+/// solution (inconsistent fixed start values).
 InitialValues SolveInitialization(ModelState* state, double t0, bool sparse);
 
 }  // namespace momenta

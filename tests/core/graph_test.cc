@@ -277,5 +277,38 @@ TEST(GraphTest, StronglyConnectedComponentsOf100000Cycle) {
   EXPECT_EQ(comps.back(), std::vector<uint32_t>{0});
 }
 
+TEST(GraphTest, IncrementalMatchingKeepsRowsThatStillFit) {
+  // Rows {0,1} and {1,2} over columns 0..3, matched 0->0, 1->1. A row {0} fits (the path
+  // 0 -> row 0 -> 1 -> row 1 -> 2 frees column 0); a second {0} or a {1} then does not; {3} does.
+  BipartiteGraph g;
+  g.num_cols = 4;
+  g.AddRow({0, 1});
+  g.AddRow({1, 2});
+  Matching m = MaximumMatching(g);
+  ASSERT_EQ(m.size, 2u);
+  IncrementalMatching im(g, m);
+  EXPECT_FALSE(im.ColumnMatched(2));
+  EXPECT_TRUE(im.TryAdd({0}));
+  EXPECT_TRUE(im.ColumnMatched(2));
+  EXPECT_FALSE(im.TryAdd({0}));
+  EXPECT_FALSE(im.TryAdd({1}));
+  // What a row {1} competes with: row 0 (now on column 1, which could move only to column 0) and
+  // the added row {0} — not row 1, whose column 2 row 0 cannot take.
+  EXPECT_EQ(im.Reach({1}), (std::vector<uint32_t>{0, 2}));
+  EXPECT_TRUE(im.TryAdd({3}));
+  EXPECT_EQ(im.Reach({3}), (std::vector<uint32_t>{3}));
+  // A 100 000-long chain of augmenting steps stays iterative.
+  const uint32_t n = 100000;
+  BipartiteGraph chain;
+  chain.num_cols = n + 1;
+  for (uint32_t r = 0; r < n; ++r) chain.AddRow({r, r + 1});
+  Matching cm = MaximumMatching(chain);
+  ASSERT_EQ(cm.size, n);
+  IncrementalMatching ic(chain, cm);
+  EXPECT_EQ(ic.ColumnMatched(0) && ic.ColumnMatched(n), false);
+  EXPECT_TRUE(ic.TryAdd({cm.col_to_row[0] < 0 ? n : 0}));
+  for (uint32_t c = 0; c <= n; ++c) EXPECT_TRUE(ic.ColumnMatched(c)) << c;
+}
+
 }  // namespace
 }  // namespace momenta

@@ -1,6 +1,6 @@
 // Index reduction: derivative aliases (a speed sensor on a mass measures the mass's velocity, as
 // an alias), constrained states (a spring-damper between two masses; a lever between two masses),
-// the state: prefer / avoid choice, and the run-time check of a parameter coefficient.
+// the stateSelect: prefer / avoid choice, and the run-time check of a parameter coefficient.
 
 #include "core/index_reduction.h"
 
@@ -103,7 +103,7 @@ outputs: [m1.s, m2.s, sd.s_rel, m1.v, m2.v]
 )";
 
 TEST(IndexReductionTest, SpringDamperBetweenTwoMassesConstrainsAState) {
-  // s_rel = m2.s - m1.s relates three differentiated variables; s_rel is `state: prefer`, so the
+  // s_rel = m2.s - m1.s relates three differentiated variables; s_rel is `stateSelect: prefer`, so the
   // position of the mass declared last becomes m1.s + s_rel.
   Reduced r = Reduce(kTwoMasses);
   EXPECT_GE(r.index.constrained_states, 1u);
@@ -154,8 +154,8 @@ define:
     parameters: {m: 1}
     connectors: {flange_a: Flange, flange_b: Flange}
     variables:
-      s: {start: 0, state: avoid}
-      v: {start: 0, state: avoid}
+      s: {start: 0, stateSelect: avoid}
+      v: {start: 0, stateSelect: avoid}
       a: {}
     equations:
       - flange_a.s = s
