@@ -183,6 +183,23 @@ struct ComponentArray {
   bool is_array;
 };
 
+/// The classes of a union-find forest (`find` gives an element's root), each in element order,
+/// the classes ordered by their first element.
+template <class Find>
+std::vector<std::vector<uint32_t>> Classes(size_t n, Find&& find) {
+  std::vector<std::vector<uint32_t>> sets;
+  std::vector<int32_t> set_of_root(n, -1);
+  for (uint32_t k = 0; k < n; ++k) {
+    uint32_t r = find(k);
+    if (set_of_root[r] < 0) {
+      set_of_root[r] = static_cast<int32_t>(sets.size());
+      sets.emplace_back();
+    }
+    sets[set_of_root[r]].push_back(k);
+  }
+  return sets;
+}
+
 class Flattener {
  public:
   Flattener(const ModelSpec& spec, const Library& library, const ParameterOverrides& overrides)
@@ -1006,17 +1023,7 @@ class Flattener {
         one(&loop);
       }
     }
-    // The sets, in slot order.
-    std::vector<std::vector<uint32_t>> sets;
-    std::vector<int32_t> set_of_root(slots.size(), -1);
-    for (uint32_t k = 0; k < slots.size(); ++k) {
-      uint32_t r = find(k);
-      if (set_of_root[r] < 0) {
-        set_of_root[r] = static_cast<int32_t>(sets.size());
-        sets.emplace_back();
-      }
-      sets[set_of_root[r]].push_back(k);
-    }
+    const std::vector<std::vector<uint32_t>> sets = Classes(slots.size(), find);
     auto add = [&](std::vector<std::pair<uint32_t, bool>> terms, std::string text, const SourceLoc& loc,
                    EquationOrigin origin) {
       L.equations.push_back(SignedSum(terms));
@@ -1737,16 +1744,7 @@ class Flattener {
       }
     }
     // Group slots into connection sets.
-    std::vector<std::vector<uint32_t>> sets;
-    std::vector<int32_t> set_of_root(parent_.size(), -1);
-    for (uint32_t s = 0; s < parent_.size(); ++s) {
-      uint32_t r = Find(s);
-      if (set_of_root[r] < 0) {
-        set_of_root[r] = static_cast<int32_t>(sets.size());
-        sets.emplace_back();
-      }
-      sets[set_of_root[r]].push_back(s);
-    }
+    const std::vector<std::vector<uint32_t>> sets = Classes(parent_.size(), [&](uint32_t x) { return Find(x); });
     ExprPool& p = pool();
     for (const auto& set : sets) {
       const uint32_t s0 = set[0];
