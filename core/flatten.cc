@@ -166,6 +166,13 @@ struct TypeLayout {
   }
 };
 
+/// Composite types nest at most this deep (a model of a hundred levels is a mistake, and each
+/// level copies the names below it).
+constexpr size_t kMaxTypeDepth = 64;
+/// One composite type holds at most this many variables with all its parts (a type is laid out
+/// whole; twenty levels of two parts each would be a million components in one type; use count: in the model for big arrays).
+constexpr double kMaxTypeVariables = 250000;
+
 /// No connector slot: a composite's part, which the model's connections cannot reach.
 constexpr uint32_t kNoSlot = UINT32_MAX;
 
@@ -210,7 +217,7 @@ class Flattener {
     flat_.experiment = spec.experiment;
     for (const auto& d : spec.defines) {
       if (library.FindComponent(d.name)) {
-        throw ModelError(d.loc, "define: " + d.name +
+        throw ModelError(d.loc, "type " + d.name +
                                     " has the name of a library component; choose another name");
       }
       if (const ComponentType* other = defines_->FindComponent(d.name)) {
@@ -538,6 +545,14 @@ class Flattener {
       throw ModelError(at ? at->type_loc : type->loc,
                        "type " + type->name + " contains itself: " + cycle + "; a type cannot be a part of itself");
     }
+    if (laying_out_.size() >= kMaxTypeDepth) {
+      std::string chain;
+      for (const ComponentType* t : laying_out_) chain += t->name + " -> ";
+      const ComponentSpec* at = current_component_;
+      throw ModelError(at ? at->type_loc : type->loc,
+                       "types nested deeper than " + std::to_string(kMaxTypeDepth) + " levels: " + Excerpt(chain + type->name, 0) +
+                           "; flatten the hierarchy");
+    }
     laying_out_.push_back(type);
     auto layout = std::make_unique<TypeLayout>();
     TypeLayout& L = *layout;
@@ -630,6 +645,10 @@ class Flattener {
     // Discrete variables: Boolean and Integer ones, and those a when-clause or impact assigns.
     L.discrete.assign(L.vars.size(), false);
     for (size_t k = 0; k < L.vars.size(); ++k) L.discrete[k] = L.vars[k].type != ValueType::kReal;
+    for (const PartPlan& pl : parts) {  // a part's own discrete variables
+      const uint32_t vo = L.subs[pl.sub].first_var;
+      for (size_t k = 0; k < pl.layout->vars.size(); ++k) L.discrete[vo + k] = pl.layout->discrete[k];
+    }
     auto local_var = [&](const std::string& name, const SourceLoc& loc, const std::string& what) {
       auto found = L.var_index.find(name);
       if (found == L.var_index.end()) {
@@ -704,6 +723,7 @@ class Flattener {
     const ComponentType* type = L.type;
     std::vector<PartPlan> plans;
     std::unordered_set<std::string> names;
+    double layout_bytes = 0;
     for (const auto& c : type->components) {
       if (!names.insert(c.name).second || L.var_index.count(c.name) || L.param_index.count(c.name) ||
           L.connector_index.count(c.name)) {
@@ -715,6 +735,15 @@ class Flattener {
       current_component_ = &c;
       const TypeLayout& S = Layout(part_type);
       uint32_t n = c.count ? PartCount(c, L, S) : 1;
+      // The type's parts so far, and these, must fit in the memory budget before they are laid out
+      // (parts of parts multiply: twenty levels of two parts each are a million components).
+      layout_bytes += n * EstimatedBytes(S);
+      CheckLayoutBudget(c, L, layout_bytes);
+      if (static_cast<double>(L.vars.size()) + n * static_cast<double>(S.vars.size()) > kMaxTypeVariables) {
+        throw ModelError(c.loc, L.type->name + " with its parts up to " + c.name + " (" + c.type + ") has more than " +
+                                    std::to_string(static_cast<long>(kMaxTypeVariables)) + " variables; parts of parts multiply: " +
+                                    "make large arrays with count: in the model");
+      }
       current_component_ = saved;
       for (uint32_t k = 0; k < n; ++k) {
         PartPlan pl;
@@ -736,6 +765,9 @@ class Flattener {
           LocalVar lv = v;
           lv.name = pl.path + "." + v.name;
           lv.sub = remap(v.sub);
+          if (L.var_index.count(lv.name) || L.param_index.count(lv.name)) {
+            throw ModelError(c.loc, "the name " + lv.name + " in " + type->name + " is used twice");
+          }
           L.var_index[lv.name] = static_cast<uint32_t>(L.vars.size());
           L.vars.push_back(std::move(lv));
         }
@@ -743,6 +775,9 @@ class Flattener {
           LocalParam lp = p;
           lp.name = pl.path + "." + p.name;
           lp.sub = remap(p.sub);
+          if (L.var_index.count(lp.name) || L.param_index.count(lp.name)) {
+            throw ModelError(c.loc, "the name " + lp.name + " in " + type->name + " is used twice");
+          }
           L.param_index[lp.name] = static_cast<uint32_t>(L.params.size());
           L.params.push_back(std::move(lp));
         }
@@ -762,6 +797,14 @@ class Flattener {
       throw ModelError(c.loc, what + " must be a number: a type's structure is fixed, so its parameters cannot size its parts, found '" + text + "'");
     }
     return CheckedCount(c, S, *n, what, text);
+  }
+
+  void CheckLayoutBudget(const ComponentSpec& c, const TypeLayout& L, double bytes) {
+    if (!budget_) budget_ = BuildMemoryBudget();
+    if (planned_bytes_ + bytes <= budget_->bytes) return;
+    throw ModelError(c.loc, L.type->name + " with its parts up to " + c.name + " (" + c.type + ") needs about " +
+                                ByteText(planned_bytes_ + bytes) + " of memory to build, more than the budget of " +
+                                ByteText(budget_->bytes) + " (" + budget_->source + "); parts of parts multiply");
   }
 
   /// The parts' templates, rebased to the composite's local indices, with the composite's
@@ -813,7 +856,6 @@ class Flattener {
         t.sub = im.sub < 0 ? pl.sub : pl.sub_base + im.sub;
         L.impacts.push_back(std::move(t));
       }
-      for (size_t k = 0; k < S.vars.size(); ++k) L.discrete[vo + k] = S.discrete[k];
       // The composite's modifiers of this part.
       std::pair<std::string, double> index{"i", pl.index};
       template_loop_ = pl.index > 0 ? &index : nullptr;
@@ -1010,16 +1052,20 @@ class Flattener {
       }
       std::optional<double> from = ConstantValue(*c.loop_from, nullptr), to = ConstantValue(*c.loop_to, nullptr);
       const SourceLoc& loc = c.loop_loc.known() ? c.loop_loc : c.loc;
-      if (!from || !to || *from != std::floor(*from) || *to != std::floor(*to)) {
+      // Whole numbers that doubles count exactly (beyond 2^53, i + 1 == i).
+      constexpr double kExact = 9007199254740992.0;
+      if (!from || !to || *from != std::floor(*from) || *to != std::floor(*to) || std::fabs(*from) > kExact ||
+          std::fabs(*to) > kExact) {
         throw ModelError(loc, "the range of 'for: " + c.loop_text + "' inside " + type->name +
-                                  " must have whole-number bounds (a type's structure is fixed)");
+                                  " must have whole-number bounds below 2^53 (a type's structure is fixed)");
       }
-      if (*to - *from + 1 > static_cast<double>(slots.size())) {
+      const double n = *to - *from + 1;
+      if (n > static_cast<double>(slots.size())) {
         throw ModelError(loc, "the range of 'for: " + c.loop_text + "' makes more connections than " + type->name +
                                   " has connectors");
       }
-      for (double i = *from; i <= *to; i += 1) {
-        std::pair<std::string, double> loop{c.loop_var, i};
+      for (size_t k = 0; n > 0 && k < static_cast<size_t>(n); ++k) {
+        std::pair<std::string, double> loop{c.loop_var, *from + static_cast<double>(k)};
         one(&loop);
       }
     }
@@ -1088,8 +1134,10 @@ class Flattener {
       for (uint32_t k = 0; k < ct->flows.size(); ++k) {
         std::vector<std::pair<uint32_t, bool>> terms;
         for (uint32_t s : set) terms.push_back({slots[s].first_var + np + k, slots[s].outside});
-        add(terms, "sum of " + ct->flows[k].name + " over {" + members + "} = 0 (connection; " + type->name +
-                       "'s own connectors count negative)",
+        bool any_outside = false;
+        for (uint32_t s : set) any_outside = any_outside || slots[s].outside;
+        add(terms, "sum of " + ct->flows[k].name + " over {" + members + "} = 0 (connection" +
+                       (any_outside ? "; " + type->name + "'s own connectors count negative)" : ")"),
             loc, EquationOrigin::kConnection);
       }
     }
@@ -1156,16 +1204,21 @@ class Flattener {
       if (assigned[k] && !outside(L.vars[k])) --unknowns;
     }
     size_t equations = L.equations.size() + L.impacts.size();
-    size_t flows = 0;
-    for (const auto& v : L.vars) flows += v.sub < 0 && v.is_flow;
+    size_t flows = 0, inputs = 0, set = 0;
+    for (size_t k = 0; k < L.vars.size(); ++k) {
+      flows += L.vars[k].sub < 0 && L.vars[k].is_flow;
+      inputs += L.vars[k].sub < 0 && L.vars[k].is_input;
+      set += assigned[k] && !outside(L.vars[k]);
+    }
     if (equations == unknowns) return;
     const ComponentSpec* user = current_component_;
     std::string who = user ? user->name + " (" + type->name + ")" : type->name;
     throw ModelError(user ? user->loc : type->loc,
                      who + " is not balanced: it has " + Counted(equations, "equation") + " for " +
                          Counted(unknowns, "unknown") + " (" + Counted(L.vars.size(), "variable") +
-                         ", less " + Counted(flows, "flow variable") +
-                         " of its connectors, signal inputs and variables set by when-clauses" +
+                         ", less " + Counted(flows, "flow variable") + " of its connectors, " +
+                         Counted(inputs, "signal input") + " and " + Counted(set, "variable") +
+                         " set by when-clauses or impacts" +
                          (L.subs.empty() ? "" : "; its parts' equations and its connections included") + "); " +
                          (equations > unknowns ? "remove the extra equation or add the variable it determines"
                                                : "add an equation for each variable nothing determines") +
@@ -1450,7 +1503,15 @@ class Flattener {
     for (const auto* list : {&L.equations, &L.initial_equations, &L.param_defaults, &L.starts}) {
       for (const Template& t : *list) nodes += t.nodes.size();
     }
-    return EstimatedComponentBytes(L.vars.size(), L.params.size(), nodes);
+    // A composite's names carry its parts' paths: their text, in the layout and in every
+    // instance's flat names, counts too.
+    double names = 0;
+    if (!L.subs.empty()) {
+      for (const auto& v : L.vars) names += static_cast<double>(v.name.size());
+      for (const auto& p : L.params) names += static_cast<double>(p.name.size());
+      for (const auto& sub : L.subs) names += static_cast<double>(sub.path.size());
+    }
+    return EstimatedComponentBytes(L.vars.size(), L.params.size(), nodes) + 4 * names;
   }
 
   /// The value of `count:`: a whole number of at least 1 whose components fit, with the rest of
@@ -1653,6 +1714,11 @@ class Flattener {
 
   EndRef ResolveEnd(const Ast& a, const std::string& text, const SourceLoc& loc,
                     const std::pair<std::string, double>* loop) {
+    if (a.path.size() > 2 && arrays_.count(a.path[0].name)) {
+      throw ModelError(loc, "'" + text + "' reaches into " + a.path[0].name + "; a model connects to a component's " +
+                                "own connectors only (a composite type exposes a part's connector by connecting it " +
+                                "to one of its own)");
+    }
     if (a.path.size() != 2) {
       throw ModelError(loc, "a connection end names a component and one of its connectors, e.g. A.flange_a; found '" + text + "'");
     }

@@ -370,7 +370,7 @@ class Reader {
     if (n["parameters"] && !n["parameters"].IsNull()) {
       ExpectMap(n["parameters"], "parameters of " + name);
       for (auto it = n["parameters"].begin(); it != n["parameters"].end(); ++it) {
-        t.parameters.push_back(Parameter(it->first.as<std::string>(), it->second, name));
+        t.parameters.push_back(Parameter(Name(it->first, "parameter of " + name), it->second, name));
       }
     }
     if (n["connectors"] && !n["connectors"].IsNull()) {
@@ -394,7 +394,7 @@ class Reader {
     if (n["variables"] && !n["variables"].IsNull()) {
       ExpectMap(n["variables"], "variables of " + name);
       for (auto it = n["variables"].begin(); it != n["variables"].end(); ++it) {
-        t.variables.push_back(Variable(it->first.as<std::string>(), it->second, name));
+        t.variables.push_back(Variable(Name(it->first, "variable of " + name), it->second, name));
       }
     }
     if (n["equations"]) t.equations = Equations(n["equations"], "equations of " + name);
@@ -423,8 +423,8 @@ class Reader {
   }
 
   void LibraryEntries(const YAML::Node& root, Library* lib, std::vector<ComponentType>* defines,
-                      bool user) const {
-    ExpectMap(root, user ? "define" : "a library file");
+                      bool user, const char* what = nullptr) const {
+    ExpectMap(root, what ? what : user ? "define" : "a library file");
     for (auto it = root.begin(); it != root.end(); ++it) {
       std::string name = it->first.as<std::string>();
       const YAML::Node n = it->second;  // a copy: it->second is a temporary
@@ -808,7 +808,11 @@ void LoadUses(ModelSpec* spec, std::set<std::string>* loaded) {
       spec->defines.push_back(ModelAsType(used));
     } else {
       Library scratch;
-      Reader(file).LibraryEntries(root, &scratch, &spec->defines, true);
+      try {
+        Reader(file).LibraryEntries(root, &scratch, &spec->defines, true, "a library file in uses:");
+      } catch (const YAML::Exception& e) {
+        throw ModelError(MarkLoc(file, e.mark), "malformed library file: " + e.msg);
+      }
     }
   }
 }

@@ -242,6 +242,59 @@ components:
             "cannot size its parts, found 'n'");
 }
 
+TEST(CompositeTest, HierarchiesThatCannotBeBuiltAreRefusedAtOnce) {
+  // Types nested 70 deep, one part each.
+  std::string deep = "model: Deep\ndefine:\n  T0: {components: {m: {type: Mass}}}\n";
+  for (int k = 1; k < 70; ++k) {
+    deep += "  T" + std::to_string(k) + ": {components: {p: {type: T" + std::to_string(k - 1) + "}}}\n";
+  }
+  deep += "components:\n  top: {type: T69}\n";
+  std::string message = BuildError(deep);
+  EXPECT_NE(message.find("types nested deeper than 64 levels: T69 -> T68 -> "), std::string::npos) << message;
+  // Twenty levels of two parts each: a million masses from a few lines.
+  std::string bomb = "model: Bomb\ndefine:\n  T0: {components: {m: {type: Mass}}}\n";
+  for (int k = 1; k <= 20; ++k) {
+    const std::string below = "T" + std::to_string(k - 1);
+    bomb += "  T" + std::to_string(k) + ": {components: {a: {type: " + below + "}, b: {type: " + below + "}}}\n";
+  }
+  bomb += "components:\n  top: {type: T20}\n";
+  message = BuildError(bomb);
+  EXPECT_NE(message.find("has more than 250000 variables; parts of parts multiply"), std::string::npos) << message;
+  // A range inside a type beyond what doubles count.
+  const char* range = R"(model: Range
+define:
+  Two:
+    components:
+      a: {type: Mass}
+      b: {type: Mass}
+    connections:
+      - for: k in 1e17:1e17
+        connect: [a.flange_b, b.flange_a]
+components:
+  t: {type: Two}
+)";
+  EXPECT_EQ(BuildError(range),
+            "test.yaml:8:14: the range of 'for: k in 1e17:1e17' inside Two must have whole-number bounds below "
+            "2^53 (a type's structure is fixed)");
+}
+
+TEST(CompositeTest, AModelConnectsToAPartOnlyThroughTheTypesConnectors) {
+  const char* yaml = R"(model: Reach
+define:
+  Box:
+    components:
+      m: {type: Mass}
+components:
+  wall: {type: Fixed}
+  box: {type: Box}
+connections:
+  - [wall.flange, box.m.flange_a]
+)";
+  EXPECT_EQ(BuildError(yaml),
+            "test.yaml:10:19: 'box.m.flange_a' reaches into box; a model connects to a component's own connectors "
+            "only (a composite type exposes a part's connector by connecting it to one of its own)");
+}
+
 /// A directory with the given files, removed at the end of the test.
 struct TempDir {
   std::filesystem::path path;
