@@ -761,26 +761,21 @@ class Flattener {
           L.subs.push_back({pl.path + "." + ss.path, ss.layout, ss.loc, var_off + ss.first_var, param_off + ss.first_param});
         }
         auto remap = [&](int32_t sub) { return sub < 0 ? pl.sub : pl.sub_base + sub; };
-        for (const LocalVar& v : S.vars) {
-          LocalVar lv = v;
-          lv.name = pl.path + "." + v.name;
-          lv.sub = remap(v.sub);
-          if (L.var_index.count(lv.name) || L.param_index.count(lv.name)) {
-            throw ModelError(c.loc, "the name " + lv.name + " in " + type->name + " is used twice");
+        // The part's variables and parameters under their paths in the composite.
+        auto adopt = [&](const auto& items, auto* out, auto* index) {
+          for (const auto& item : items) {
+            auto local = item;
+            local.name = pl.path + "." + item.name;
+            local.sub = remap(item.sub);
+            if (L.var_index.count(local.name) || L.param_index.count(local.name)) {
+              throw ModelError(c.loc, "the name " + local.name + " in " + type->name + " is used twice");
+            }
+            (*index)[local.name] = static_cast<uint32_t>(out->size());
+            out->push_back(std::move(local));
           }
-          L.var_index[lv.name] = static_cast<uint32_t>(L.vars.size());
-          L.vars.push_back(std::move(lv));
-        }
-        for (const LocalParam& p : S.params) {
-          LocalParam lp = p;
-          lp.name = pl.path + "." + p.name;
-          lp.sub = remap(p.sub);
-          if (L.var_index.count(lp.name) || L.param_index.count(lp.name)) {
-            throw ModelError(c.loc, "the name " + lp.name + " in " + type->name + " is used twice");
-          }
-          L.param_index[lp.name] = static_cast<uint32_t>(L.params.size());
-          L.params.push_back(std::move(lp));
-        }
+        };
+        adopt(S.vars, &L.vars, &L.var_index);
+        adopt(S.params, &L.params, &L.param_index);
         plans.push_back(std::move(pl));
       }
     }
