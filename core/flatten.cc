@@ -188,6 +188,7 @@ struct ComponentArray {
   uint32_t first_instance;
   uint32_t count;
   bool is_array;
+  uint32_t stride = 1;  ///< instance records per element: the component and a composite's parts
 };
 
 /// The classes of a union-find forest (`find` gives an element's root), each in element order,
@@ -427,7 +428,7 @@ class Flattener {
       throw ModelError(loc, seg.name + "[" + NumberText(k) + "] is out of range 1.." +
                                 std::to_string(arr.count) + " in '" + text + "'");
     }
-    return arr.first_instance + static_cast<uint32_t>(k - 1);
+    return arr.first_instance + arr.stride * static_cast<uint32_t>(k - 1);
   }
 
   /// Builds an expression of the model scope.
@@ -1464,7 +1465,8 @@ class Flattener {
       if (!type) UnknownType(c);
       current_component_ = &c;
       const TypeLayout& L = Layout(type);
-      ComponentArray arr{s, static_cast<uint32_t>(flat_.instances.size()), 1, c.count != nullptr};
+      ComponentArray arr{s, static_cast<uint32_t>(flat_.instances.size()), 1, c.count != nullptr,
+                         static_cast<uint32_t>(1 + L.subs.size())};
       if (c.count) arr.count = ArrayCount(c, L);
       planned_bytes_ += EstimatedBytes(L);
       // Which modifiers set parameters and which set start values.

@@ -242,6 +242,40 @@ components:
             "cannot size its parts, found 'n'");
 }
 
+TEST(CompositeTest, AnArrayOfCompositesInTheModel) {
+  // Three cells on one wall, each element reached by index in connections, outputs and -p; the
+  // elements' stiffness 50*i makes each its own damped oscillator.
+  const char* yaml = R"(model: Cells
+define:
+  Cell:
+    parameters: {m: 1, k: 100, d: 0.5, x0: 0.1}
+    connectors: {flange: Flange}
+    components:
+      mass: {type: Mass, m: m, s: {start: x0, fixed: true}, v: {start: 0, fixed: true}}
+      spring: {type: SpringDamper, c: k, d: d}
+    connections:
+      - [flange, spring.flange_a]
+      - [spring.flange_b, mass.flange_a]
+components:
+  wall: {type: Fixed}
+  cells: {type: Cell, count: 3, k: 50*i}
+connections:
+  - for: j in 1:3
+    connect: [wall.flange, "cells[j].flange"]
+experiment: {stop: 1, tolerance: 1e-10, interval: 0.01}
+outputs: ["cells[1].mass.s", "cells[2].mass.s", "cells[3].mass.s"]
+)";
+  testing::Built b = testing::BuildYaml(yaml);
+  testing::Trajectory tr = testing::RunDefault(b, {{"cells[3].mass.m", 2}});
+  const Damped cells[] = {{1, 50, 0.5, 0.1}, {1, 100, 0.5, 0.1}, {2, 150, 0.5, 0.1}};
+  ASSERT_EQ(tr.t.size(), 101u);
+  for (size_t r = 0; r < tr.t.size(); ++r) {
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_NEAR(tr.values[r][k], cells[k].X(tr.t[r]), kPositionTol) << "cell " << k + 1 << ", t = " << tr.t[r];
+    }
+  }
+}
+
 TEST(CompositeTest, HierarchiesThatCannotBeBuiltAreRefusedAtOnce) {
   // Types nested 70 deep, one part each.
   std::string deep = "model: Deep\ndefine:\n  T0: {components: {m: {type: Mass}}}\n";
