@@ -231,8 +231,8 @@ std::shared_ptr<CompiledModel> CompileModel(EquationSystem sys, const Structure&
       // Discrete variables are constant between events: their der() is 0, not an unknown's y'.
       std::unordered_map<uint32_t, ExprId> constant;
       for (ExprId leaf : CollectLeaves(p, rate, kHasDer)) {
-        const Node nd = p.node(leaf);
-        if (nd.op == Op::kDer && slots.y_of_var[nd.a] < 0) constant[leaf.value()] = p.Zero();
+        const Node der = p.node(leaf);
+        if (der.op == Op::kDer && slots.y_of_var[der.a] < 0) constant[leaf.value()] = p.Zero();
       }
       if (!constant.empty()) rate = ReplaceNodes(&p, rate, constant, kHasDer);
     }

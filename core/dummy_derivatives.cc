@@ -24,8 +24,6 @@ constexpr double kPivotFraction = 0.1;
 constexpr double kNeverPivotFraction = 1e-8;
 
 /// stateSelect priorities (FlatVariable::state_priority).
-constexpr int kNever = -2;
-constexpr int kAlways = 2;
 
 /// A state set switches when its current choice's pivot falls below this fraction of the best.
 constexpr double kSwitchFraction = 0.5;
@@ -122,7 +120,7 @@ class LevelChoice {
         // among the candidates of the highest stateSelect priority. One such candidate alone is
         // the state throughout (the static choice made above).
         DynamicSet set;
-        int top = kNever;
+        int top = kStateNever;
         for (uint32_t c : comp_cols) top = std::max(top, Priority(cands[c]));
         int32_t kept = -1;
         for (uint32_t c : comp_cols) {
@@ -138,7 +136,7 @@ class LevelChoice {
           for (uint32_t r : comp_rows) set.rows.push_back(rows[r]);
           for (const Candidate& c : set.cands) selected.push_back(c);
           choices->push_back(DescribeDynamic(set));
-          if (top == kNever && set.cands[set.selectable[0]].order == 1) {
+          if (top == kStateNever && set.cands[set.selectable[0]].order == 1) {
             warnings_.push_back("stateSelect: never on each of " + SelectableNames(set) +
                                 ", but one of them must be a state (a state set selects it during the run)");
           }
@@ -195,7 +193,7 @@ class LevelChoice {
           if (col_done[j]) continue;
           const double v = std::fabs(a[i * nc + j]);
           row_max_all = std::max(row_max_all, v);
-          if (Priority(cands[comp_cols[j]]) != kAlways) row_max = std::max(row_max, v);
+          if (Priority(cands[comp_cols[j]]) != kStateAlways) row_max = std::max(row_max, v);
         }
         const bool forced = !(row_max > 0);
         if (forced) row_max = row_max_all;
@@ -203,8 +201,8 @@ class LevelChoice {
         for (size_t j = 0; j < nc; ++j) {
           const double v = std::fabs(a[i * nc + j]);
           const int prio = Priority(cands[comp_cols[j]]);
-          const double fraction = prio == kNever ? kNeverPivotFraction : kPivotFraction;
-          if (col_done[j] || v < fraction * row_max || (prio == kAlways && !forced) || !(v > 0)) continue;
+          const double fraction = prio == kStateNever ? kNeverPivotFraction : kPivotFraction;
+          if (col_done[j] || v < fraction * row_max || (prio == kStateAlways && !forced) || !(v > 0)) continue;
           std::tuple<int, int, double, double> key{prio, -static_cast<int>(cands[comp_cols[j]].order), -v / row_max, -v};
           if (bi < 0 || key < best) {
             best = key;
@@ -299,7 +297,7 @@ class LevelChoice {
                    const std::vector<uint32_t>& comp_cols, const std::vector<uint32_t>& chosen,
                    const std::vector<Candidate>& cands) const {
     for (uint32_t c : chosen) {
-      if (Priority(cands[c]) != kAlways || cands[c].order != 1) continue;
+      if (Priority(cands[c]) != kStateAlways || cands[c].order != 1) continue;
       const FlatVariable& v = sys_.flat->variables[cands[c].var];
       std::ostringstream msg;
       msg << "stateSelect: always on " << v.name << " cannot be honoured: the other states determine "

@@ -16,6 +16,9 @@
 
 namespace momenta {
 
+/// FlatVariable::state_priority of stateSelect never and always (MSL's StateSelect).
+constexpr int kStateNever = -2, kStateAlways = 2;
+
 struct FlatVariable {
   std::string name;  ///< full path, e.g. "A.flange_a.s"
   ValueType type = ValueType::kReal;

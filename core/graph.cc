@@ -54,13 +54,13 @@ bool IncrementalMatching::TryAdd(const std::vector<uint32_t>& cols) {
 std::vector<uint32_t> IncrementalMatching::Reach(const std::vector<uint32_t>& cols) {
   ++stamp_;
   std::vector<uint32_t> rows;
-  std::vector<bool> row_seen(rows_.size(), false);
+  row_stamp_.resize(rows_.size(), 0);
   auto visit = [&](uint32_t c) {
     if (seen_[c] == stamp_) return;
     seen_[c] = stamp_;
     const int32_t r = col_to_row_[c];
-    if (r >= 0 && !row_seen[r]) {
-      row_seen[r] = true;
+    if (r >= 0 && row_stamp_[r] != stamp_) {
+      row_stamp_[r] = stamp_;
       rows.push_back(static_cast<uint32_t>(r));
     }
   };

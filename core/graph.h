@@ -47,6 +47,7 @@ class IncrementalMatching {
   std::vector<std::vector<uint32_t>> rows_;
   std::vector<int32_t> col_to_row_;
   std::vector<uint32_t> seen_;
+  std::vector<uint32_t> row_stamp_;  ///< Reach: rows met in the current call (== stamp_)
   uint32_t stamp_ = 0;
 };
 

@@ -49,8 +49,6 @@ void DerivativeAliases(EquationSystem* sys, IndexStats* stats) {
 }
 
 /// stateSelect priorities (FlatVariable::state_priority).
-constexpr int kNever = -2;
-constexpr int kAlways = 2;
 
 /// Step 2: constraints among differentiated variables.
 void ConstrainedStates(EquationSystem* sys, IndexStats* stats) {
@@ -92,18 +90,18 @@ void ConstrainedStates(EquationSystem* sys, IndexStats* stats) {
     // honour the priorities whether or not the constraint is linear.
     auto rank = [&](uint32_t v) {
       const int prio = flat.variables[v].state_priority;
-      return std::make_tuple(prio == kNever ? 0 : prio == kAlways ? 2 : 1, constraint_count[v], prio, -static_cast<int64_t>(v));
+      return std::make_tuple(prio == kStateNever ? 0 : prio == kStateAlways ? 2 : 1, constraint_count[v], prio, -static_cast<int64_t>(v));
     };
     std::sort(vars.begin(), vars.end(), [&](ExprId a, ExprId b) { return rank(p.node(a).a) < rank(p.node(b).a); });
     bool eliminated = false;
     for (ExprId x : vars) {
       const int prio = flat.variables[p.node(x).a].state_priority;
-      if (prio == kAlways) break;
+      if (prio == kStateAlways) break;
       ExprId coefficient;
       ExprId value = SolveFor(&p, r, x, true, &coefficient);
       ExprId dvalue = value.valid() ? TimeDerivative(&p, value) : ExprId();
       if (!dvalue.valid()) {
-        if (prio == kNever) break;
+        if (prio == kStateNever) break;
         continue;
       }
       uint32_t v = p.node(x).a;

@@ -186,10 +186,10 @@ DifferentiatedSystem Pantelides(EquationSystem* sys) {
     uint32_t e = e0;
     while (!g.Augment(e)) {
       // Differentiate every visited unknown and equation once.
-      std::vector<uint32_t> cols = g.visited_cols(), eqs = g.visited_eqs();
+      const std::vector<uint32_t>& cols = g.visited_cols();
+      const std::vector<uint32_t>& eqs = g.visited_eqs();
       std::vector<uint32_t> new_col(cols.size());
       for (size_t k = 0; k < cols.size(); ++k) new_col[k] = g.Column(g.var(cols[k]), g.order(cols[k]) + 1);
-      std::unordered_map<uint32_t, uint32_t> derivative_of_eq;
       for (uint32_t l : eqs) {
         const SystemEquation& eq = sys->equations[l];
         FlatEquation fe = sys->flat->equations[eq.origin];
@@ -209,15 +209,14 @@ DifferentiatedSystem Pantelides(EquationSystem* sys) {
         out.antiderivative.push_back(static_cast<int32_t>(l));
         out.derivative[l] = static_cast<int32_t>(d);
         g.AddRow(d);
-        derivative_of_eq[l] = d;
         out.structural_index = std::max(out.structural_index, sys->flat->equations.back().differentiations + 1);
         ++out.num_differentiated;
       }
       // The derivative of each visited unknown is matched to the derivative of its equation.
       for (size_t k = 0; k < cols.size(); ++k) {
-        g.Assign(new_col[k], static_cast<int32_t>(derivative_of_eq.at(static_cast<uint32_t>(g.assigned(cols[k])))));
+        g.Assign(new_col[k], out.derivative[static_cast<uint32_t>(g.assigned(cols[k]))]);
       }
-      e = derivative_of_eq.at(e);
+      e = static_cast<uint32_t>(out.derivative[e]);
     }
   }
   return finish();

@@ -6,8 +6,6 @@ namespace momenta {
 
 namespace {
 
-constexpr int kNever = -2;
-constexpr int kAlways = 2;
 
 /// Whether `v` is a state, or an alias (±u + offset) of one.
 bool IsStateOrAlias(const EquationSystem& sys, const Structure& st, uint32_t v) {
@@ -29,7 +27,7 @@ void CheckStateSelect(const EquationSystem& sys, const Structure& st, std::vecto
   const FlatSystem& flat = *sys.flat;
   for (uint32_t v = 0; v < sys.role.size(); ++v) {
     const FlatVariable& fv = flat.variables[v];
-    if (fv.state_priority == kAlways && !IsStateOrAlias(sys, st, v)) {
+    if (fv.state_priority == kStateAlways && !IsStateOrAlias(sys, st, v)) {
       std::string why;
       switch (sys.role[v]) {
         case VarRole::kConstant: why = "it is a constant (an equation fixes it to a parameter expression)"; break;
@@ -40,7 +38,7 @@ void CheckStateSelect(const EquationSystem& sys, const Structure& st, std::vecto
       throw ModelError(fv.loc, "stateSelect: always on " + fv.name + " cannot be honoured: " + why +
                                    ". Use stateSelect: prefer (or default) on " + fv.name + ".");
     }
-    if (fv.state_priority == kNever && sys.role[v] == VarRole::kUnknown && st.is_state[v]) {
+    if (fv.state_priority == kStateNever && sys.role[v] == VarRole::kUnknown && st.is_state[v]) {
       warnings->push_back(fv.loc.ToString() + ": stateSelect: never on " + fv.name +
                           ", but it is a state: no other variable can carry its degree of freedom");
     }

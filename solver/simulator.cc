@@ -169,7 +169,7 @@ class EventIntegrator {
       if (has_events_) {
         RunStateless();
       } else {
-        for (long k = 1; k <= num_intervals_ && !Interrupted(opt_.start + (k - 1) * interval_); ++k) {
+        for (long k = 1; k <= num_intervals_ && !Interrupted(GridTime(k - 1)); ++k) {
           Emit(GridTime(k), nullptr, nullptr);
         }
       }
@@ -493,6 +493,9 @@ class EventIntegrator {
     }
   }
 
+  /// Condition i is a time event whose time is computed exactly (affine in time): never sampled.
+  bool Scheduled(size_t i) const { return m_.conditions[i].time_only && i < affine_.size() && affine_[i]; }
+
   /// y_, yp_ := the interpolant at t (within the last step).
   void Interpolate(double t) {
     if (n_ == 0) return;
@@ -513,7 +516,7 @@ class EventIntegrator {
   double FirstCrossing(double t0, double t1) {
     // Nothing to watch when every condition is a scheduled time event and there are no contacts.
     bool watch = !m_.impacts.empty();
-    for (size_t i = 0; i < nc_ && !watch; ++i) watch = !(m_.conditions[i].time_only && i < affine_.size() && affine_[i]);
+    for (size_t i = 0; i < nc_ && !watch; ++i) watch = !Scheduled(i);
     if (!watch) return HUGE_VAL;
     const bool model = !modelled_.empty();
     if (model && !(sample_valid_ && sample_.t == t0)) {
@@ -554,7 +557,7 @@ class EventIntegrator {
   /// equality, and is not scheduled as a time event.
   bool Modelled(size_t i) const {
     const auto& c = m_.conditions[i];
-    return c.has_rate && c.op != Op::kEq && c.op != Op::kNe && !(c.time_only && i < affine_.size() && affine_[i]);
+    return c.has_rate && c.op != Op::kEq && c.op != Op::kNe && !Scheduled(i);
   }
 
   /// *s := the sample at t, from z_ (computed at t) and y_, yp_ (interpolated at t).
@@ -604,7 +607,7 @@ class EventIntegrator {
       state_->ZeroCrossings(t, y_.data(), yp_.data(), z_.data());
       const double* c = state_->conditions();
       for (size_t i = 0; i < nc_; ++i) {
-        if (m_.conditions[i].time_only && affine_[i]) continue;  // scheduled exactly
+        if (Scheduled(i)) continue;  // scheduled exactly
         bool now = RelationHolds(m_.conditions[i].op, z_[i]);
         if (now != (c[i] != 0) && std::fabs(z_[i]) > Band(i)) return true;
       }
