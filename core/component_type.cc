@@ -13,24 +13,49 @@ const char* ValueTypeName(ValueType t) {
   return "?";
 }
 
+namespace {
+
+/// Records `name` under its last dotted part ("Rotational.Inertia" under "Inertia"); a short
+/// name that two qualified names share maps to "" (ambiguous: the full name is needed).
+void AddShortName(const std::string& name, std::map<std::string, std::string>* short_names) {
+  size_t dot = name.rfind('.');
+  if (dot == std::string::npos) return;
+  auto [it, inserted] = short_names->emplace(name.substr(dot + 1), name);
+  if (!inserted && it->second != name) it->second.clear();
+}
+
+/// The entry named `name`, or the one whose qualified name it abbreviates.
+template <typename T>
+const T* FindQualified(const std::map<std::string, std::shared_ptr<T>>& entries,
+                       const std::map<std::string, std::string>& short_names, const std::string& name) {
+  auto it = entries.find(name);
+  if (it != entries.end()) return it->second.get();
+  auto s = short_names.find(name);
+  if (s == short_names.end() || s->second.empty()) return nullptr;
+  it = entries.find(s->second);
+  return it == entries.end() ? nullptr : it->second.get();
+}
+
+}  // namespace
+
 void Library::AddConnector(ConnectorType c) {
   std::string name = c.name;
+  AddShortName(name, &short_connectors_);
   connectors_[name] = std::make_shared<ConnectorType>(std::move(c));
 }
 
 void Library::AddComponent(ComponentType c) {
   std::string name = c.name;
+  AddShortName(name, &short_components_);
   components_[name] = std::make_shared<ComponentType>(std::move(c));
 }
 
 const ConnectorType* Library::FindConnector(const std::string& name) const {
-  auto it = connectors_.find(name);
-  return it == connectors_.end() ? nullptr : it->second.get();
+  return FindQualified(connectors_, short_connectors_, name);
 }
 
 const ComponentType* Library::FindComponent(const std::string& name) const {
-  auto it = components_.find(name);
-  return it == components_.end() ? nullptr : it->second.get();
+  return FindQualified(components_, short_components_, name);
 }
 
 bool Library::Has(const std::string& name) const {

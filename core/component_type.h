@@ -151,6 +151,9 @@ struct ComponentType {
 };
 
 /// The types a model can use: the built-in library plus the model's own definitions.
+/// Domain libraries name their types with a package prefix (`Rotational.Fixed`,
+/// `Planar.Body`); a type is found by its full name, or by its last part alone (`Body`) when no
+/// unqualified type has that name and no other package uses it.
 class Library {
  public:
   void AddConnector(ConnectorType c);
@@ -158,12 +161,16 @@ class Library {
   const ConnectorType* FindConnector(const std::string& name) const;
   const ComponentType* FindComponent(const std::string& name) const;
   bool Has(const std::string& name) const;
+  /// A component type of exactly this name (no short-name lookup).
+  bool HasComponent(const std::string& name) const { return components_.count(name) != 0; }
   std::vector<std::string> ComponentNames() const;
   std::vector<std::string> ConnectorNames() const;
 
  private:
   std::map<std::string, std::shared_ptr<ConnectorType>> connectors_;
   std::map<std::string, std::shared_ptr<ComponentType>> components_;
+  /// Last part of a qualified name -> the full name ("" when two packages share it).
+  std::map<std::string, std::string> short_connectors_, short_components_;
 };
 
 /// The library compiled into the binary (components/*.yaml).

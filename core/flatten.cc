@@ -217,7 +217,7 @@ class Flattener {
     flat_.file = spec.file;
     flat_.experiment = spec.experiment;
     for (const auto& d : spec.defines) {
-      if (library.FindComponent(d.name)) {
+      if (library.HasComponent(d.name)) {
         throw ModelError(d.loc, "type " + d.name +
                                     " has the name of a library component; choose another name");
       }
