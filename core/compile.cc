@@ -369,9 +369,10 @@ std::shared_ptr<CompiledModel> CompileModel(EquationSystem sys, const Structure&
     m->when_values = compiler.Compile(statement_values);
   }
 
-  // Impacts: the residual Newton's law replaces, and d(velocity)/dy.
+  // Impacts: the contact-mode row that carries Newton's law at an impact, and the values the
+  // simulator watches (gap, velocity, restitution, v_small, release).
   {
-    std::vector<ExprId> values, gradients;
+    std::vector<ExprId> values;
     for (const auto& im : sys.impacts) {
       const FlatImpact& fi = flat.impacts[im.origin];
       CompiledModel::Impact ci;
@@ -382,27 +383,26 @@ std::shared_ptr<CompiledModel> CompileModel(EquationSystem sys, const Structure&
       }
       ci.mode_row = static_cast<uint32_t>(row - residual_source.begin());
       ci.contact = static_cast<uint32_t>(slots.disc_of_var[im.contact.value()]);
-      ci.gradient_offset = static_cast<uint32_t>(gradients.size());
-      for (ExprId leaf : CollectLeaves(p, im.velocity, kHasVar | kHasDer)) {
-        const Node nd_leaf = p.node(leaf);  // a copy: new nodes may move the pool
-        int32_t y = slots.y_of_var[nd_leaf.a];
-        if (nd_leaf.op == Op::kDer || y < 0 || !m->is_state[y]) {
-          throw ModelError(fi.loc, "the impact velocity of " + ci.name + " must be a function of the states; it depends on " + flat.variables[nd_leaf.a].name);
+      for (ExprId e : {im.gap, im.velocity}) {
+        for (ExprId leaf : CollectLeaves(p, e, kHasVar | kHasDer)) {
+          const Node leaf_node = p.node(leaf);
+          if (leaf_node.op == Op::kDer) {
+            m->impacts_read_algebraic = true;
+          } else if (const int32_t y = slots.y_of_var[leaf_node.a]; y >= 0 && !m->is_state[y]) {
+            m->impacts_read_algebraic = true;
+          }
         }
-        ci.gradient_y.push_back(static_cast<uint32_t>(y));
-        gradients.push_back(PartialDerivative(&p, im.velocity, leaf));
       }
       for (ExprId e : {im.gap, im.velocity, im.restitution, im.v_small, im.release}) values.push_back(e);
       m->impacts.push_back(std::move(ci));
     }
     m->impact_values = compiler.Compile(values);
-    m->impact_gradients = compiler.Compile(gradients);
   }
 
   compiler.Finish({&m->residual, &m->jacobian, &m->outputs, &m->start_values, &m->init_residual, &m->redundant_residual,
                    &m->init_jacobian, &m->guard_values, &m->discrete_starts, &m->discrete_update,
                    &m->zero_crossings, &m->zero_crossing_rates, &m->when_conditions,
-                   &m->when_values, &m->impact_values, &m->impact_gradients,
+                   &m->when_values, &m->impact_values,
                    &compiler.parameter_program()});
   m->parameters = compiler.parameter_program();
   m->layout = compiler.layout();

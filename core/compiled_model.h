@@ -84,14 +84,17 @@ struct CompiledModel {
   // Impacts.
   struct Impact {
     std::string name;
-    uint32_t mode_row = 0;       ///< the residual that gives way to Newton's law
-    uint32_t contact = 0;        ///< discrete index of the contact mode
-    std::vector<uint32_t> gradient_y;  ///< y indices of d(velocity)/dy entries
-    uint32_t gradient_offset = 0;      ///< first entry in impact_gradients' output
+    /// The contact law `0 = if contact then der(velocity) else force`: in contact mode, the
+    /// row of der(velocity) that carries Newton's law at an impact.
+    uint32_t mode_row = 0;
+    uint32_t contact = 0;  ///< discrete index of the contact mode
   };
   std::vector<Impact> impacts;
-  Program impact_values;     ///< out: per impact gap, velocity, restitution, v_small, release
-  Program impact_gradients;  ///< out: d(velocity)/dy entries
+  Program impact_values;  ///< out: per impact gap, velocity, restitution, v_small, release
+  /// Some gap or velocity reads an algebraic unknown or a derivative (a contact through index
+  /// reduction): after an impulse y and y' are made consistent before the contacts are looked at
+  /// again.
+  bool impacts_read_algebraic = false;
 
   // Compiled programs.
   RegisterLayout layout;

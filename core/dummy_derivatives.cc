@@ -182,8 +182,17 @@ class LevelChoice {
     std::vector<bool> row_done(nr, false), col_done(nc, false);
     std::vector<uint32_t> chosen;
     for (size_t step = 0; step < nr; ++step) {
+      // Candidates to avoid (or never to choose) that one remaining row alone can still give are
+      // taken there first within their priority, or that row's pivot could be spent on a column
+      // other rows also have (a contact's der(v_n) = der(der(d)) must give der(v_n), not
+      // der(der(d)), or v_n becomes a state).
+      std::vector<uint32_t> col_rows(nc, 0);
+      for (size_t i = 0; i < nr; ++i) {
+        if (row_done[i]) continue;
+        for (size_t j = 0; j < nc; ++j) col_rows[j] += !col_done[j] && a[i * nc + j] != 0;
+      }
       int64_t bi = -1, bj = -1;
-      std::tuple<int, int, double, double> best{0, 0, 0.0, 0.0};
+      std::tuple<int, int, int, double, double> best{0, 0, 0, 0.0, 0.0};
       for (size_t i = 0; i < nr; ++i) {
         if (row_done[i]) continue;
         // The row's largest entry among the candidates that may be made dummy (`always` ones
@@ -203,7 +212,8 @@ class LevelChoice {
           const int prio = Priority(cands[comp_cols[j]]);
           const double fraction = prio == kStateNever ? kNeverPivotFraction : kPivotFraction;
           if (col_done[j] || v < fraction * row_max || (prio == kStateAlways && !forced) || !(v > 0)) continue;
-          std::tuple<int, int, double, double> key{prio, -static_cast<int>(cands[comp_cols[j]].order), -v / row_max, -v};
+          std::tuple<int, int, int, double, double> key{prio, prio < kStateDefault && col_rows[j] == 1 ? 0 : 1,
+                                                        -static_cast<int>(cands[comp_cols[j]].order), -v / row_max, -v};
           if (bi < 0 || key < best) {
             best = key;
             bi = static_cast<int64_t>(i);

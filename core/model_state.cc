@@ -113,10 +113,6 @@ void ModelState::ImpactValues(double t, const double* y, const double* yp, doubl
   RunAt(model_->impact_values, t, y, yp, out);
 }
 
-void ModelState::ImpactGradients(double t, const double* y, const double* yp, double* out) {
-  RunAt(model_->impact_gradients, t, y, yp, out);
-}
-
 void ModelState::JacobianParts(double t, const double* y, const double* yp, double* dfdy,
                                double* dfdyp) {
   const size_t nnz = model_->jacobian_pattern.nnz();

@@ -52,7 +52,6 @@ class ModelState {
   void WhenValues(double t, const double* y, const double* yp, double* out);
   /// Per impact: gap, velocity, restitution, v_small, release (5 values each).
   void ImpactValues(double t, const double* y, const double* yp, double* out);
-  void ImpactGradients(double t, const double* y, const double* yp, double* out);
   /// dF/dy (cj = 0) and dF/dy' (the cj = 1 values minus those) in the Jacobian's pattern.
   void JacobianParts(double t, const double* y, const double* yp, double* dfdy, double* dfdyp);
 

@@ -5,9 +5,13 @@
 // algebraic unknown that carries the impact becomes its impulse Λ. For F linear in y' and in the
 // impulsive unknowns (masses times accelerations balanced by forces) this is
 //     [dF/dy' (state columns) | dF/dz (algebraic columns)] [Δx; Λ] = 0,
-// the IDA Jacobian's two parts (cj = 1 minus cj = 0, and cj = 0). The contact's own law (its
-// `0 = if contact then der(velocity) else force` row) gives way to Newton's law
-//     d(velocity)/dx · Δx = -(1 + e) · velocity⁻,
+// the IDA Jacobian's two parts (cj = 1 minus cj = 0, and cj = 0). The contact's own law, its
+// `0 = if contact then der(velocity) else force` row taken in contact mode, integrates to the
+// jump of the velocity, and Newton's law sets it:
+//     ∫ der(velocity) dt = Δvelocity = -(1 + e) · velocity⁻.
+// This holds through index reduction: a dummy derivative (der(v) made algebraic) integrates to
+// the jump of v like a state's derivative does, and the integrals of velocity-level unknowns
+// come out zero, so the velocity may be any expression of the model's unknowns.
 // so the impulse passes through rods (rigid: one velocity), not through springs (bounded forces:
 // Λ = 0), and through closed contacts as through rods. Positions do not jump (der(s) = v gives
 // Δs = 0). An approach slower than v_small closes the contact (e = 0); it then rests, with
@@ -297,6 +301,7 @@ class EventIntegrator {
       }
     }
     SetAlgebraicRates();
+    bool untested = false;
     for (size_t k = 0; k < n_; ++k) {
       N_VGetArrayPointer(abstol.get())[k] = atol * m_.nominal[k];
       // Dummy derivatives (derivatives index reduction made algebraic) follow from the other
@@ -305,8 +310,15 @@ class EventIntegrator {
       // error test: an absolute tolerance no value reaches.
       if (!m_.is_state[k] && m_.flat->variables[m_.unknowns[k].value()].derivative_order > 0) {
         N_VGetArrayPointer(abstol.get())[k] = kUntestedTolerance;
+        untested = true;
       }
       N_VGetArrayPointer(id_.get())[k] = m_.is_state[k] ? 1.0 : 0.0;
+    }
+    // The consistent restarts after events solve for every algebraic unknown, dummy derivatives
+    // included, to the ordinary tolerance (after an impulse they are all stale).
+    if (untested) {
+      restart_abstol_.reset(N_VClone(abstol.get()));
+      for (size_t k = 0; k < n_; ++k) N_VGetArrayPointer(restart_abstol_.get())[k] = atol * m_.nominal[k];
     }
     Load(y_, yp_);
     data_ = IdaData{state_, {}, {}, {}};
@@ -743,6 +755,7 @@ class EventIntegrator {
     CheckFlag(IDAReInit(mem, t, y_vec_.get(), yp_vec_.get()), "IDAReInit");
     double tout1 = std::min(opt_.stop, t + interval_);
     if (tout1 <= t) tout1 = t + std::max(1e-6, 1e-6 * std::fabs(t));
+    if (restart_abstol_) CheckFlag(IDASVtolerances(mem, opt_.rtol, restart_abstol_.get()), "IDASVtolerances");
     int flag = IDACalcIC(mem, IDA_YA_YDP_INIT, tout1);
     if (flag < 0) {
       throw SolverError("at t = " + Num(t) + ": no consistent restart after the event (IDACalcIC: " +
@@ -754,7 +767,11 @@ class EventIntegrator {
     const double* b = N_VGetArrayPointer(yp_vec_.get());
     y_.assign(a, a + n_);
     yp_.assign(b, b + n_);
-    if (!rate_of_algebraic_.empty()) {  // the rates again, from the consistent dummies
+    if (restart_abstol_) {
+      // Back to the integration's tolerances; IDA takes them at its next (re)initialisation.
+      CheckFlag(IDASVtolerances(mem, opt_.rtol, abstol_.get()), "IDASVtolerances");
+    }
+    if (!rate_of_algebraic_.empty() || restart_abstol_) {  // the rates again, from the consistent dummies
       SetAlgebraicRates();
       Load(y_, yp_);
       CheckFlag(IDAReInit(mem, t, y_vec_.get(), yp_vec_.get()), "IDAReInit");
@@ -874,33 +891,30 @@ class EventIntegrator {
       double dvel = close ? -vel : -(1 + e) * vel;
       ApplyImpulse(t, im, dvel);
       if (close) d[im.contact] = 1;
+      if (m_.impacts_read_algebraic) Restart(t);
       ++stats_->impacts;
       stats_->impact_times.push_back(t);
     }
   }
 
-  /// Solves [dF/dy' | dF/dz] [Δx; Λ] = 0 with the contact's row replaced by
-  /// d(velocity)/dx · Δx = dvel, and adds Δx to the states.
+  /// Solves [dF/dy' | dF/dz] [Δx; Λ] = b, the DAE integrated over the impact, with the impact's
+  /// contact law taken in contact mode: its row is then der(velocity), whose integral is the jump
+  /// of the velocity, and b asks that jump to be `dvel` (every other row is 0). Adds Δx to the
+  /// states.
   void ApplyImpulse(double t, const CompiledModel::Impact& im, double dvel) {
     const SparsePattern& pat = m_.jacobian_pattern;
     std::vector<double> dfdy(pat.nnz()), dfdyp(pat.nnz());
+    double* d = state_->mutable_discrete();
+    const double mode = d[im.contact];
+    d[im.contact] = 1;
     state_->JacobianParts(t, y_.data(), yp_.data(), dfdy.data(), dfdyp.data());
+    d[im.contact] = mode;
     std::vector<Eigen::Triplet<double>> triplets;
     for (int32_t c = 0; c < pat.cols; ++c) {
       for (int32_t k = pat.col_start[c]; k < pat.col_start[c + 1]; ++k) {
-        int32_t r = pat.row_index[k];
-        if (static_cast<uint32_t>(r) == im.mode_row) continue;
         double v = m_.is_state[c] ? dfdyp[k] : dfdy[k];
-        if (v != 0) triplets.emplace_back(r, c, v);
+        if (v != 0) triplets.emplace_back(pat.row_index[k], c, v);
       }
-    }
-    std::vector<double> grad(m_.impact_gradients.size());
-    size_t total = 0;
-    for (const auto& other : m_.impacts) total += other.gradient_y.size();
-    grad.resize(total);
-    state_->ImpactGradients(t, y_.data(), yp_.data(), grad.data());
-    for (size_t j = 0; j < im.gradient_y.size(); ++j) {
-      triplets.emplace_back(static_cast<int>(im.mode_row), static_cast<int>(im.gradient_y[j]), grad[im.gradient_offset + j]);
     }
     Eigen::SparseMatrix<double> A(static_cast<int>(n_), static_cast<int>(n_));
     A.setFromTriplets(triplets.begin(), triplets.end());
@@ -976,6 +990,7 @@ class EventIntegrator {
   std::chrono::steady_clock::time_point t_run_;
   ContextPtr ctx_;
   VectorPtr y_vec_, yp_vec_, id_, dky_, dkyp_, abstol_;
+  VectorPtr restart_abstol_;  ///< abstol_ with dummy derivatives tested (null when none is untested)
   LinearSystem ls_;
   IdaData data_{nullptr, {}, {}, {}};
   std::unique_ptr<void, IdaDeleter> ida_;
