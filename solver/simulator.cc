@@ -260,6 +260,7 @@ class EventIntegrator {
       }
     }
     state_->SavePre(y_.data());
+    CheckNoContactOverlaps(opt_.start);
     stats_->init_seconds = Elapsed(t0);
     Emit(opt_.start, y_.data(), yp_.data());
     // The initial event: with pre() now the initial values, discrete equations such as
@@ -530,7 +531,7 @@ class EventIntegrator {
     bool watch = !m_.impacts.empty();
     for (size_t i = 0; i < nc_ && !watch; ++i) watch = !Scheduled(i);
     if (!watch) return HUGE_VAL;
-    const bool model = !modelled_.empty();
+    const bool model = !modelled_.empty() || !m_.impacts.empty();
     if (model && !(sample_valid_ && sample_.t == t0)) {
       Interpolate(t0);
       state_->ZeroCrossings(t0, y_.data(), yp_.data(), z_.data());
@@ -563,6 +564,7 @@ class EventIntegrator {
   struct Sample {
     double t = 0;
     std::vector<double> z, dz;
+    std::vector<double> gap, rate;  ///< per impact: its gap and velocity (the gap's rate)
   };
 
   /// Whether condition i is watched with a cubic model: it has a time derivative, is not an
@@ -578,6 +580,15 @@ class EventIntegrator {
     s->z.assign(z_.begin(), z_.end());
     s->dz.resize(nc_);
     state_->ZeroCrossingRates(t, y_.data(), yp_.data(), s->dz.data());
+    if (m_.impacts.empty()) return;
+    impact_values_.resize(5 * m_.impacts.size());
+    state_->ImpactValues(t, y_.data(), yp_.data(), impact_values_.data());
+    s->gap.resize(m_.impacts.size());
+    s->rate.resize(m_.impacts.size());
+    for (size_t k = 0; k < m_.impacts.size(); ++k) {
+      s->gap[k] = impact_values_[5 * k];
+      s->rate[k] = impact_values_[5 * k + 1];
+    }
   }
 
   /// A crossing between samples a and b that the cubic models of the crossing functions point to:
@@ -602,10 +613,23 @@ class EventIntegrator {
       auto dip = HermiteInteriorMinimum(ua, va, ub, vb);
       if (dip && dip->value < level) tau = std::min(tau, dip->tau);
     }
+    // Open contacts the same way: the gap, with the contact's velocity as its rate (a body that
+    // passes through another inside one step).
+    const double* d = state_->discrete();
+    for (size_t k = 0; k < a.gap.size(); ++k) {
+      if (d[m_.impacts[k].contact] != 0) continue;
+      const double ua = a.gap[k], ub = b.gap[k], va = a.rate[k] * h, vb = b.rate[k] * h;
+      const double level = 0.5 * std::max(0.0, std::min(ua, ub)) - kGapBand;
+      if (std::min(ua + va / 3, ub - vb / 3) >= level) continue;
+      auto dip = HermiteInteriorMinimum(ua, va, ub, vb);
+      if (dip && dip->value < level) tau = std::min(tau, dip->tau);
+    }
     if (tau == HUGE_VAL) return HUGE_VAL;
     --refinements_left_;
     const double tm = a.t + tau * h;
-    if (Crossed(tm)) return Locate(a.t, tm);
+    // Crossed there; or a contact overlaps there, at its deepest, so it closed (approaching)
+    // before: either way the crossing lies in (a.t, tm].
+    if (Crossed(tm) || ContactOverlaps()) return Locate(a.t, tm);
     Sample m;
     TakeSample(tm, &m);
     if (double tc = Excursion(a, m, depth + 1); tc < HUGE_VAL) return tc;
@@ -636,6 +660,31 @@ class EventIntegrator {
       if (d[m_.impacts[k].contact] != 0) continue;
       double gap = impact_values_[5 * k], vel = impact_values_[5 * k + 1];
       if (gap < 0 && vel < -kVelocityBand) return true;
+    }
+    return false;
+  }
+
+  /// An open contact that starts overlapped has no impact to resolve (its gap never closes):
+  /// an error naming it.
+  void CheckNoContactOverlaps(double t) {
+    if (m_.impacts.empty()) return;
+    impact_values_.resize(5 * m_.impacts.size());
+    state_->ImpactValues(t, y_.data(), yp_.data(), impact_values_.data());
+    const double* d = state_->discrete();
+    for (size_t k = 0; k < m_.impacts.size(); ++k) {
+      const double gap = impact_values_[5 * k];
+      if (d[m_.impacts[k].contact] == 0 && gap < -kGapBand) {
+        throw SolverError("at t = " + Num(t) + ": the bodies of " + m_.impacts[k].name + " start overlapped (gap " +
+                          Num(gap) + "); move them apart so that the gap is zero or positive");
+      }
+    }
+  }
+
+  /// Whether an open contact's gap is closed in impact_values_ (as ContactCloses left them).
+  bool ContactOverlaps() const {
+    const double* d = state_->discrete();
+    for (size_t k = 0; k < m_.impacts.size(); ++k) {
+      if (d[m_.impacts[k].contact] == 0 && impact_values_[5 * k] < -kGapBand) return true;
     }
     return false;
   }

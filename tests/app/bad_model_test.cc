@@ -348,6 +348,27 @@ outputs: [A.vel]
 )",
        {},
        {"@:4:", "'vel'", "A (Mass)", "s, v, a"}},
+
+      // Planar multibody: a joint whose two frames are one body's frame fixes nothing new but
+      // states the body's position twice; the message names the joint's equations.
+      {"planar_joint_on_one_body",
+       "model: Bad\n"
+       "components:\n"
+       "  body: {type: Body, m: 1, I: 0.1}\n"
+       "  joint: {type: Revolute}\n"
+       "connections:\n"
+       "  - [body.frame_a, joint.frame_a]\n"
+       "  - [body.frame_a, joint.frame_b]\n",
+       {},
+       {"redundant", "joint.frame_b.x = body.frame_a.x (connection)", "@:6:6"}},
+
+      // A body with a negative moment of inertia.
+      {"planar_negative_inertia",
+       "model: Bad\n"
+       "components:\n"
+       "  body: {type: Body, m: 1, I: -1}\n",
+       {},
+       {"@:3:31: body.I", "= -1 is below its minimum 0"}},
   };
   return cases;
 }
