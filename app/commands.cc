@@ -1,5 +1,6 @@
 #include "app/commands.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <iostream>
@@ -291,12 +292,12 @@ int RunList(const std::string& name) {
       const ComponentType* t = lib.FindComponent(n);
       by_file[t->loc.file()].push_back(t);
     }
+    size_t width = 0;  // the names in one column, two spaces after the longest
+    for (const auto& n : lib.ComponentNames()) width = std::max(width, n.size());
     for (const auto& [file, types] : by_file) {
       o << file << "\n";
       for (const ComponentType* t : types) {
-        char buf[64];
-        std::snprintf(buf, sizeof buf, "  %-24s", t->name.c_str());
-        o << buf << t->doc << "\n";
+        o << "  " << t->name << std::string(width + 2 - t->name.size(), ' ') << t->doc << "\n";
       }
     }
     o << "connectors: " << JoinNames(lib.ConnectorNames()) << "\n";

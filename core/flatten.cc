@@ -1176,8 +1176,15 @@ class Flattener {
                               const std::string& b_text, const SourceLoc& loc, const std::string& where = "") {
     bool compatible = a == b || (a->is_signal && b->is_signal && a->signal_type == b->signal_type);
     if (!compatible) {
+      auto last = [](const std::string& n) { return n.substr(n.rfind('.') + 1); };
+      std::string hint;
+      if (last(a->name) == last(b->name)) {
+        hint = " (flanges of two domains: a library type written without its package, such as Spring or "
+               "Fixed, is the translational one; write the package for another domain's, such as "
+               "Rotational.Spring)";
+      }
       throw ModelError(loc, "cannot connect " + a_text + " (" + a->name + ") to " + b_text + " (" + b->name +
-                                ")" + where + ": connectors of different kinds");
+                                ")" + where + ": connectors of different kinds" + hint);
     }
   }
 

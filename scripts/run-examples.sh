@@ -1,10 +1,12 @@
 #!/usr/bin/env bash
 # momenta: build the Release tree and simulate the example models.
 #
-# Runs the seed examples models/carrier_collision.yaml and models/ball_and_pendulum.yaml first
-# (noting any that is missing), then every other models/*.yaml and models/msl/*.yaml. Each result
-# goes to build/examples/<model>.csv; momenta prints its summary and final values. Exits non-zero
-# if any simulation failed.
+# Runs the seed examples first (models/carrier_collision.yaml, models/ball_pendulum_impact.yaml,
+# models/ball_pendulum.yaml; noting any that is missing), then every other models/*.yaml and
+# models/msl/*.yaml. Each result goes to build/examples/<model>.csv; momenta prints its summary and
+# final values. Ends with the seed's figures read from the CSVs (carrier B's final speed; the
+# ball and pendulum's speeds just after the impact divided by A's speed v0 just before, exact and
+# penalty). Exits non-zero if any simulation failed.
 # Environment: MOMENTA_JOBS (default 2).
 set -euo pipefail
 
@@ -21,7 +23,7 @@ mkdir -p "$OUT"
 
 # ---- list the models: the two seed examples first, then the rest -----------------------------
 models=()
-for m in models/carrier_collision.yaml models/ball_and_pendulum.yaml; do
+for m in models/carrier_collision.yaml models/ball_pendulum_impact.yaml models/ball_pendulum.yaml; do
   if [[ -f "$m" ]]; then models+=("$m"); else echo "note: $m does not exist, skipped"; fi
 done
 for m in models/*.yaml models/msl/*.yaml; do
@@ -43,5 +45,36 @@ for m in "${models[@]}"; do
   fi
 done
 
+# ---- the seed's figures ---------------------------------------------------------------------
+# Ball and pendulum: v0 is A's speed on the last row before contact, the velocities after it those
+# of the first row after it (the exact impact's right limit; the end of the penalty force).
+ball_pendulum() {  # CSV, "exact" or "penalty"
+  awk -F, -v kind="$2" '
+    NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
+    { n++; t[n] = $1; ax[n] = $c["A.v[1]"]; ay[n] = $c["A.v[2]"]; bx[n] = $c["B.v[1]"]; by[n] = $c["B.v[2]"]
+      if (kind == "penalty") { on[n] = $c["touching.y"] + 0 } }
+    END {
+      for (k = 2; k <= n; k++) {
+        if (kind == "exact" && t[k] == t[k - 1]) { b = k - 1; a = k; break }
+        if (kind == "penalty" && on[k] > 0.5 && !b) b = k - 1
+        if (kind == "penalty" && b && on[k] < 0.5) { a = k; break }
+      }
+      if (!a) { print "  (no impact found)"; exit }
+      v0 = sqrt(ax[b] ^ 2 + ay[b] ^ 2)
+      printf "  %-8s v0 = %.6f m/s at t = %.6f s; after: A %.4f v0 at %.2f deg above the x axis, B %.4f v0 along %s\n",
+             kind, v0, t[b], sqrt(ax[a] ^ 2 + ay[a] ^ 2) / v0, atan2(ay[a], ax[a]) * 45 / atan2(1, 1),
+             sqrt(bx[a] ^ 2 + by[a] ^ 2) / v0, (bx[a] < 0 ? "-x" : "+x")
+    }' "$1"
+}
+echo
+echo "== the seed's examples"
+if [[ -f "$OUT/carrier_collision.csv" ]]; then
+  awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next } { v = $c["B.v"] }
+           END { printf "Carrier collision: carrier B ends at %.6f m/s (closed form 2.904545...)\n", v }' "$OUT/carrier_collision.csv"
+fi
+echo "Ball and pendulum (closed form for e = 1: A 0.7211 v0 at 16.1 deg, B 0.6928 v0 along -x):"
+[[ -f "$OUT/ball_pendulum_impact.csv" ]] && ball_pendulum "$OUT/ball_pendulum_impact.csv" exact
+[[ -f "$OUT/ball_pendulum.csv" ]] && ball_pendulum "$OUT/ball_pendulum.csv" penalty
+echo
 echo "${#models[@]} models run, ${#failed[@]} failed${failed[*]:+: ${failed[*]}}"
 ((${#failed[@]} == 0))
