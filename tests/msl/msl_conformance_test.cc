@@ -1,5 +1,10 @@
-// The seven Modelica.Mechanics.Translational examples in models/msl/ against the MSL's own
-// reference results (tests/data/msl/), with the models' own experiment settings.
+// MSL examples in models/msl/ against the MSL's own reference results (tests/data/msl/), with the
+// models' own experiment settings:
+// - seven Modelica.Mechanics.Translational examples (tolerance 1e-6, interval 5e-4, the
+//   reference's output interval);
+// - six Modelica.Mechanics.MultiBody.Examples.Elementary examples whose motion lies in the x-y
+//   plane, built from the planar library (tolerance 1e-6, interval StopTime/5000, the
+//   reference's output interval).
 //
 // Criterion: the MSL's CSV-compare tube with tolerance 2e-3 — at every reference time that is
 // also one of our output times, for every reference column,
@@ -12,6 +17,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <ostream>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -30,9 +36,25 @@ constexpr double kTubeTolerance = 2e-3;
 
 std::string ModelPath(const std::string& name) { return "models/msl/" + name + ".yaml"; }
 
-Csv Reference(const std::string& name) {
-  return testing::ReadCsv(
-      testing::SourcePath("tests/data/msl/Modelica.Mechanics.Translational.Examples." + name + ".csv"));
+constexpr const char* kTranslational = "Modelica.Mechanics.Translational.Examples";
+constexpr const char* kMultiBody = "Modelica.Mechanics.MultiBody.Examples.Elementary";
+
+/// The reference result of the MSL example `package`.`name` (the file's name is the full class
+/// name).
+Csv Reference(const std::string& name, const std::string& package = kTranslational) {
+  return testing::ReadCsv(testing::SourcePath("tests/data/msl/" + package + "." + name + ".csv"));
+}
+
+/// One MSL example: its package, its short name (the model file's and the test's name) and the
+/// output interval of its reference, which the model's experiment must use.
+struct MslExample {
+  const char* package;
+  const char* name;
+  double interval;
+};
+
+std::ostream& operator<<(std::ostream& os, const MslExample& e) {
+  return os << e.package << "." << e.name;
 }
 
 /// The worst point of one comparison; ratio = |error| / allowed, so ratio <= 1 passes.
@@ -95,18 +117,19 @@ void Compare(const std::string& model, const Trajectory& ours, const Csv& ref, d
 /// The MSL tube: 2e-3 relative to the signal's largest magnitude, absolute below 1.
 double MslTube(double max_abs) { return kTubeTolerance * std::max(1.0, max_abs); }
 
-class MslConformanceTest : public ::testing::TestWithParam<std::string> {};
+class MslConformanceTest : public ::testing::TestWithParam<MslExample> {};
 
 TEST_P(MslConformanceTest, WithinTheMslTube) {
-  const std::string& name = GetParam();
+  const std::string name = GetParam().name;
   Built b = testing::BuildFile(ModelPath(name));
   for (const auto& w : b.report.warnings) ADD_FAILURE() << name << ": unexpected warning: " << w;
   SimulationOptions opt = OptionsFromExperiment(b.model->experiment);
-  // The models' own experiment: every MSL example here runs at tolerance 1e-6, interval 5e-4.
+  // The models' own experiment: every MSL example here runs at the reference's tolerance, 1e-6,
+  // and output interval (5e-4 for Translational, StopTime/5000 for MultiBody).
   ASSERT_EQ(opt.rtol, 1e-6) << name;
-  ASSERT_EQ(opt.interval, 5e-4) << name;
+  ASSERT_EQ(opt.interval, GetParam().interval) << name;
   Trajectory ours = testing::Run(b, opt);
-  Csv ref = Reference(name);
+  Csv ref = Reference(name, GetParam().package);
   ASSERT_FALSE(ref.rows.empty());
 
   // Our rows cover the whole reference time range: in time order, from the start to the stop
@@ -133,10 +156,31 @@ TEST_P(MslConformanceTest, WithinTheMslTube) {
   EXPECT_LE(worst.ratio, 1.0) << name << ": outside the MSL tube: " << worst.ToString();
 }
 
+std::string ExampleName(const ::testing::TestParamInfo<MslExample>& info) {
+  return info.param.name;
+}
+
 INSTANTIATE_TEST_SUITE_P(Translational, MslConformanceTest,
-                         ::testing::Values("SignConvention", "InitialConditions", "WhyArrows",
-                                           "Accelerate", "Damper", "Oscillator", "Sensors"),
-                         [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });
+                         ::testing::Values(MslExample{kTranslational, "SignConvention", 5e-4},
+                                           MslExample{kTranslational, "InitialConditions", 5e-4},
+                                           MslExample{kTranslational, "WhyArrows", 5e-4},
+                                           MslExample{kTranslational, "Accelerate", 5e-4},
+                                           MslExample{kTranslational, "Damper", 5e-4},
+                                           MslExample{kTranslational, "Oscillator", 5e-4},
+                                           MslExample{kTranslational, "Sensors", 5e-4}),
+                         ExampleName);
+
+// MultiBody.Examples.Elementary in the plane (models/msl/<Name>.yaml say how each maps to the
+// planar library). The reference interval is StopTime/5000.
+INSTANTIATE_TEST_SUITE_P(
+    MultiBody, MslConformanceTest,
+    ::testing::Values(MslExample{kMultiBody, "Pendulum", 5.0 / 5000},
+                      MslExample{kMultiBody, "DoublePendulum", 3.0 / 5000},
+                      MslExample{kMultiBody, "PendulumWithSpringDamper", 10.0 / 5000},
+                      MslExample{kMultiBody, "SpringMassSystem", 5.0 / 5000},
+                      MslExample{kMultiBody, "SpringDamperSystem", 10.0 / 5000},
+                      MslExample{kMultiBody, "SpringWithMass", 5.0 / 5000}),
+    ExampleName);
 
 // The tube has teeth: WhyArrows with a 2 % stiffer spring in both oscillators (c = 11.22 instead
 // of 11) shifts the frequency by 1 % and must leave the tube.
