@@ -807,6 +807,16 @@ class EventIntegrator {
     if (restart_abstol_) CheckFlag(IDASVtolerances(mem, opt_.rtol, restart_abstol_.get()), "IDASVtolerances");
     int flag = IDACalcIC(mem, IDA_YA_YDP_INIT, tout1);
     if (flag < 0) {
+      // IDACalcIC's line search can stall on a step that the plain Newton iteration takes (after
+      // an impulse, where velocities and the unknowns that follow them jump): once more without.
+      Load(y_, yp_);
+      CheckFlag(IDAReInit(mem, t, y_vec_.get(), yp_vec_.get()), "IDAReInit");
+      if (restart_abstol_) CheckFlag(IDASVtolerances(mem, opt_.rtol, restart_abstol_.get()), "IDASVtolerances");
+      CheckFlag(IDASetLineSearchOffIC(mem, SUNTRUE), "IDASetLineSearchOffIC");
+      flag = IDACalcIC(mem, IDA_YA_YDP_INIT, tout1);
+      CheckFlag(IDASetLineSearchOffIC(mem, SUNFALSE), "IDASetLineSearchOffIC");
+    }
+    if (flag < 0) {
       throw SolverError("at t = " + Num(t) + ": no consistent restart after the event (IDACalcIC: " +
                         FlagName(flag) + (data_.error.empty() ? "" : ", " + data_.error) +
                         "); the discrete values or re-initialised states contradict the equations");
