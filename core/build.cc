@@ -95,10 +95,14 @@ std::shared_ptr<const CompiledModel> BuildModel(const ModelSpec& spec, const Lib
     bool higher_order = std::any_of(d.max_order.begin(), d.max_order.end(), [](uint32_t k) { return k >= 2; });
     if (d.num_differentiated > 0 || higher_order) {
       StateSelection sel = SelectDummyDerivatives(&sys, d, params);
+      // der(x) that the differentiated equations introduced -> the state v of v = der(x), so no
+      // residual is nonlinear in a state's derivative (index_reduction.h).
+      const size_t post_aliases = SubstituteDerivativeAliases(&sys);
       std::ostringstream note;
       note << "structural index " << d.structural_index << ", " << d.num_differentiated
            << " equations differentiated, " << sel.dummy_derivatives.size() << " dummy derivatives";
       if (!sel.new_states.empty()) note << ", " << sel.new_states.size() << " states for higher derivatives";
+      if (post_aliases > 0) note << ", " << post_aliases << " derivative aliases";
       record("pantelides", sys.num_unknowns(), sys.equations.size(), note.str());
       report->structural_index = d.structural_index;
       for (const SystemEquation& eq : sys.equations) {

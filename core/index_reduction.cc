@@ -8,9 +8,11 @@ namespace momenta {
 
 namespace {
 
-/// Step 1: der(s) -> expression of v, from a defining equation v = c*der(s) + offset.
-void DerivativeAliases(EquationSystem* sys, IndexStats* stats) {
+/// Step 1: der(s) -> expression of v, from a defining equation v = c*der(s) + offset. With
+/// `to_states`, only where v is differentiated itself (a state: known to the causal order).
+void DerivativeAliases(EquationSystem* sys, IndexStats* stats, bool to_states = false) {
   ExprPool& p = *sys->pool;
+  const std::vector<bool> diff = to_states ? DifferentiatedVariables(*sys) : std::vector<bool>();
   // How many equations hold each der(s).
   std::unordered_map<uint32_t, uint32_t> uses;
   std::vector<std::vector<ExprId>> ders(sys->equations.size());
@@ -33,6 +35,7 @@ void DerivativeAliases(EquationSystem* sys, IndexStats* stats) {
     auto [t_der, t_var] = p.op(form.terms[0].first) == Op::kDer ? std::pair{form.terms[0], form.terms[1]}
                                                                  : std::pair{form.terms[1], form.terms[0]};
     if (p.op(t_der.first) != Op::kDer || p.op(t_var.first) != Op::kVar) continue;
+    if (to_states && !diff[p.node(t_var.first).a]) continue;
     // c_d*der(s) + c_v*v + off = 0  =>  der(s) = -(c_v*v + off)/c_d
     ExprId value = p.Neg(p.Div(p.Add(p.Mul(p.Const(t_var.second), t_var.first), form.offset),
                                p.Const(t_der.second)));
@@ -122,6 +125,12 @@ void ConstrainedStates(EquationSystem* sys, IndexStats* stats) {
 }
 
 }  // namespace
+
+size_t SubstituteDerivativeAliases(EquationSystem* sys) {
+  IndexStats stats;
+  DerivativeAliases(sys, &stats, /*to_states=*/true);
+  return stats.derivative_aliases;
+}
 
 EquationSystem ReduceIndex(EquationSystem sys, IndexStats* stats) {
   DerivativeAliases(&sys, stats);

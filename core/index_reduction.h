@@ -30,4 +30,17 @@ struct IndexStats {
 
 EquationSystem ReduceIndex(EquationSystem sys, IndexStats* stats);
 
+/// Step 1 again, after Pantelides' algorithm and the dummy derivatives, for the defining equations
+/// v = c*der(x) + offset whose v is itself a state (differentiated); returns how many der(x) it
+/// replaced. The differentiated constraints bring der(x) into equations it was not in before (a
+/// revolute joint's der(phi) in the differentiated frame positions, squared in the centripetal
+/// terms). Left there, der(x) is IDA's y' = c_j (y - y_pred) + y'_pred, and a residual nonlinear
+/// in y' has second derivatives in y growing like c_j^2 ~ 1/h^2: whenever y'_pred is off (after
+/// IDA drops to order 1, by O(h_old) whatever the new h), Newton's second correction is as large
+/// as its first, the step fails however much IDA shrinks it, and IDA stops with IDA_CONV_FAIL.
+/// With der(x) -> v the residuals are nonlinear in states and algebraic unknowns only, as when
+/// the alias is found before differentiation. An algebraic v is left alone: substituting it
+/// would merge the acceleration-level unknowns into one large algebraic loop.
+size_t SubstituteDerivativeAliases(EquationSystem* sys);
+
 }  // namespace momenta
