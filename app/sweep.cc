@@ -420,7 +420,9 @@ int RunSweep(const SweepArgs& args) {
   {
     std::unique_lock<std::mutex> lock(mutex);
     while (true) {
-      wake.wait_for(lock, std::chrono::milliseconds(200));
+      // Woken by a finished run or the last worker leaving; every 200 ms for the progress line.
+      wake.wait_for(lock, std::chrono::milliseconds(200),
+                    [&] { return active == 0 || (written < runs && results[written].done); });
       std::string text;
       while (written < runs && results[written].done) text += row_text(written++);
       const bool all_stopped = active == 0;
