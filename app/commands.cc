@@ -9,6 +9,7 @@
 
 #include "app/csv_writer.h"
 #include "app/interrupt.h"
+#include "app/mat_writer.h"
 #include "core/build.h"
 #include "core/model_state.h"
 #include "solver/simulator.h"
@@ -34,6 +35,20 @@ std::string Stem(const std::string& path) {
   std::string base = slash == std::string::npos ? path : path.substr(slash + 1);
   size_t dot = base.find_last_of('.');
   return dot == std::string::npos ? base : base.substr(0, dot);
+}
+
+/// Every parameter of the model (model and component parameters, as -p names them) with its value
+/// in `state`, for a MAT file's data_1.
+std::vector<MatParameter> MatParameters(const CompiledModel& model, const ModelState& state) {
+  std::vector<MatParameter> out;
+  const std::vector<double>& values = state.parameter_values();
+  for (size_t k = 0; k < model.flat->parameters.size() && k < values.size(); ++k) {
+    const FlatParameter& p = model.flat->parameters[k];
+    std::string description = p.doc;
+    if (!p.unit.empty()) description += (description.empty() ? "[" : " [") + p.unit + "]";
+    out.push_back({p.name, description, values[k]});
+  }
+  return out;
 }
 
 }  // namespace
@@ -65,24 +80,21 @@ ParameterOverrides ParseOverrides(const std::vector<std::string>& pairs) {
   return out;
 }
 
-/// What both simulate and check start from: the built model and its parameter values.
-struct LoadedModel {
-  std::shared_ptr<const CompiledModel> model;
-  std::unique_ptr<ModelState> state;
-  BuildReport report;
-  ParameterOverrides overrides;
-  double load_s = 0, build_s = 0;
-};
-
 /// Parses -p, loads, builds and sets the parameters; returns an exit code (kExitOk on success)
 /// after printing what went wrong.
 int LoadAndBuild(const std::string& path, const std::vector<std::string>& params, LoadedModel* out) {
+  ParameterOverrides overrides;
   try {
-    out->overrides = ParseOverrides(params);
+    overrides = ParseOverrides(params);
   } catch (const std::invalid_argument& e) {
     std::cerr << "momenta: " << e.what() << "\n";
     return kExitUsage;
   }
+  return LoadAndBuild(path, overrides, out);
+}
+
+int LoadAndBuild(const std::string& path, const ParameterOverrides& overrides, LoadedModel* out) {
+  out->overrides = overrides;
   try {
     auto t0 = Clock::now();
     ModelSpec spec = LoadModelFile(path);
@@ -122,9 +134,14 @@ int RunSimulate(const SimulateArgs& args) {
   InstallInterruptHandler();
   opt.interrupt = &InterruptRequested();
   std::string out_path = args.out.empty() ? Stem(args.model) + ".csv" : args.out;
-  std::unique_ptr<CsvWriter> csv;
+  std::unique_ptr<ResultWriter> csv;
   try {
-    csv = std::make_unique<CsvWriter>(out_path, model->output_names);
+    if (IsMatPath(out_path)) {
+      csv = std::make_unique<MatWriter>(out_path, model->output_names, MatParameters(*model, *state), opt.start,
+                                        opt.stop);
+    } else {
+      csv = std::make_unique<CsvWriter>(out_path, model->output_names);
+    }
   } catch (const CsvWriteError& e) {
     std::cerr << "momenta: " << e.what() << "\n";
     return kExitSolver;

@@ -6,8 +6,12 @@
 #include <string>
 #include <vector>
 
+#include <memory>
+
 #include "app/simulate_options.h"
+#include "core/build.h"
 #include "core/flat_system.h"
+#include "core/model_state.h"
 
 namespace momenta {
 
@@ -33,5 +37,20 @@ int RunList(const std::string& name);
 
 /// Parses NAME=VALUE pairs; throws std::invalid_argument with a usage message.
 ParameterOverrides ParseOverrides(const std::vector<std::string>& pairs);
+
+/// What simulate, check and sweep start from: the built model and its parameter values.
+struct LoadedModel {
+  std::shared_ptr<const CompiledModel> model;
+  std::unique_ptr<ModelState> state;
+  BuildReport report;
+  ParameterOverrides overrides;
+  double load_s = 0, build_s = 0;
+};
+
+/// Loads and builds the model with `overrides` and sets its parameters; returns an exit code
+/// (kExitOk on success) after printing what went wrong.
+int LoadAndBuild(const std::string& path, const ParameterOverrides& overrides, LoadedModel* out);
+/// The same with -p's NAME=VALUE texts, parsed first.
+int LoadAndBuild(const std::string& path, const std::vector<std::string>& params, LoadedModel* out);
 
 }  // namespace momenta

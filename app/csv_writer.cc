@@ -20,6 +20,13 @@ std::string FormatDouble(double v) {
   return std::string(buf, r.ptr);
 }
 
+std::string CsvField(const std::string& text) {
+  if (text.find_first_of(",\"\r\n") == std::string::npos) return text;
+  std::string q = "\"";
+  for (char c : text) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return q + "\"";
+}
+
 CsvWriter::CsvWriter(const std::string& path, const std::vector<std::string>& names) : path_(path) {
   if (path == "-") {
     file_ = stdout;
@@ -31,15 +38,10 @@ CsvWriter::CsvWriter(const std::string& path, const std::vector<std::string>& na
     std::setvbuf(file_, nullptr, _IONBF, 0);
   }
   buffer_ = "time";
+  // A name with a comma or quote is quoted, as CSV requires.
   for (const auto& n : names) {
-    // A name with a comma or quote is quoted, as CSV requires.
-    if (n.find_first_of(",\"") != std::string::npos) {
-      std::string q = "\"";
-      for (char c : n) q += c == '"' ? std::string("\"\"") : std::string(1, c);
-      buffer_ += "," + q + "\"";
-    } else {
-      buffer_ += "," + n;
-    }
+    buffer_ += ',';
+    buffer_ += CsvField(n);
   }
   buffer_ += '\n';
   // The header at once: a file that cannot be written is found before the run.

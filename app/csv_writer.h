@@ -13,28 +13,42 @@
 
 namespace momenta {
 
-/// The results file could not be written (a full disk, /dev/full, a closed pipe).
-class CsvWriteError : public std::runtime_error {
+/// The results file could not be written (a full disk, /dev/full, a closed pipe), whatever its
+/// format.
+class ResultWriteError : public std::runtime_error {
  public:
-  explicit CsvWriteError(const std::string& message) : std::runtime_error(message) {}
+  explicit ResultWriteError(const std::string& message) : std::runtime_error(message) {}
+};
+using CsvWriteError = ResultWriteError;
+
+/// Where `simulate` puts its rows: a CSV file (CsvWriter) or a MAT v4 result file (MatWriter).
+class ResultWriter {
+ public:
+  virtual ~ResultWriter() = default;
+  /// Adds one row: time and the outputs; throws ResultWriteError when a write fails.
+  virtual void Row(double t, const std::vector<double>& values) = 0;
+  /// Writes everything and closes the file; throws ResultWriteError when that fails.
+  virtual void Close() = 0;
+  /// Rows given to Row().
+  virtual size_t rows() const = 0;
 };
 
-class CsvWriter {
+class CsvWriter : public ResultWriter {
  public:
   /// Opens `path` ("-" for standard output) and writes the header. Throws std::runtime_error when
   /// it cannot open it, CsvWriteError when it cannot write to it.
   CsvWriter(const std::string& path, const std::vector<std::string>& names);
   /// Writes what is left (errors are not reported here: call Close()).
-  ~CsvWriter();
+  ~CsvWriter() override;
   CsvWriter(const CsvWriter&) = delete;
   CsvWriter& operator=(const CsvWriter&) = delete;
 
   /// Adds one row; throws CsvWriteError when a write fails.
-  void Row(double t, const std::vector<double>& values);
+  void Row(double t, const std::vector<double>& values) override;
   /// Writes every row and closes the file; throws CsvWriteError when that fails.
-  void Close();
+  void Close() override;
   /// Rows given to Row().
-  size_t rows() const { return rows_; }
+  size_t rows() const override { return rows_; }
 
  private:
   void Flush();
@@ -49,5 +63,9 @@ class CsvWriter {
 
 /// The shortest decimal text that reads back as `v`.
 std::string FormatDouble(double v);
+
+/// `text` as one CSV field: as it is, or in double quotes (quotes doubled) when it holds a comma,
+/// a quote or a line end.
+std::string CsvField(const std::string& text);
 
 }  // namespace momenta

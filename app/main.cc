@@ -6,6 +6,7 @@
 #include <iostream>
 
 #include "app/commands.h"
+#include "app/sweep.h"
 #include "solver/sundials_support.h"
 
 int main(int argc, char** argv) {
@@ -16,7 +17,7 @@ int main(int argc, char** argv) {
                                         (SundialsOptimized() ? ", optimised build)" : ", Debian build)"));
 
   SimulateArgs sim;
-  auto* simulate = app.add_subcommand("simulate", "simulate a model and write its outputs as CSV");
+  auto* simulate = app.add_subcommand("simulate", "simulate a model and write its outputs as CSV (or a MAT v4 result file: -o FILE.mat)");
   simulate->add_option("model", sim.model, "model file (YAML)")->required();
   simulate->add_option("-p,--param", sim.params, "override a parameter: NAME=VALUE (repeatable)");
   // Values not given stay empty (the experiment's apply); given ones are checked in RunSimulate.
@@ -38,6 +39,29 @@ int main(int argc, char** argv) {
   check->add_option("-p,--param", chk.params, "override a parameter: NAME=VALUE (repeatable)");
   check->add_flag("-v,--verbose", chk.verbose, "list every state and pruned variable");
 
+  SweepArgs swp;
+  auto* sweep = app.add_subcommand("sweep", "simulate a model for many parameter values on several threads");
+  sweep->add_option("model", swp.model, "model file (YAML)")->required();
+  sweep->add_option("-p,--param", swp.params,
+                    "NAME=SPEC: a value, a list a,b,c, a grid a:b:n or a:b:log:n, normal(mu,sigma) or "
+                    "uniform(a,b) (repeatable; lists and grids combine as a Cartesian product)");
+  auto sweep_number = [&](const char* name, std::optional<double>* to, const char* help) {
+    sweep->add_option_function<double>(name, [to](const double& v) { *to = v; }, help);
+  };
+  sweep_number("--stop", &swp.options.stop, "stop time [s]");
+  sweep_number("--rtol", &swp.options.rtol, "relative tolerance");
+  sweep_number("--atol", &swp.options.atol, "absolute tolerance (scaled by each variable's nominal)");
+  sweep_number("--interval", &swp.options.interval, "output interval [s]");
+  sweep->add_option("--linear-solver", swp.options.linear_solver, "auto, dense or klu")
+      ->check(CLI::IsMember({"auto", "dense", "klu"}));
+  sweep->add_option("-j,--jobs", swp.jobs, "threads (default: one per core)")->check(CLI::Range(1u, 4096u));
+  sweep->add_option("-o,--out", swp.out, "summary CSV, one row per run ('-' for standard output)");
+  sweep->add_option("--trajectories", swp.trajectories, "directory for each run's CSV (DIR/run-<k>.csv)");
+  sweep->add_option("--seed", swp.seed, "seed of the Monte Carlo draws (std::mt19937_64; default 0)");
+  sweep->add_option("--samples", swp.samples, "Monte Carlo draws of the distributions")
+      ->check(CLI::Range(size_t{1}, kMaxSweepRuns));
+  sweep->add_flag("-q,--quiet", swp.quiet, "print nothing on success");
+
   std::string list_name;
   auto* list = app.add_subcommand("list", "list the component library, or describe one component");
   list->add_option("name", list_name, "component or connector type");
@@ -45,8 +69,8 @@ int main(int argc, char** argv) {
   // An unknown command is named (CLI11 would only say that a subcommand is required).
   if (argc > 1 && argv[1][0] != '-') {
     std::string cmd = argv[1];
-    if (cmd != "simulate" && cmd != "check" && cmd != "list") {
-      std::cerr << "momenta: unknown command '" << cmd << "' (valid commands: simulate, check, list; see momenta --help)\n";
+    if (cmd != "simulate" && cmd != "check" && cmd != "list" && cmd != "sweep") {
+      std::cerr << "momenta: unknown command '" << cmd << "' (valid commands: simulate, sweep, check, list; see momenta --help)\n";
       return kExitUsage;
     }
   }
@@ -58,6 +82,7 @@ int main(int argc, char** argv) {
   }
   try {
     if (*simulate) return RunSimulate(sim);
+    if (*sweep) return RunSweep(swp);
     if (*check) return RunCheck(chk);
     if (*list) return RunList(list_name);
   } catch (const std::exception& e) {

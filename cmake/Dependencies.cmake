@@ -8,6 +8,7 @@
 #   momenta_yaml      yaml-cpp
 #   momenta_eigen     Eigen3::Eigen
 #   momenta_cli11     CLI11::CLI11
+#   momenta_matio     libmatio (MAT v4 result files; Debian's libmatio-dev)
 # and, when tests / benchmarks are enabled, finds GTest (GTest::gtest_main) and Google Benchmark
 # (benchmark::benchmark).
 #
@@ -148,6 +149,20 @@ target_link_libraries(momenta_eigen INTERFACE Eigen3::Eigen)
 find_package(CLI11 CONFIG REQUIRED)
 add_library(momenta_cli11 INTERFACE)
 target_link_libraries(momenta_cli11 INTERFACE CLI11::CLI11)
+
+# ---- libmatio (Debian 12: 1.5.23; no CMake package, so found by header and library) ---------
+find_path(MOMENTA_MATIO_INCLUDE_DIR matio.h)
+find_library(MOMENTA_MATIO_LIBRARY NAMES matio)
+if(NOT MOMENTA_MATIO_INCLUDE_DIR OR NOT MOMENTA_MATIO_LIBRARY)
+  message(FATAL_ERROR "momenta: libmatio not found (MAT result files); install libmatio-dev (scripts/setup.sh)")
+endif()
+add_library(momenta_matio INTERFACE)
+target_include_directories(momenta_matio INTERFACE ${MOMENTA_MATIO_INCLUDE_DIR})
+target_link_libraries(momenta_matio INTERFACE ${MOMENTA_MATIO_LIBRARY})
+message(STATUS "momenta: libmatio ${MOMENTA_MATIO_LIBRARY}")
+
+# ---- Threads (parameter sweeps) ------------------------------------------------------------
+find_package(Threads REQUIRED)
 
 # ---- Test and benchmark frameworks, only when those are built ------------------------------
 if(MOMENTA_BUILD_TESTS)

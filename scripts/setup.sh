@@ -51,6 +51,7 @@ PACKAGES=(
   libsundials-dev libsuitesparse-dev
   libeigen3-dev libyaml-cpp-dev libcli11-dev
   libgtest-dev libbenchmark-dev
+  libmatio-dev
   dpkg-dev
   clang libclang-rt-14-dev
 )

@@ -1,0 +1,145 @@
+#include "app/mat_writer.h"
+
+#include <matio.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <memory>
+
+namespace momenta {
+
+namespace {
+
+/// Frees a matvar_t made with MAT_F_DONT_COPY_DATA (the data stays ours).
+struct VarDeleter {
+  void operator()(matvar_t* v) const { Mat_VarFree(v); }
+};
+
+/// A char matrix whose columns are `texts`, NUL-padded to the longest text + 1 (OpenModelica's
+/// convention; Dymola pads with spaces).
+std::vector<char> Columns(const std::vector<std::string>& texts, size_t* height) {
+  size_t h = 1;
+  for (const auto& t : texts) h = std::max(h, t.size() + 1);
+  std::vector<char> m(h * texts.size(), '\0');
+  for (size_t j = 0; j < texts.size(); ++j) std::memcpy(m.data() + j * h, texts[j].data(), texts[j].size());
+  *height = h;
+  return m;
+}
+
+}  // namespace
+
+bool IsMatPath(const std::string& path) {
+  if (path.size() < 4) return false;
+  std::string ext = path.substr(path.size() - 4);
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  return ext == ".mat";
+}
+
+MatWriter::MatWriter(const std::string& path, const std::vector<std::string>& output_names,
+                     std::vector<MatParameter> parameters, double start, double stop)
+    : path_(path), outputs_(output_names), parameters_(std::move(parameters)), start_(start), stop_(stop) {
+  errno = 0;
+  mat_ = Mat_CreateVer(path.c_str(), nullptr, MAT_FT_MAT4);
+  if (!mat_) {
+    throw ResultWriteError("cannot write the results file " + path + ": " +
+                           std::strerror(errno ? errno : EIO));
+  }
+}
+
+MatWriter::~MatWriter() {
+  if (mat_) Mat_Close(mat_);
+}
+
+void MatWriter::Row(double t, const std::vector<double>& values) {
+  data_.push_back(t);
+  data_.insert(data_.end(), values.begin(), values.end());
+  ++rows_;
+}
+
+void MatWriter::Close() {
+  if (!mat_) return;
+  const size_t n_out = outputs_.size(), n_par = parameters_.size();
+  const size_t n = 1 + n_out + n_par;
+  std::vector<std::string> names, descriptions;
+  names.reserve(n);
+  descriptions.reserve(n);
+  names.push_back("time");
+  descriptions.push_back("Simulation time [s]");
+  for (const auto& o : outputs_) {
+    names.push_back(o);
+    descriptions.push_back("");
+  }
+  for (const auto& p : parameters_) {
+    names.push_back(p.name);
+    descriptions.push_back(p.description);
+  }
+  // Aclass: four rows of 11 characters, stored column by column.
+  const char* aclass_rows[4] = {"Atrajectory", "1.1", "", "binTrans"};
+  std::vector<char> aclass(4 * 11, '\0');
+  for (size_t r = 0; r < 4; ++r) {
+    for (size_t c = 0; c < std::strlen(aclass_rows[r]); ++c) aclass[c * 4 + r] = aclass_rows[r][c];
+  }
+  size_t name_h = 0, desc_h = 0;
+  std::vector<char> name = Columns(names, &name_h), description = Columns(descriptions, &desc_h);
+  std::vector<int32_t> info(4 * n);
+  auto set_info = [&](size_t j, int32_t matrix, int32_t index, int32_t extrapolation) {
+    info[4 * j] = matrix;
+    info[4 * j + 1] = index;
+    info[4 * j + 2] = 0;  // linear interpolation
+    info[4 * j + 3] = extrapolation;
+  };
+  set_info(0, 0, 1, -1);  // time: the abscissa, row 1 of data_2, not defined outside the range
+  for (size_t k = 0; k < n_out; ++k) set_info(1 + k, 2, static_cast<int32_t>(k + 2), 0);
+  for (size_t p = 0; p < n_par; ++p) set_info(1 + n_out + p, 1, static_cast<int32_t>(p + 2), 0);
+  // data_1: the time range, then each parameter, at the start (column 1) and stop (column 2).
+  const size_t n1 = 1 + n_par;
+  std::vector<double> data1(2 * n1);
+  data1[0] = start_;
+  data1[n1] = stop_;
+  for (size_t p = 0; p < n_par; ++p) data1[1 + p] = data1[n1 + 1 + p] = parameters_[p].value;
+
+  bool ok = true;
+  uintmax_t expected_bytes = 0;  // MAT v4: per matrix a 20-byte header, the name with its NUL, the data
+  auto write = [&](const char* var_name, matio_classes cls, matio_types type, size_t rows, size_t cols,
+                   void* data) {
+    const size_t element = type == MAT_T_DOUBLE ? 8 : type == MAT_T_INT32 ? 4 : 1;
+    expected_bytes += 20 + std::strlen(var_name) + 1 + rows * cols * element;
+    if (!ok) return;
+    size_t dims[2] = {rows, cols};
+    std::unique_ptr<matvar_t, VarDeleter> v(Mat_VarCreate(var_name, cls, type, 2, dims, data, MAT_F_DONT_COPY_DATA));
+    errno = 0;
+    ok = v && Mat_VarWrite(mat_, v.get(), MAT_COMPRESSION_NONE) == 0;
+  };
+  write("Aclass", MAT_C_CHAR, MAT_T_UINT8, 4, 11, aclass.data());
+  write("name", MAT_C_CHAR, MAT_T_UINT8, name_h, n, name.data());
+  write("description", MAT_C_CHAR, MAT_T_UINT8, desc_h, n, description.data());
+  write("dataInfo", MAT_C_INT32, MAT_T_INT32, 4, n, info.data());
+  write("data_1", MAT_C_DOUBLE, MAT_T_DOUBLE, n1, 2, data1.data());
+  write("data_2", MAT_C_DOUBLE, MAT_T_DOUBLE, 1 + n_out, rows_, data_.data());
+  const int saved = errno;
+  mat_t* m = mat_;
+  mat_ = nullptr;
+  errno = 0;
+  const bool closed = Mat_Close(m) == 0;
+  if (!ok || !closed) {
+    const int e = !ok ? saved : errno;
+    throw ResultWriteError("cannot write the results file " + path_ + ": " + std::strerror(e ? e : EIO));
+  }
+  // libmatio 1.5 does not report failed writes (a full disk): a regular file must have every byte.
+  std::error_code ec;
+  if (std::filesystem::is_regular_file(path_, ec)) {
+    const uintmax_t size = std::filesystem::file_size(path_, ec);
+    if (ec || size != expected_bytes) {
+      throw ResultWriteError("cannot write the results file " + path_ + ": " +
+                             (ec ? ec.message()
+                                 : "only " + std::to_string(size) + " of " + std::to_string(expected_bytes) +
+                                       " bytes were written (is the disk full?)"));
+    }
+  }
+}
+
+}  // namespace momenta
