@@ -149,9 +149,22 @@ bool ClassicMatching(const BipartiteGraph& g, uint64_t budget, Matching* out) {
   return true;
 }
 
+}  // namespace
+
+Matching MaximumMatching(const BipartiteGraph& g) {
+  // The classic search first: the matching it finds is the one every model was analysed with
+  // (state selection and dummy derivatives follow it), so models it handles quickly keep it; one
+  // that would take more than a few passes over the graph (a pendulum chain of thousands of links:
+  // 186 M steps at n = 3 000) is matched the fast way instead.
+  Matching m;
+  const uint64_t budget = (uint64_t{1} << 20) + 16 * (uint64_t{g.cols.size()} + g.num_rows());
+  if (ClassicMatching(g, budget, &m)) return m;
+  return FastMaximumMatching(g);
+}
+
 /// Linear in practice: Karp–Sipser's degree-one rules, a greedy start, then augmenting paths in
 /// phases.
-Matching FastMatching(const BipartiteGraph& g) {
+Matching FastMaximumMatching(const BipartiteGraph& g) {
   const uint32_t nr = g.num_rows();
   Matching m;
   m.row_to_col.assign(nr, -1);
@@ -296,19 +309,6 @@ Matching FastMatching(const BipartiteGraph& g) {
     open.resize(still_open);
   }
   return m;
-}
-
-}  // namespace
-
-Matching MaximumMatching(const BipartiteGraph& g) {
-  // The classic search first: the matching it finds is the one every model was analysed with
-  // (state selection and dummy derivatives follow it), so models it handles quickly keep it; one
-  // that would take more than a few passes over the graph (a pendulum chain of thousands of links:
-  // 186 M steps at n = 3 000) is matched the fast way instead.
-  Matching m;
-  const uint64_t budget = (uint64_t{1} << 20) + 16 * (uint64_t{g.cols.size()} + g.num_rows());
-  if (ClassicMatching(g, budget, &m)) return m;
-  return FastMatching(g);
 }
 
 void OverDeterminedPart(const BipartiteGraph& g, const Matching& m, std::vector<uint32_t>* rows,
