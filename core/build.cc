@@ -64,10 +64,16 @@ std::shared_ptr<const CompiledModel> BuildModel(const ModelSpec& spec, const Lib
     size_t before = sys.num_unknowns();
     sys = EliminateAliases(std::move(sys), &alias);
     size_t changes_before = index.derivative_aliases + index.constrained_states;
+    size_t kept_before = index.kept_constraints;
     sys = ReduceIndex(std::move(sys), &index);
-    // Only index reduction makes new alias equations: when it changed nothing, we are done.
-    if (index.derivative_aliases + index.constrained_states == changes_before) break;
-    if (sys.num_unknowns() == before) break;
+    // Only index reduction makes new alias equations: when it changed nothing, we are done. A
+    // constraint kept as an equation removes no unknown but turns a derivative's definition into
+    // a new constraint for the next round.
+    if (index.derivative_aliases + index.constrained_states + index.kept_constraints ==
+        changes_before + kept_before) {
+      break;
+    }
+    if (sys.num_unknowns() == before && index.kept_constraints == kept_before) break;
   }
   {
     std::ostringstream note;
@@ -76,6 +82,7 @@ std::shared_ptr<const CompiledModel> BuildModel(const ModelSpec& spec, const Lib
     std::ostringstream note2;
     note2 << index.derivative_aliases << " derivative aliases, " << index.constrained_states
           << " constrained states";
+    if (index.kept_constraints > 0) note2 << ", " << index.kept_constraints << " constraints kept as equations";
     record("index reduction", sys.num_unknowns(), sys.equations.size(), note2.str());
   }
 

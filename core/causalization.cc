@@ -1,5 +1,7 @@
 #include "core/causalization.h"
 
+#include <algorithm>
+
 #include "core/graph.h"
 
 namespace momenta {
@@ -30,6 +32,18 @@ EquationSystem Causalize(EquationSystem sys, Structure* st, CausalStats* stats) 
   // Solve singletons explicitly, dependencies first.
   Substitution& s = *sys.eliminated;
   std::vector<bool> removed(ne, false);
+  // Inlining a chain of solutions, each referring to the previous one (the frames of a pendulum
+  // chain, x_k = x_(k-1) + L*cos(phi_k)), would make the k-th solution hold k unknowns (states,
+  // loop variables) k levels deep, and the Jacobian, which differentiates every equation by each
+  // of its unknowns with a walk over the expression, cubic in the chain's length. So each inlined
+  // variable carries its `weight`, the unknowns of its fully substituted solution counted with
+  // repetition (1 for an unknown), and its `depth`, how far solutions nest below it; one whose
+  // weight × depth would pass kMaxInlineCost stays an unknown instead, and the chain restarts
+  // from it. A deep chain without unknowns (gains of an input) costs nothing and is inlined
+  // however long; the largest cost in the models of models/ is 370.
+  constexpr uint64_t kMaxInlineCost = 1024;
+  std::vector<uint64_t> weight(sys.role.size(), 1);
+  std::vector<uint32_t> depth(sys.role.size(), 0);
   for (const auto& comp : components) {
     if (comp.size() > 1) {
       ++stats->algebraic_loops;
@@ -40,6 +54,16 @@ EquationSystem Causalize(EquationSystem sys, Structure* st, CausalStats* stats) 
     if (!algebraic_eq[k]) continue;
     uint32_t v = static_cast<uint32_t>(st->var_of_equation[k]);
     if (sys.flat->variables[v].type != ValueType::kReal || keep[v]) continue;
+    uint64_t v_weight = 0;
+    uint32_t v_depth = 0;
+    for (ExprId leaf : CollectLeaves(p, sys.equations[k].residual, kHasVar)) {
+      const uint32_t w = p.node(leaf).a;
+      if (w == v) continue;
+      v_weight = std::min<uint64_t>(v_weight + weight[w], kMaxInlineCost + 1);
+      v_depth = std::max(v_depth, depth[w]);
+    }
+    ++v_depth;
+    if (v_weight * v_depth > kMaxInlineCost) continue;
     // Solved as written, the earlier solutions left in place for the final substitution to
     // resolve: substituting first would copy a chain of n equations, each referring to the
     // previous one, n times (quadratic). Only when the coefficient of v involves variables solved
@@ -56,6 +80,8 @@ EquationSystem Causalize(EquationSystem sys, Structure* st, CausalStats* stats) 
     if (!p.IsConst(coefficient)) {
       sys.guards.push_back({coefficient, sys.equations[k].origin, VarId(v)});
     }
+    weight[v] = v_weight;
+    depth[v] = v_depth;
     sys.role[v] = VarRole::kInlined;
     removed[k] = true;
     ++stats->inlined;

@@ -24,6 +24,90 @@ struct Entry {
   ExprId value;
 };
 
+/// Start guesses for y. A start value that is not fixed is only a guess, and the components'
+/// defaults (a body's position starts at 0) are poor ones where the fixed conditions determine the
+/// variable: a pendulum chain's bodies would all start at the pivot while the joint angles put them
+/// radians away. So the guesses are found as the initialisation system [F; G] would determine
+/// them, in dependency (block-lower-triangular) order: an equation with one unknown not yet
+/// guessed that is linear in it with a numeric coefficient gives its guess, from the guesses of
+/// the others (first from the fixed start values and the parameters); when none is left, the
+/// start values of the variables still open (algebraic loops) are taken and the search goes on.
+/// Only equations of variables, parameters and constants are used; the guesses stay
+/// parameter-only (each refers to the earlier ones' expressions, shared, so linear in size).
+std::vector<ExprId> PropagatedStartGuesses(ExprPool* pool, const EquationSystem& sys, const CompiledModel& m, const Slots& slots) {
+  ExprPool& p = *pool;
+  const uint32_t n = static_cast<uint32_t>(m.unknowns.size());
+  std::vector<ExprId> starts(n);
+  std::vector<bool> known(n, false);
+  for (uint32_t y = 0; y < n; ++y) {
+    const uint32_t v = m.unknowns[y].value();
+    starts[y] = sys.guess[v];
+  }
+  constexpr uint8_t kOther = kHasDer | kHasTime | kHasPre | kHasRelation | kHasInitial | kHasCond;
+  std::vector<ExprId> rows;
+  std::vector<std::vector<uint32_t>> row_ys;
+  std::vector<std::vector<uint32_t>> rows_of_y(n);
+  std::vector<uint32_t> missing;
+  std::vector<uint32_t> ready;
+  auto add_row = [&](ExprId e) {
+    if (p.node(e).mask & kOther) return;
+    std::vector<uint32_t> ys;
+    for (ExprId leaf : CollectLeaves(p, e, kHasVar)) {
+      const int32_t y = slots.y_of_var[p.node(leaf).a];
+      if (y < 0) return;  // a discrete value: not known before the start values
+      ys.push_back(static_cast<uint32_t>(y));
+    }
+    const uint32_t r = static_cast<uint32_t>(rows.size());
+    uint32_t count = 0;
+    for (uint32_t y : ys) {
+      if (known[y]) continue;
+      ++count;
+      rows_of_y[y].push_back(r);
+    }
+    rows.push_back(e);
+    row_ys.push_back(std::move(ys));
+    missing.push_back(count);
+    if (count == 1) ready.push_back(r);
+  };
+  for (ExprId e : m.residual_exprs) add_row(e);
+  for (ExprId e : m.initial_exprs) add_row(e);
+  for (size_t k = 0, next_open = 0;; ++k) {
+    if (k == ready.size()) {
+      // No explicit equation left: the first variable still open takes its start value.
+      while (next_open < n && known[next_open]) ++next_open;
+      if (next_open == n) break;
+      known[next_open] = true;
+      for (uint32_t r2 : rows_of_y[next_open]) {
+        if (--missing[r2] == 1) ready.push_back(r2);
+      }
+      --k;
+      continue;
+    }
+    const uint32_t r = ready[k];
+    if (missing[r] != 1) continue;
+    uint32_t target = n;
+    std::unordered_map<uint32_t, ExprId> map;
+    for (uint32_t y : row_ys[r]) {
+      if (!known[y]) {
+        target = y;
+      } else {
+        map[p.Var(m.unknowns[y]).value()] = starts[y];
+      }
+    }
+    if (target == n) continue;
+    ExprId e = map.empty() ? rows[r] : ReplaceNodes(&p, rows[r], map, kHasVar);
+    ExprId coefficient;
+    ExprId value = SolveFor(&p, e, p.Var(m.unknowns[target]), false, &coefficient);
+    if (!value.valid() || !p.IsParamOnly(value)) continue;
+    starts[target] = value;
+    known[target] = true;
+    for (uint32_t r2 : rows_of_y[target]) {
+      if (--missing[r2] == 1) ready.push_back(r2);
+    }
+  }
+  return starts;
+}
+
 void SortToPattern(std::vector<Entry>* entries, int32_t rows, int32_t cols, SparsePattern* pattern,
                    std::vector<ExprId>* values) {
   std::sort(entries->begin(), entries->end(), [](const Entry& a, const Entry& b) {
@@ -312,6 +396,7 @@ std::shared_ptr<CompiledModel> CompileModel(EquationSystem sys, const Structure&
     std::vector<ExprId> starts;
     for (VarId v : m->unknowns) starts.push_back(sys.guess[v.value()]);
     m->start_values = compiler.Compile(starts);
+    m->start_guesses = compiler.Compile(PropagatedStartGuesses(&p, sys, *m, slots));
   }
   {
     std::vector<ExprId> divisors;
@@ -399,7 +484,7 @@ std::shared_ptr<CompiledModel> CompileModel(EquationSystem sys, const Structure&
     m->impact_values = compiler.Compile(values);
   }
 
-  compiler.Finish({&m->residual, &m->jacobian, &m->outputs, &m->start_values, &m->init_residual, &m->redundant_residual,
+  compiler.Finish({&m->residual, &m->jacobian, &m->outputs, &m->start_values, &m->start_guesses, &m->init_residual, &m->redundant_residual,
                    &m->init_jacobian, &m->guard_values, &m->discrete_starts, &m->discrete_update,
                    &m->zero_crossings, &m->zero_crossing_rates, &m->when_conditions,
                    &m->when_values, &m->impact_values,

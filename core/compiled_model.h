@@ -105,6 +105,9 @@ struct CompiledModel {
   SparsePattern jacobian_pattern;
   Program outputs;       ///< out: outputs
   Program start_values;  ///< out: guesses for y (n)
+  /// out: guesses for y from the equations that determine them explicitly (n): initialisation
+  /// starts over from these when the start values fail
+  Program start_guesses;
   Program init_residual; ///< out: [F; G]
   Program init_jacobian; ///< out: d[F; G]/dz in `init_pattern` order
   Program redundant_residual;  ///< out: the redundant initial conditions' residuals at z

@@ -72,9 +72,14 @@ std::vector<uint32_t> IncrementalMatching::Reach(const std::vector<uint32_t>& co
   return rows;
 }
 
-Matching MaximumMatching(const BipartiteGraph& g) {
+namespace {
+
+/// Duff's MC21: a greedy start, then a depth-first search for an augmenting path from each
+/// unmatched row, each with its own marks. Fast on most systems, but a long chain is walked once
+/// per row (quadratic): past `budget` search steps it gives up (false).
+bool ClassicMatching(const BipartiteGraph& g, uint64_t budget, Matching* out) {
+  Matching& m = *out;
   const uint32_t nr = g.num_rows();
-  Matching m;
   m.row_to_col.assign(nr, -1);
   m.col_to_row.assign(g.num_cols, -1);
   // Cheap assignment: the first free column of each row.
@@ -105,6 +110,7 @@ Matching MaximumMatching(const BipartiteGraph& g) {
     stack.push_back({r0, g.row_start[r0], -1});
     int32_t found = -1;
     while (!stack.empty() && found < 0) {
+      if (budget-- == 0) return false;
       Frame& f = stack.back();
       // Look ahead for a free column first.
       uint32_t& la = lookahead[f.row];
@@ -139,6 +145,168 @@ Matching MaximumMatching(const BipartiteGraph& g) {
       c = freed;
     }
     ++m.size;
+  }
+  return true;
+}
+
+}  // namespace
+
+Matching MaximumMatching(const BipartiteGraph& g) {
+  // The classic search first: the matching it finds is the one every model was analysed with
+  // (state selection and dummy derivatives follow it), so models it handles quickly keep it; one
+  // that would take more than a few passes over the graph (a pendulum chain of thousands of links:
+  // 186 M steps at n = 3 000) is matched the fast way instead.
+  Matching m;
+  const uint64_t budget = (uint64_t{1} << 20) + 16 * (uint64_t{g.cols.size()} + g.num_rows());
+  if (ClassicMatching(g, budget, &m)) return m;
+  return FastMaximumMatching(g);
+}
+
+/// Linear in practice: Karp–Sipser's degree-one rules, a greedy start, then augmenting paths in
+/// phases.
+Matching FastMaximumMatching(const BipartiteGraph& g) {
+  const uint32_t nr = g.num_rows();
+  Matching m;
+  m.row_to_col.assign(nr, -1);
+  m.col_to_row.assign(g.num_cols, -1);
+  // Karp–Sipser's degree-one rules first: a column that only one row holds, or a row with only
+  // one column left, can be matched so without losing maximality; each match lowers the degrees
+  // of its neighbours, so a chain (a pendulum chain's frames, an RC ladder) is matched whole in
+  // linear time, where augmenting paths from a greedy start would walk it once per row.
+  {
+    std::vector<uint32_t> col_start(g.num_cols + 1, 0);
+    for (uint32_t c : g.cols) ++col_start[c + 1];
+    for (uint32_t c = 0; c < g.num_cols; ++c) col_start[c + 1] += col_start[c];
+    std::vector<uint32_t> col_rows(g.cols.size());
+    {
+      std::vector<uint32_t> fill(col_start.begin(), col_start.end() - 1);
+      for (uint32_t r = 0; r < nr; ++r) {
+        for (uint32_t k = g.row_start[r]; k < g.row_start[r + 1]; ++k) col_rows[fill[g.cols[k]]++] = r;
+      }
+    }
+    std::vector<uint32_t> row_deg(nr), col_deg(g.num_cols);
+    for (uint32_t r = 0; r < nr; ++r) row_deg[r] = g.row_start[r + 1] - g.row_start[r];
+    for (uint32_t c = 0; c < g.num_cols; ++c) col_deg[c] = col_start[c + 1] - col_start[c];
+    // Entries: row r as 2r, column c as 2c+1, queued when their degree becomes 1.
+    std::vector<uint32_t> queue;
+    for (uint32_t c = 0; c < g.num_cols; ++c) {
+      if (col_deg[c] == 1) queue.push_back(2 * c + 1);
+    }
+    for (uint32_t r = 0; r < nr; ++r) {
+      if (row_deg[r] == 1) queue.push_back(2 * r);
+    }
+    auto match = [&](uint32_t r, uint32_t c) {
+      m.row_to_col[r] = static_cast<int32_t>(c);
+      m.col_to_row[c] = static_cast<int32_t>(r);
+      ++m.size;
+      for (uint32_t k = g.row_start[r]; k < g.row_start[r + 1]; ++k) {
+        const uint32_t c2 = g.cols[k];
+        if (m.col_to_row[c2] < 0 && --col_deg[c2] == 1) queue.push_back(2 * c2 + 1);
+      }
+      for (uint32_t k = col_start[c]; k < col_start[c + 1]; ++k) {
+        const uint32_t r2 = col_rows[k];
+        if (m.row_to_col[r2] < 0 && --row_deg[r2] == 1) queue.push_back(2 * r2);
+      }
+    };
+    for (size_t q = 0; q < queue.size(); ++q) {
+      const uint32_t x = queue[q] >> 1;
+      if (queue[q] & 1) {
+        if (m.col_to_row[x] >= 0 || col_deg[x] != 1) continue;
+        for (uint32_t k = col_start[x]; k < col_start[x + 1]; ++k) {
+          if (m.row_to_col[col_rows[k]] < 0) {
+            match(col_rows[k], x);
+            break;
+          }
+        }
+      } else {
+        if (m.row_to_col[x] >= 0 || row_deg[x] != 1) continue;
+        for (uint32_t k = g.row_start[x]; k < g.row_start[x + 1]; ++k) {
+          if (m.col_to_row[g.cols[k]] < 0) {
+            match(x, g.cols[k]);
+            break;
+          }
+        }
+      }
+    }
+  }
+  // Cheap assignment: the first free column of each row.
+  for (uint32_t r = 0; r < nr; ++r) {
+    if (m.row_to_col[r] >= 0) continue;
+    for (uint32_t k = g.row_start[r]; k < g.row_start[r + 1]; ++k) {
+      uint32_t c = g.cols[k];
+      if (m.col_to_row[c] < 0) {
+        m.col_to_row[c] = static_cast<int32_t>(r);
+        m.row_to_col[r] = static_cast<int32_t>(c);
+        ++m.size;
+        break;
+      }
+    }
+  }
+  // Augmenting paths by depth-first search from each unmatched row, in phases (Pothen and Fan):
+  // a column visited in a phase stays visited for the phase's later searches, so a phase costs
+  // O(entries) however many rows it starts from (separate marks per search walked a chain once per
+  // row: quadratic); phases repeat until one augments nothing, and then no augmenting path exists.
+  struct Frame {
+    uint32_t row, next;
+    int32_t via_col;  ///< the column whose matched row this frame is
+  };
+  std::vector<uint32_t> visited(g.num_cols, 0);
+  std::vector<uint32_t> lookahead(g.row_start.begin(), g.row_start.end() - 1);
+  uint32_t stamp = 0;
+  std::vector<Frame> stack;
+  std::vector<uint32_t> open;
+  for (uint32_t r = 0; r < nr; ++r) {
+    if (m.row_to_col[r] < 0) open.push_back(r);
+  }
+  for (bool augmented = true; augmented && !open.empty();) {
+    augmented = false;
+    ++stamp;
+    size_t still_open = 0;
+    for (uint32_t r0 : open) {
+      stack.clear();
+      stack.push_back({r0, g.row_start[r0], -1});
+      int32_t found = -1;
+      while (!stack.empty() && found < 0) {
+        Frame& f = stack.back();
+        // Look ahead for a free column first.
+        uint32_t& la = lookahead[f.row];
+        for (; la < g.row_start[f.row + 1]; ++la) {
+          uint32_t c = g.cols[la];
+          if (m.col_to_row[c] < 0) {
+            found = static_cast<int32_t>(c);
+            break;
+          }
+        }
+        if (found >= 0) break;
+        bool pushed = false;
+        while (f.next < g.row_start[f.row + 1]) {
+          uint32_t c = g.cols[f.next++];
+          if (visited[c] == stamp) continue;
+          visited[c] = stamp;
+          stack.push_back({static_cast<uint32_t>(m.col_to_row[c]), 0, static_cast<int32_t>(c)});
+          stack.back().next = g.row_start[stack.back().row];
+          pushed = true;
+          break;
+        }
+        if (!pushed) stack.pop_back();
+      }
+      if (found < 0) {
+        open[still_open++] = r0;
+        continue;
+      }
+      // Augment: the top row takes the free column, each row below takes the column freed above.
+      int32_t c = found;
+      for (size_t k = stack.size(); k-- > 0;) {
+        uint32_t row = stack[k].row;
+        int32_t freed = stack[k].via_col;
+        m.row_to_col[row] = c;
+        m.col_to_row[c] = static_cast<int32_t>(row);
+        c = freed;
+      }
+      ++m.size;
+      augmented = true;
+    }
+    open.resize(still_open);
   }
   return m;
 }

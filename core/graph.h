@@ -26,7 +26,12 @@ struct Matching {
   size_t size = 0;
 };
 
+/// A maximum matching: Duff's MC21 (greedy start, a depth-first search from each unmatched row),
+/// or FastMaximumMatching when that would take more than a few passes over the graph.
 Matching MaximumMatching(const BipartiteGraph& g);
+/// A maximum matching in time linear in practice (Karp–Sipser's degree-one rules, a greedy
+/// start, augmenting paths in Pothen–Fan phases); it may differ from MC21's.
+Matching FastMaximumMatching(const BipartiteGraph& g);
 
 /// A maximum matching that grows one row at a time: each row added is kept when an augmenting
 /// path from it exists (so the matching stays perfect on the rows kept), found by a depth-first

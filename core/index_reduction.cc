@@ -70,22 +70,38 @@ void ConstrainedStates(EquationSystem* sys, IndexStats* stats) {
     if (!std::all_of(vars.begin(), vars.end(), [&](ExprId v) { return diff[p.node(v).a]; })) continue;
     for (ExprId v : vars) ++constraint_count[p.node(v).a];
   }
-  std::vector<SystemEquation> kept;
+  // Equations that define a variable as the derivative of another, u = c*der(x) + offset (a
+  // body's v = der(r)), by the der(x) leaf: a constrained x with such a u can stay an unknown.
+  std::unordered_map<uint32_t, uint32_t> derivative_definition;  // der(x) node -> equation
+  {
+    AffineForm form;
+    for (uint32_t k = 0; k < sys->equations.size(); ++k) {
+      ExprId r = sys->equations[k].residual;
+      const uint8_t m = p.mask(r);
+      if (!(m & kHasDer) || (m & (kHasPre | kHasTime | kHasInitial))) continue;
+      if (!DecomposeAffine(&p, r, 2, &form) || form.terms.size() != 2) continue;
+      const auto& [t0, t1] = std::pair{form.terms[0], form.terms[1]};
+      const bool d0 = p.op(t0.first) == Op::kDer && p.DerOrder(t0.first) == 1 && p.op(t1.first) == Op::kVar;
+      const bool d1 = p.op(t1.first) == Op::kDer && p.DerOrder(t1.first) == 1 && p.op(t0.first) == Op::kVar;
+      if (d0 == d1) continue;
+      derivative_definition.emplace((d0 ? t0 : t1).first.value(), k);
+    }
+  }
+  std::vector<bool> drop(sys->equations.size(), false);
+  // Variables replaced by the solution of a constraint they share with another: a second such
+  // solution that holds one (the next frame of a chain) is nested, and is kept instead (below).
+  std::vector<bool> shared_solution(sys->role.size(), false);
   bool changed = false;
-  for (SystemEquation eq : sys->equations) {
+  for (size_t k = 0; k < sys->equations.size(); ++k) {
+    SystemEquation& eq = sys->equations[k];
+    const ExprId original = eq.residual;
     ExprId r = changed ? s.Apply(eq.residual) : eq.residual;
     eq.residual = r;
     const uint8_t m = p.mask(r);
-    if ((m & (kHasDer | kHasPre | kHasInitial)) || !(m & kHasVar)) {
-      kept.push_back(eq);
-      continue;
-    }
+    if ((m & (kHasDer | kHasPre | kHasInitial)) || !(m & kHasVar)) continue;
     std::vector<ExprId> vars = CollectLeaves(p, r, kHasVar);
     bool all_states = std::all_of(vars.begin(), vars.end(), [&](ExprId v) { return diff[p.node(v).a]; });
-    if (!all_states) {
-      kept.push_back(eq);
-      continue;
-    }
+    if (!all_states) continue;
     // Eliminate a `stateSelect: never` variable first, then the variable in the fewest
     // constraints, then the one that least wants to be a state (avoid < default < prefer), then
     // the one declared last. An `always` variable is never eliminated here, nor anything while a
@@ -96,7 +112,6 @@ void ConstrainedStates(EquationSystem* sys, IndexStats* stats) {
       return std::make_tuple(prio == kStateNever ? 0 : prio == kStateAlways ? 2 : 1, constraint_count[v], prio, -static_cast<int64_t>(v));
     };
     std::sort(vars.begin(), vars.end(), [&](ExprId a, ExprId b) { return rank(p.node(a).a) < rank(p.node(b).a); });
-    bool eliminated = false;
     for (ExprId x : vars) {
       const int prio = flat.variables[p.node(x).a].state_priority;
       if (prio == kStateAlways) break;
@@ -108,17 +123,55 @@ void ConstrainedStates(EquationSystem* sys, IndexStats* stats) {
         continue;
       }
       uint32_t v = p.node(x).a;
+      ExprId der = p.Der(VarId(v));
+      if (!p.IsConst(coefficient)) sys->guards.push_back({coefficient, eq.origin, VarId(v)});
+      auto def = derivative_definition.find(der.value());
+      auto nests = [&] {
+        for (ExprId w : CollectLeaves(p, original, kHasVar)) {
+          if (shared_solution[p.node(w).a]) return true;
+        }
+        return false;
+      };
+      if (constraint_count[v] >= 2 && def != derivative_definition.end() && nests()) {
+        // x is shared with another constraint (a frame between two bars of a chain), and its
+        // constraint holds a variable already replaced so: replacing x too would nest every such
+        // solution into the next one, so that the position of the k-th link of a chain becomes a
+        // sum of k terms, and its velocity and acceleration (and their Jacobians) grow with it.
+        // x stays an unknown with the constraint as its equation instead (the chain restarts
+        // from it), its derivative becomes the variable u that the definition
+        // u = c*der(x) + offset names, and that definition becomes the differentiated constraint
+        // (der(x) replaced by the time derivative of the solution). Every equation stays local.
+        // u is left to the next round: its new equation is a constraint on velocities.
+        SystemEquation& definition = sys->equations[def->second];
+        ExprId u_eq = s.Apply(definition.residual);
+        ExprId der_value;  // der(x) from the definition: c*der(x) + c_u*u + offset = 0
+        ExprId unused;
+        der_value = SolveFor(&p, u_eq, der, false, &unused);
+        if (der_value.valid() && !(p.mask(der_value) & kHasDer)) {
+          definition.residual = ReplaceLeaf(&p, u_eq, der, dvalue);
+          s.Set(der, der_value);
+          derivative_definition.erase(def);
+          ++stats->kept_constraints;
+          changed = true;
+          break;
+        }
+      }
       s.Set(x, value);
-      s.Set(p.Der(VarId(v)), dvalue);
+      s.Set(der, dvalue);
       ExprId pre = p.FindLeaf(Op::kPre, v);
       if (pre.valid()) s.Set(pre, value);  // pre() of a continuous variable is its value
-      if (!p.IsConst(coefficient)) sys->guards.push_back({coefficient, eq.origin, VarId(v)});
       sys->role[v] = VarRole::kConstrained;
+      shared_solution[v] = constraint_count[v] >= 2;
       ++stats->constrained_states;
-      eliminated = changed = true;
+      drop[k] = true;
+      changed = true;
       break;
     }
-    if (!eliminated) kept.push_back(eq);
+  }
+  std::vector<SystemEquation> kept;
+  kept.reserve(sys->equations.size());
+  for (size_t k = 0; k < sys->equations.size(); ++k) {
+    if (!drop[k]) kept.push_back(sys->equations[k]);
   }
   sys->equations.swap(kept);
   if (changed) sys->ApplyEliminations();

@@ -26,6 +26,9 @@ namespace momenta {
 struct IndexStats {
   size_t derivative_aliases = 0;
   size_t constrained_states = 0;
+  /// Constraints kept as the equation of their variable, whose derivative became a named variable
+  /// (see ConstrainedStates in index_reduction.cc): a chain's frames.
+  size_t kept_constraints = 0;
 };
 
 EquationSystem ReduceIndex(EquationSystem sys, IndexStats* stats);

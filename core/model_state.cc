@@ -122,6 +122,7 @@ void ModelState::JacobianParts(double t, const double* y, const double* yp, doub
 }
 
 void ModelState::StartValues(double* y) { model_->start_values.Run(regs_.data(), y); }
+void ModelState::StartGuesses(double* y) { model_->start_guesses.Run(regs_.data(), y); }
 
 void ModelState::LoadZ(double t, const double* z) {
   const RegisterLayout& L = model_->layout;

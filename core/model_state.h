@@ -23,6 +23,7 @@ class ModelState {
   void Jacobian(double t, double cj, const double* y, const double* yp, double* values);
   void Outputs(double t, const double* y, const double* yp, double* out);
   void StartValues(double* y);
+  void StartGuesses(double* y);
   /// z = [y; y' of states]
   void InitResidual(double t, const double* z, double* out);
   void InitJacobian(double t, const double* z, double* values);

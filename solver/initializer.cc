@@ -84,14 +84,16 @@ void CheckRedundant(ModelState* state, double t0, const double* z) {
 
 }  // namespace
 
-InitialValues SolveInitialization(ModelState* state, double t0, bool sparse) {
+namespace {
+
+/// One Newton solve of [F; G] = 0 from the guesses `y0` for y (y' from 0); throws SolverError when
+/// it fails.
+InitialValues SolveFrom(ModelState* state, double t0, bool sparse, const std::vector<double>& y0) {
   const CompiledModel& m = state->model();
   const size_t n = m.num_unknowns(), ns = m.num_states(), nz = n + ns;
   InitialValues out;
-  out.y.assign(n, 0.0);
+  out.y = y0;
   out.yp.assign(n, 0.0);
-  state->StartValues(out.y.data());
-  if (nz == 0) return out;
 
   ContextPtr ctx = MakeContext();
   VectorPtr z = MakeVector(static_cast<sunindextype>(nz), ctx.get());
@@ -99,7 +101,7 @@ InitialValues SolveInitialization(ModelState* state, double t0, bool sparse) {
   N_VConst(1.0, scale.get());
   double* zv = N_VGetArrayPointer(z.get());
   for (size_t k = 0; k < n; ++k) zv[k] = out.y[k];
-
+  for (size_t k = n; k < nz; ++k) zv[k] = 0.0;
   KinsolData data{state, t0, {}, {}, {}};
   std::unique_ptr<void, KinsolDeleter> kin(KINCreate(ctx.get()));
   CheckNotNull(kin.get(), "KINCreate");
@@ -149,6 +151,36 @@ InitialValues SolveInitialization(ModelState* state, double t0, bool sparse) {
   for (size_t k = 0; k < n; ++k) out.y[k] = zv[k];
   for (size_t s = 0; s < ns; ++s) out.yp[m.state_y[s]] = zv[n + s];
   return out;
+}
+
+}  // namespace
+
+InitialValues SolveInitialization(ModelState* state, double t0, bool sparse) {
+  const CompiledModel& m = state->model();
+  const size_t n = m.num_unknowns(), nz = n + m.num_states();
+  std::vector<double> y0(n, 0.0);
+  state->StartValues(y0.data());
+  if (nz == 0) {
+    InitialValues out;
+    out.y = y0;
+    out.yp.assign(n, 0.0);
+    return out;
+  }
+  // The start values first (as given: a model that initialises from them is solved as before);
+  // when Newton fails from them, once more from the guesses that the equations determining the
+  // unknowns explicitly give (a chain's bodies where its joint angles put them).
+  try {
+    return SolveFrom(state, t0, sparse, y0);
+  } catch (const SolverError& first) {
+    std::vector<double> y1(n, 0.0);
+    state->StartGuesses(y1.data());
+    if (y1 == y0) throw;
+    try {
+      return SolveFrom(state, t0, sparse, y1);
+    } catch (const SolverError&) {
+      throw first;
+    }
+  }
 }
 
 }  // namespace momenta

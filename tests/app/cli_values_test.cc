@@ -170,5 +170,16 @@ TEST_F(CliValuesTest, ResultsFileThatCannotBeWrittenExitsWithThree) {
   EXPECT_FALSE(Contains(r.out, "simulated")) << "no success summary after a failed write:\n" << r.out;
 }
 
+TEST_F(CliValuesTest, PendulumChainOfTwoHundredLinksInitialisesAndSimulates) {
+  // The chain's kept body positions start at 0 while its joint angles add up to radians: Newton
+  // fails from the start values, and initialisation starts over from the guesses the frame
+  // constraints give. (It failed for n >= ~100 before.)
+  const std::string chain = testing::SourcePath("models/pendulum_chain.yaml");
+  CliResult r = testing::RunMomentaWithDeadline(
+      {"simulate", chain, "-p", "n=200", "--stop", "0.05", "-o", dir_.File("chain.csv")}, dir_.path(), 120);
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_TRUE(Contains(r.out, "simulated 0 to 0.05 s")) << r.out;
+}
+
 }  // namespace
 }  // namespace momenta

@@ -97,6 +97,43 @@ TEST(GraphTest, MatchingAgreesWithBruteForceOnRandomGraphs) {
   }
 }
 
+TEST(GraphTest, FastMatchingAgreesWithBruteForceOnRandomGraphs) {
+  std::mt19937 rng(7);
+  for (int trial = 0; trial < 1000; ++trial) {
+    uint32_t nr = rng() % 8, nc = rng() % 8 + 1;
+    std::vector<std::vector<uint32_t>> rows(nr);
+    for (auto& r : rows) {
+      for (uint32_t c = 0; c < nc; ++c) {
+        if (rng() % 3 == 0) r.push_back(c);
+      }
+      if (!r.empty() && rng() % 5 == 0) r.push_back(r.front());  // a repeated column
+    }
+    BipartiteGraph g = Graph(nc, rows);
+    Matching m = FastMaximumMatching(g);
+    ExpectValid(g, m);
+    std::vector<bool> used(nc, false);
+    EXPECT_EQ(m.size, BruteForce(g, 0, &used)) << "trial " << trial;
+  }
+}
+
+TEST(GraphTest, FastMatchingOnLongChains) {
+  // The 100 000-long augmenting path below, and a chain of rows r touching r-1, r, r+1.
+  const uint32_t n = 100000;
+  BipartiteGraph g;
+  g.num_cols = n;
+  for (uint32_t r = 0; r + 1 < n; ++r) g.AddRow({r, r + 1});
+  g.AddRow({0});
+  Matching m = FastMaximumMatching(g);
+  ExpectValid(g, m);
+  EXPECT_EQ(m.size, n);
+  BipartiteGraph h;
+  h.num_cols = n;
+  for (uint32_t r = 0; r < n; ++r) h.AddRow({r == 0 ? 0 : r - 1, r, std::min(r + 1, n - 1)});
+  m = FastMaximumMatching(h);
+  ExpectValid(h, m);
+  EXPECT_EQ(m.size, n);
+}
+
 TEST(GraphTest, EmptyAndDegenerateGraphs) {
   BipartiteGraph empty;
   Matching m = MaximumMatching(empty);
