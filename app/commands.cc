@@ -93,6 +93,18 @@ int LoadAndBuild(const std::string& path, const std::vector<std::string>& params
   return LoadAndBuild(path, overrides, out);
 }
 
+int ResolveRunOptions(const std::string& model_path, const LoadedModel& loaded, const SimulateOverrides& overrides,
+                      SimulationOptions* out) {
+  try {
+    *out = ResolveSimulationOptions(loaded.model->experiment, overrides);
+  } catch (const UsageError& e) {
+    std::cerr << "momenta: " << e.what() << "\n";
+    return kExitUsage;
+  }
+  for (const auto& w : loaded.report.warnings) std::cerr << model_path << ": warning: " << w << "\n";
+  return kExitOk;
+}
+
 int LoadAndBuild(const std::string& path, const ParameterOverrides& overrides, LoadedModel* out) {
   out->overrides = overrides;
   try {
@@ -122,13 +134,7 @@ int RunSimulate(const SimulateArgs& args) {
   const double load_s = loaded.load_s, build_s = loaded.build_s;
   ModelState* state = loaded.state.get();
   SimulationOptions opt;
-  try {
-    opt = ResolveSimulationOptions(model->experiment, args.options);
-  } catch (const UsageError& e) {
-    std::cerr << "momenta: " << e.what() << "\n";
-    return kExitUsage;
-  }
-  for (const auto& w : report.warnings) std::cerr << args.model << ": warning: " << w << "\n";
+  if (int code = ResolveRunOptions(args.model, loaded, args.options, &opt); code != kExitOk) return code;
 
   // From here on SIGINT and SIGTERM stop the run between steps and keep its rows.
   InstallInterruptHandler();

@@ -53,4 +53,9 @@ int LoadAndBuild(const std::string& path, const ParameterOverrides& overrides, L
 /// The same with -p's NAME=VALUE texts, parsed first.
 int LoadAndBuild(const std::string& path, const std::vector<std::string>& params, LoadedModel* out);
 
+/// The run's options from the model's experiment and the command line (`*out`), and the build's
+/// warnings printed; returns kExitOk, or kExitUsage after printing a bad value's message.
+int ResolveRunOptions(const std::string& model_path, const LoadedModel& loaded, const SimulateOverrides& overrides,
+                      SimulationOptions* out);
+
 }  // namespace momenta

@@ -255,13 +255,7 @@ int RunSweep(const SweepArgs& args) {
     }
   }
   SimulationOptions opt;
-  try {
-    opt = ResolveSimulationOptions(model->experiment, args.options);
-  } catch (const UsageError& e) {
-    std::cerr << "momenta: " << e.what() << "\n";
-    return kExitUsage;
-  }
-  for (const auto& w : loaded.report.warnings) std::cerr << args.model << ": warning: " << w << "\n";
+  if (int code = ResolveRunOptions(args.model, loaded, args.options, &opt); code != kExitOk) return code;
 
   const size_t runs = plan.values.size();
   unsigned jobs = args.jobs ? args.jobs : std::max(1u, std::thread::hardware_concurrency());

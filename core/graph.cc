@@ -74,16 +74,11 @@ std::vector<uint32_t> IncrementalMatching::Reach(const std::vector<uint32_t>& co
 
 namespace {
 
-/// Duff's MC21: a greedy start, then a depth-first search for an augmenting path from each
-/// unmatched row, each with its own marks. Fast on most systems, but a long chain is walked once
-/// per row (quadratic): past `budget` search steps it gives up (false).
-bool ClassicMatching(const BipartiteGraph& g, uint64_t budget, Matching* out) {
+/// Cheap assignment: each unmatched row takes its first free column.
+void GreedyAssign(const BipartiteGraph& g, Matching* out) {
   Matching& m = *out;
-  const uint32_t nr = g.num_rows();
-  m.row_to_col.assign(nr, -1);
-  m.col_to_row.assign(g.num_cols, -1);
-  // Cheap assignment: the first free column of each row.
-  for (uint32_t r = 0; r < nr; ++r) {
+  for (uint32_t r = 0; r < g.num_rows(); ++r) {
+    if (m.row_to_col[r] >= 0) continue;
     for (uint32_t k = g.row_start[r]; k < g.row_start[r + 1]; ++k) {
       uint32_t c = g.cols[k];
       if (m.col_to_row[c] < 0) {
@@ -94,6 +89,17 @@ bool ClassicMatching(const BipartiteGraph& g, uint64_t budget, Matching* out) {
       }
     }
   }
+}
+
+/// Duff's MC21: a greedy start, then a depth-first search for an augmenting path from each
+/// unmatched row, each with its own marks. Fast on most systems, but a long chain is walked once
+/// per row (quadratic): past `budget` search steps it gives up (false).
+bool ClassicMatching(const BipartiteGraph& g, uint64_t budget, Matching* out) {
+  Matching& m = *out;
+  const uint32_t nr = g.num_rows();
+  m.row_to_col.assign(nr, -1);
+  m.col_to_row.assign(g.num_cols, -1);
+  GreedyAssign(g, &m);
   // Augmenting paths by depth-first search from each unmatched row.
   struct Frame {
     uint32_t row, next;
@@ -229,19 +235,7 @@ Matching FastMaximumMatching(const BipartiteGraph& g) {
       }
     }
   }
-  // Cheap assignment: the first free column of each row.
-  for (uint32_t r = 0; r < nr; ++r) {
-    if (m.row_to_col[r] >= 0) continue;
-    for (uint32_t k = g.row_start[r]; k < g.row_start[r + 1]; ++k) {
-      uint32_t c = g.cols[k];
-      if (m.col_to_row[c] < 0) {
-        m.col_to_row[c] = static_cast<int32_t>(r);
-        m.row_to_col[r] = static_cast<int32_t>(c);
-        ++m.size;
-        break;
-      }
-    }
-  }
+  GreedyAssign(g, &m);
   // Augmenting paths by depth-first search from each unmatched row, in phases (Pothen and Fan):
   // a column visited in a phase stays visited for the phase's later searches, so a phase costs
   // O(entries) however many rows it starts from (separate marks per search walked a chain once per
