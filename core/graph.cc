@@ -91,6 +91,72 @@ void GreedyAssign(const BipartiteGraph& g, Matching* out) {
   }
 }
 
+/// Depth-first search for augmenting paths (MC21 with look-ahead), shared by both matchings.
+/// Columns marked with the current stamp are not entered again: a new stamp per search gives the
+/// classic method, one stamp per phase Pothen and Fan's.
+class AugmentingSearch {
+ public:
+  explicit AugmentingSearch(const BipartiteGraph& g)
+      : g_(g), visited_(g.num_cols, 0), lookahead_(g.row_start.begin(), g.row_start.end() - 1) {}
+
+  void NewStamp() { ++stamp_; }
+
+  /// Searches from the unmatched row r0 and augments `m` along the path found: 1 when it did, 0
+  /// when there is no path from r0, -1 when `budget` (search steps, decremented) ran out.
+  int Augment(uint32_t r0, Matching* m, uint64_t* budget) {
+    stack_.clear();
+    stack_.push_back({r0, g_.row_start[r0], -1});
+    int32_t found = -1;
+    while (!stack_.empty() && found < 0) {
+      if ((*budget)-- == 0) return -1;
+      Frame& f = stack_.back();
+      // Look ahead for a free column first.
+      uint32_t& la = lookahead_[f.row];
+      for (; la < g_.row_start[f.row + 1]; ++la) {
+        uint32_t c = g_.cols[la];
+        if (m->col_to_row[c] < 0) {
+          found = static_cast<int32_t>(c);
+          break;
+        }
+      }
+      if (found >= 0) break;
+      bool pushed = false;
+      while (f.next < g_.row_start[f.row + 1]) {
+        uint32_t c = g_.cols[f.next++];
+        if (visited_[c] == stamp_) continue;
+        visited_[c] = stamp_;
+        const auto row = static_cast<uint32_t>(m->col_to_row[c]);
+        stack_.push_back({row, g_.row_start[row], static_cast<int32_t>(c)});
+        pushed = true;
+        break;
+      }
+      if (!pushed) stack_.pop_back();
+    }
+    if (found < 0) return 0;
+    // Augment: the top row takes the free column, each row below takes the column freed above it.
+    int32_t c = found;
+    for (size_t k = stack_.size(); k-- > 0;) {
+      uint32_t row = stack_[k].row;
+      int32_t freed = stack_[k].via_col;
+      m->row_to_col[row] = c;
+      m->col_to_row[c] = static_cast<int32_t>(row);
+      c = freed;
+    }
+    ++m->size;
+    return 1;
+  }
+
+ private:
+  struct Frame {
+    uint32_t row, next;
+    int32_t via_col;  ///< the column whose matched row this frame is
+  };
+  const BipartiteGraph& g_;
+  std::vector<uint32_t> visited_, lookahead_;
+  uint32_t stamp_ = 0;
+  std::vector<Frame> stack_;
+};
+
 /// Duff's MC21: a greedy start, then a depth-first search for an augmenting path from each
 /// unmatched row, each with its own marks. Fast on most systems, but a long chain is walked once
 /// per row (quadratic): past `budget` search steps it gives up (false).
@@ -100,57 +166,12 @@ bool ClassicMatching(const BipartiteGraph& g, uint64_t budget, Matching* out) {
   m.row_to_col.assign(nr, -1);
   m.col_to_row.assign(g.num_cols, -1);
   GreedyAssign(g, &m);
-  // Augmenting paths by depth-first search from each unmatched row.
-  struct Frame {
-    uint32_t row, next;
-    int32_t via_col;  ///< the column whose matched row this frame is
-  };
-  std::vector<uint32_t> visited(g.num_cols, 0);
-  std::vector<uint32_t> lookahead(g.row_start.begin(), g.row_start.end() - 1);
-  uint32_t stamp = 0;
-  std::vector<Frame> stack;
+  // Augmenting paths by depth-first search from each unmatched row, each with its own marks.
+  AugmentingSearch search(g);
   for (uint32_t r0 = 0; r0 < nr; ++r0) {
     if (m.row_to_col[r0] >= 0) continue;
-    ++stamp;
-    stack.clear();
-    stack.push_back({r0, g.row_start[r0], -1});
-    int32_t found = -1;
-    while (!stack.empty() && found < 0) {
-      if (budget-- == 0) return false;
-      Frame& f = stack.back();
-      // Look ahead for a free column first.
-      uint32_t& la = lookahead[f.row];
-      for (; la < g.row_start[f.row + 1]; ++la) {
-        uint32_t c = g.cols[la];
-        if (m.col_to_row[c] < 0) {
-          found = static_cast<int32_t>(c);
-          break;
-        }
-      }
-      if (found >= 0) break;
-      bool pushed = false;
-      while (f.next < g.row_start[f.row + 1]) {
-        uint32_t c = g.cols[f.next++];
-        if (visited[c] == stamp) continue;
-        visited[c] = stamp;
-        stack.push_back({static_cast<uint32_t>(m.col_to_row[c]), 0, static_cast<int32_t>(c)});
-        stack.back().next = g.row_start[stack.back().row];
-        pushed = true;
-        break;
-      }
-      if (!pushed) stack.pop_back();
-    }
-    if (found < 0) continue;
-    // Augment: the top row takes the free column, each row below takes the column freed above it.
-    int32_t c = found;
-    for (size_t k = stack.size(); k-- > 0;) {
-      uint32_t row = stack[k].row;
-      int32_t freed = stack[k].via_col;
-      m.row_to_col[row] = c;
-      m.col_to_row[c] = static_cast<int32_t>(row);
-      c = freed;
-    }
-    ++m.size;
+    search.NewStamp();
+    if (search.Augment(r0, &m, &budget) < 0) return false;
   }
   return true;
 }
@@ -240,65 +261,22 @@ Matching FastMaximumMatching(const BipartiteGraph& g) {
   // a column visited in a phase stays visited for the phase's later searches, so a phase costs
   // O(entries) however many rows it starts from (separate marks per search walked a chain once per
   // row: quadratic); phases repeat until one augments nothing, and then no augmenting path exists.
-  struct Frame {
-    uint32_t row, next;
-    int32_t via_col;  ///< the column whose matched row this frame is
-  };
-  std::vector<uint32_t> visited(g.num_cols, 0);
-  std::vector<uint32_t> lookahead(g.row_start.begin(), g.row_start.end() - 1);
-  uint32_t stamp = 0;
-  std::vector<Frame> stack;
+  AugmentingSearch search(g);
+  uint64_t unbounded = UINT64_MAX;
   std::vector<uint32_t> open;
   for (uint32_t r = 0; r < nr; ++r) {
     if (m.row_to_col[r] < 0) open.push_back(r);
   }
   for (bool augmented = true; augmented && !open.empty();) {
     augmented = false;
-    ++stamp;
+    search.NewStamp();
     size_t still_open = 0;
     for (uint32_t r0 : open) {
-      stack.clear();
-      stack.push_back({r0, g.row_start[r0], -1});
-      int32_t found = -1;
-      while (!stack.empty() && found < 0) {
-        Frame& f = stack.back();
-        // Look ahead for a free column first.
-        uint32_t& la = lookahead[f.row];
-        for (; la < g.row_start[f.row + 1]; ++la) {
-          uint32_t c = g.cols[la];
-          if (m.col_to_row[c] < 0) {
-            found = static_cast<int32_t>(c);
-            break;
-          }
-        }
-        if (found >= 0) break;
-        bool pushed = false;
-        while (f.next < g.row_start[f.row + 1]) {
-          uint32_t c = g.cols[f.next++];
-          if (visited[c] == stamp) continue;
-          visited[c] = stamp;
-          stack.push_back({static_cast<uint32_t>(m.col_to_row[c]), 0, static_cast<int32_t>(c)});
-          stack.back().next = g.row_start[stack.back().row];
-          pushed = true;
-          break;
-        }
-        if (!pushed) stack.pop_back();
-      }
-      if (found < 0) {
+      if (search.Augment(r0, &m, &unbounded) > 0) {
+        augmented = true;
+      } else {
         open[still_open++] = r0;
-        continue;
       }
-      // Augment: the top row takes the free column, each row below takes the column freed above.
-      int32_t c = found;
-      for (size_t k = stack.size(); k-- > 0;) {
-        uint32_t row = stack[k].row;
-        int32_t freed = stack[k].via_col;
-        m.row_to_col[row] = c;
-        m.col_to_row[c] = static_cast<int32_t>(row);
-        c = freed;
-      }
-      ++m.size;
-      augmented = true;
     }
     open.resize(still_open);
   }
