@@ -470,12 +470,9 @@ std::shared_ptr<CompiledModel> CompileModel(EquationSystem sys, const Structure&
       ci.contact = static_cast<uint32_t>(slots.disc_of_var[im.contact.value()]);
       for (ExprId e : {im.gap, im.velocity}) {
         for (ExprId leaf : CollectLeaves(p, e, kHasVar | kHasDer)) {
-          const Node leaf_node = p.node(leaf);
-          if (leaf_node.op == Op::kDer) {
-            m->impacts_read_algebraic = true;
-          } else if (const int32_t y = slots.y_of_var[leaf_node.a]; y >= 0 && !m->is_state[y]) {
-            m->impacts_read_algebraic = true;
-          }
+          const Node leaf_node = p.node(leaf);  // kVar and kDer: a is the variable
+          const int32_t y = slots.y_of_var[leaf_node.a];
+          if (leaf_node.op == Op::kDer || (y >= 0 && !m->is_state[y])) m->impacts_read_algebraic = true;
         }
       }
       for (ExprId e : {im.gap, im.velocity, im.restitution, im.v_small, im.release}) values.push_back(e);

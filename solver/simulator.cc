@@ -629,7 +629,7 @@ class EventIntegrator {
     const double tm = a.t + tau * h;
     // Crossed there; or a contact overlaps there, at its deepest, so it closed (approaching)
     // before: either way the crossing lies in (a.t, tm].
-    if (Crossed(tm) || ContactOverlaps()) return Locate(a.t, tm);
+    if (Crossed(tm) || OverlappingContact() >= 0) return Locate(a.t, tm);
     Sample m;
     TakeSample(tm, &m);
     if (double tc = Excursion(a, m, depth + 1); tc < HUGE_VAL) return tc;
@@ -670,23 +670,19 @@ class EventIntegrator {
     if (m_.impacts.empty()) return;
     impact_values_.resize(5 * m_.impacts.size());
     state_->ImpactValues(t, y_.data(), yp_.data(), impact_values_.data());
-    const double* d = state_->discrete();
-    for (size_t k = 0; k < m_.impacts.size(); ++k) {
-      const double gap = impact_values_[5 * k];
-      if (d[m_.impacts[k].contact] == 0 && gap < -kGapBand) {
-        throw SolverError("at t = " + Num(t) + ": the bodies of " + m_.impacts[k].name + " start overlapped (gap " +
-                          Num(gap) + "); move them apart so that the gap is zero or positive");
-      }
+    if (const int k = OverlappingContact(); k >= 0) {
+      throw SolverError("at t = " + Num(t) + ": the bodies of " + m_.impacts[k].name + " start overlapped (gap " +
+                        Num(impact_values_[5 * k]) + "); move them apart so that the gap is zero or positive");
     }
   }
 
-  /// Whether an open contact's gap is closed in impact_values_ (as ContactCloses left them).
-  bool ContactOverlaps() const {
+  /// An open contact whose gap is closed in impact_values_ (as ContactCloses left them), or -1.
+  int OverlappingContact() const {
     const double* d = state_->discrete();
     for (size_t k = 0; k < m_.impacts.size(); ++k) {
-      if (d[m_.impacts[k].contact] == 0 && impact_values_[5 * k] < -kGapBand) return true;
+      if (d[m_.impacts[k].contact] == 0 && impact_values_[5 * k] < -kGapBand) return static_cast<int>(k);
     }
-    return false;
+    return -1;
   }
 
   double Band(size_t i) const { return 1e-12 * zscale_[i]; }
@@ -804,17 +800,18 @@ class EventIntegrator {
     CheckFlag(IDAReInit(mem, t, y_vec_.get(), yp_vec_.get()), "IDAReInit");
     double tout1 = std::min(opt_.stop, t + interval_);
     if (tout1 <= t) tout1 = t + std::max(1e-6, 1e-6 * std::fabs(t));
-    if (restart_abstol_) CheckFlag(IDASVtolerances(mem, opt_.rtol, restart_abstol_.get()), "IDASVtolerances");
-    int flag = IDACalcIC(mem, IDA_YA_YDP_INIT, tout1);
+    auto calc_ic = [&](bool line_search) {
+      if (restart_abstol_) CheckFlag(IDASVtolerances(mem, opt_.rtol, restart_abstol_.get()), "IDASVtolerances");
+      CheckFlag(IDASetLineSearchOffIC(mem, line_search ? SUNFALSE : SUNTRUE), "IDASetLineSearchOffIC");
+      return IDACalcIC(mem, IDA_YA_YDP_INIT, tout1);
+    };
+    int flag = calc_ic(true);
     if (flag < 0) {
       // IDACalcIC's line search can stall on a step that the plain Newton iteration takes (after
       // an impulse, where velocities and the unknowns that follow them jump): once more without.
       Load(y_, yp_);
       CheckFlag(IDAReInit(mem, t, y_vec_.get(), yp_vec_.get()), "IDAReInit");
-      if (restart_abstol_) CheckFlag(IDASVtolerances(mem, opt_.rtol, restart_abstol_.get()), "IDASVtolerances");
-      CheckFlag(IDASetLineSearchOffIC(mem, SUNTRUE), "IDASetLineSearchOffIC");
-      flag = IDACalcIC(mem, IDA_YA_YDP_INIT, tout1);
-      CheckFlag(IDASetLineSearchOffIC(mem, SUNFALSE), "IDASetLineSearchOffIC");
+      flag = calc_ic(false);
     }
     if (flag < 0) {
       throw SolverError("at t = " + Num(t) + ": no consistent restart after the event (IDACalcIC: " +
