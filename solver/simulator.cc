@@ -116,6 +116,11 @@ std::string FlagName(int flag) {
 }
 
 /// A relation's value for its zero-crossing function z = a - b.
+/// How an event relation whose zero-crossing function is at zero (within the location error)
+/// is set at an event: by the value (at the start), by the side its rate leads to (the right
+/// limit: the crossing that caused the event is passed), or left as it was.
+enum ZeroSide { kAtValue, kRightLimit, kHoldAtZero };
+
 bool RelationHolds(Op op, double z) {
   switch (op) {
     case Op::kLt: return z < 0;
@@ -180,6 +185,7 @@ class EventIntegrator {
       stats_->integrate_seconds = Elapsed(t_run_);
       return;
     }
+    PolishConsistentValues(opt_.start);
     SetUpIda();
     t_ = opt_.start;
     next_grid_ = 1;
@@ -229,15 +235,19 @@ class EventIntegrator {
     state_->StartValues(y_.data());
     state_->SavePre(y_.data());
     // First guesses for the conditions: their values at the start values.
-    SetConditions(opt_.start, y_.data(), yp_.data(), /*use_rates=*/false);
+    SetConditions(opt_.start, y_.data(), yp_.data(), kAtValue);
     for (int iter = 0;; ++iter) {
       InitialValues init = SolveInitialization(state_, opt_.start, sparse_);
       stats_->init_iterations += init.iterations;
       y_ = init.y;
       yp_ = init.yp;
       if (!has_events_) break;
-      bool changed = SetConditions(opt_.start, y_.data(), yp_.data(), true);
+      // Discrete equations solved with the initial system see initial() = true (MSL's friction
+      // elements start sliding from `initial() and v > 0`).
+      state_->set_initial(true);
+      bool changed = SetConditions(opt_.start, y_.data(), yp_.data(), kAtValue);
       changed = UpdateDiscrete(opt_.start) || changed;
+      state_->set_initial(false);
       if (!changed) break;
       if (iter == 50) throw SolverError("at t = " + Num(opt_.start) + ": the initial discrete values do not settle (the conditions switch back and forth)");
     }
@@ -686,6 +696,8 @@ class EventIntegrator {
   }
 
   double Band(size_t i) const { return 1e-12 * zscale_[i]; }
+  /// Per condition: at zero with a nonzero rate in the first round of the current event.
+  std::vector<bool> moving_at_zero_;
 
   /// Illinois (regula falsi) on "crossed or not", shrinking [lo, hi] until it is below the time
   /// resolution; the event is placed at hi, where the switch has happened.
@@ -769,7 +781,16 @@ class EventIntegrator {
     bool any = false;
     for (int iter = 0;; ++iter) {
       if (iter > 0 && restart) Restart(t);
-      bool changed = SetConditions(t, y_.data(), yp_.data(), true);
+      // The first round takes each relation at zero to the side its rate leads (the crossing
+      // that caused the event is passed). Later rounds follow a restart that changed the
+      // continuous solution: a relation that was at rest at zero in the first round keeps its
+      // value, and its crossing, if the new motion brings one, is a new event — as in Modelica,
+      // where a friction element that starts to slide reports startForward at the breakaway and
+      // mode = Forward an instant later. A relation that was passing through zero still follows
+      // its rate, so a sliding mode (each side's motion drives the relation back) is reported
+      // as chattering here rather than crept through event by event.
+      bool changed = SetConditions(t, y_.data(), yp_.data(),
+                                   iter == 0 || !restart ? kRightLimit : kHoldAtZero);
       changed = UpdateDiscrete(t) || changed;
       changed = Releases(t) || changed;
       bool fired = FireWhens(t);
@@ -827,19 +848,21 @@ class EventIntegrator {
       // Back to the integration's tolerances; IDA takes them at its next (re)initialisation.
       CheckFlag(IDASVtolerances(mem, opt_.rtol, abstol_.get()), "IDASVtolerances");
     }
-    if (!rate_of_algebraic_.empty() || restart_abstol_) {  // the rates again, from the consistent dummies
-      SetAlgebraicRates();
-      Load(y_, yp_);
-      CheckFlag(IDAReInit(mem, t, y_vec_.get(), yp_vec_.get()), "IDAReInit");
-    }
+    // Consistent values polished, the rates of the algebraic unknowns with them (IDACalcIC
+    // leaves those as they were), then IDA from there.
+    SetAlgebraicRates();
+    PolishConsistentValues(t);
+    Load(y_, yp_);
+    CheckFlag(IDAReInit(mem, t, y_vec_.get(), yp_vec_.get()), "IDAReInit");
   }
 
   /// Sets every frozen condition to its right-limit value at (t, y, y'); true when one changed.
-  bool SetConditions(double t, const double* y, const double* yp, bool use_rates) {
+  bool SetConditions(double t, const double* y, const double* yp, ZeroSide side) {
     if (nc_ == 0) return false;
     state_->ZeroCrossings(t, y, yp, z_.data());
     std::vector<double> rate(nc_, 0.0);
-    if (use_rates) state_->ZeroCrossingRates(t, y, yp, rate.data());
+    if (side != kAtValue) state_->ZeroCrossingRates(t, y, yp, rate.data());
+    if (side == kRightLimit) moving_at_zero_.assign(nc_, false);
     double* c = state_->mutable_conditions();
     bool changed = false;
     for (size_t i = 0; i < nc_; ++i) {
@@ -849,9 +872,11 @@ class EventIntegrator {
       // relation takes the value its derivative leads to: the right limit. Without this, h < 0
       // at h = -1e-12 after a bounce would switch back an instant later: a duplicate event.
       const double near = 4 * Band(i) + std::fabs(rate[i]) * 1e-12 * std::max(1.0, std::fabs(t));
-      if (std::fabs(zi) <= near && rate[i] != 0 && m_.conditions[i].op != Op::kEq &&
-          m_.conditions[i].op != Op::kNe) {
-        zi = rate[i];
+      const bool ordered = m_.conditions[i].op != Op::kEq && m_.conditions[i].op != Op::kNe;
+      if (std::fabs(zi) <= near && ordered && side != kAtValue) {
+        if (side == kRightLimit) moving_at_zero_[i] = rate[i] != 0;
+        if (side == kHoldAtZero && !moving_at_zero_[i]) continue;
+        if (rate[i] != 0) zi = rate[i];
       }
       double v = RelationHolds(m_.conditions[i].op, zi) ? 1.0 : 0.0;
       if (v != c[i]) changed = true;
@@ -958,13 +983,77 @@ class EventIntegrator {
   /// of the velocity, and b asks that jump to be `dvel` (every other row is 0). Adds Δx to the
   /// states.
   void ApplyImpulse(double t, const CompiledModel::Impact& im, double dvel) {
-    const SparsePattern& pat = m_.jacobian_pattern;
-    std::vector<double> dfdy(pat.nnz()), dfdyp(pat.nnz());
+    std::vector<double> dfdy, dfdyp;
     double* d = state_->mutable_discrete();
     const double mode = d[im.contact];
     d[im.contact] = 1;
-    state_->JacobianParts(t, y_.data(), yp_.data(), dfdy.data(), dfdyp.data());
+    JacobianParts(t, &dfdy, &dfdyp);
     d[im.contact] = mode;
+    Eigen::VectorXd b = Eigen::VectorXd::Zero(static_cast<int>(n_));
+    b[im.mode_row] = dvel;
+    Eigen::VectorXd x;
+    if (!SolveMixed(dfdy, dfdyp, b, &x)) {
+      throw SolverError("at t = " + Num(t) + ": the impact of " + im.name +
+                        " has no unique solution (the integrated equations are singular: is a body without mass in the impulse's path?)");
+    }
+    for (size_t c = 0; c < n_; ++c) {
+      if (m_.is_state[c]) y_[c] += x[static_cast<int>(c)];
+    }
+  }
+
+  /// Polishes consistent values for IDA after a start or restart. First up to two Newton steps
+  /// on F(t, y, y') = 0 for the states' rates and the algebraic unknowns (the states stay):
+  /// IDACalcIC stops at its own tolerance, which leaves the rates of states noisy by about
+  /// tolerance/step (1e-4), enough to flip a relation that sits exactly at zero after a reinit
+  /// (a mass put at its stop with v = 0 would seem to move on). Then the rates of the algebraic
+  /// unknowns that agree with the equations differentiated in time,
+  ///   [dF/dy over the algebraic unknowns | dF/dy' over the states] [y'_alg; y''_states]
+  ///     = -(dF/dt + dF/dy over the states * y'_states),
+  /// with dF/dt by a central difference. IDA predicts every unknown from its rate: a zero rate
+  /// for an algebraic unknown that moves (a stuck friction element's force following a sine)
+  /// makes the error test fail again and again on the first step at a tight tolerance. Leaves
+  /// the values as they are where the system is singular.
+  void PolishConsistentValues(double t) {
+    if (n_ == 0) return;
+    std::vector<double> f(n_), dfdy, dfdyp;
+    Eigen::VectorXd b(static_cast<int>(n_)), x;
+    for (int it = 0; it < 2; ++it) {
+      state_->Residual(t, y_.data(), yp_.data(), f.data());
+      if (std::all_of(f.begin(), f.end(), [](double r) { return r == 0; })) break;
+      JacobianParts(t, &dfdy, &dfdyp);
+      for (size_t r = 0; r < n_; ++r) b[static_cast<int>(r)] = -f[r];
+      if (!SolveMixed(dfdy, dfdyp, b, &x) || !x.allFinite()) return;
+      for (size_t c = 0; c < n_; ++c) (m_.is_state[c] ? yp_[c] : y_[c]) += x[static_cast<int>(c)];
+    }
+    if (std::all_of(m_.is_state.begin(), m_.is_state.end(), [](bool s) { return s; })) return;
+    const double h = 1e-6 * std::max(1.0, std::fabs(t));
+    std::vector<double> ahead(n_), behind(n_);
+    state_->Residual(t + h, y_.data(), yp_.data(), ahead.data());
+    state_->Residual(t - h, y_.data(), yp_.data(), behind.data());
+    JacobianParts(t, &dfdy, &dfdyp);
+    for (size_t r = 0; r < n_; ++r) b[static_cast<int>(r)] = -(ahead[r] - behind[r]) / (2 * h);
+    const SparsePattern& pat = m_.jacobian_pattern;
+    for (int32_t c = 0; c < pat.cols; ++c) {
+      if (!m_.is_state[c]) continue;
+      for (int32_t k = pat.col_start[c]; k < pat.col_start[c + 1]; ++k) b[pat.row_index[k]] -= dfdy[k] * yp_[c];
+    }
+    if (!SolveMixed(dfdy, dfdyp, b, &x) || !x.allFinite()) return;
+    for (size_t c = 0; c < n_; ++c) {
+      if (!m_.is_state[c]) yp_[c] = x[static_cast<int>(c)];
+    }
+  }
+
+  void JacobianParts(double t, std::vector<double>* dfdy, std::vector<double>* dfdyp) {
+    dfdy->resize(m_.jacobian_pattern.nnz());
+    dfdyp->resize(m_.jacobian_pattern.nnz());
+    state_->JacobianParts(t, y_.data(), yp_.data(), dfdy->data(), dfdyp->data());
+  }
+
+  /// Solves [dF/dy' over the states | dF/dy over the algebraic unknowns] x = b (the matrix of
+  /// IDACalcIC's YA_YDP_INIT step); false when it is singular.
+  bool SolveMixed(const std::vector<double>& dfdy, const std::vector<double>& dfdyp,
+                  const Eigen::VectorXd& b, Eigen::VectorXd* x) {
+    const SparsePattern& pat = m_.jacobian_pattern;
     std::vector<Eigen::Triplet<double>> triplets;
     for (int32_t c = 0; c < pat.cols; ++c) {
       for (int32_t k = pat.col_start[c]; k < pat.col_start[c + 1]; ++k) {
@@ -977,16 +1066,9 @@ class EventIntegrator {
     A.makeCompressed();
     Eigen::SparseLU<Eigen::SparseMatrix<double>> lu;
     lu.compute(A);
-    if (lu.info() != Eigen::Success) {
-      throw SolverError("at t = " + Num(t) + ": the impact of " + im.name +
-                        " has no unique solution (the integrated equations are singular: is a body without mass in the impulse's path?)");
-    }
-    Eigen::VectorXd b = Eigen::VectorXd::Zero(static_cast<int>(n_));
-    b[im.mode_row] = dvel;
-    Eigen::VectorXd x = lu.solve(b);
-    for (size_t c = 0; c < n_; ++c) {
-      if (m_.is_state[c]) y_[c] += x[static_cast<int>(c)];
-    }
+    if (lu.info() != Eigen::Success) return false;
+    *x = lu.solve(b);
+    return true;
   }
 
   // -------------------------------------------------------------------------------------------
