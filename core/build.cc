@@ -7,6 +7,7 @@
 #include "core/alias_elimination.h"
 #include "core/causalization.h"
 #include "core/compile.h"
+#include "core/conditional_connectors.h"
 #include "core/discrete_partition.h"
 #include "core/dummy_derivatives.h"
 #include "core/index_reduction.h"
@@ -55,6 +56,12 @@ std::shared_ptr<const CompiledModel> BuildModel(const ModelSpec& spec, const Lib
     std::ostringstream note;
     note << n << " conditions on Boolean or Integer parameters fixed";
     record("structural parameters", sys.num_unknowns(), sys.equations.size(), note.str());
+  }
+  // Connectors whose condition is false leave, with the equations that hold only with them.
+  if (size_t n = ResolveConditionalConnectors(&sys, params); n > 0) {
+    std::ostringstream note;
+    note << n << " conditional connectors absent";
+    record("conditional connectors", sys.num_unknowns(), sys.equations.size(), note.str());
   }
 
   // Simplify: aliases, derivative aliases and constrained states, until nothing changes.

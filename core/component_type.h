@@ -108,6 +108,9 @@ struct ConnectorType {
 struct ConnectorDecl {
   std::string name, type, doc;
   Shape shape;  ///< a signal connector carrying a vector or matrix; empty for a scalar
+  /// A Boolean parameter of the type: the connector exists only when it is true (MSL's
+  /// `HeatPort heatPort if useHeatPort`); empty for a connector that always exists.
+  std::string condition;
   SourceLoc loc;
 };
 

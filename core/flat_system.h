@@ -51,7 +51,8 @@ struct FlatParameter {
   InstanceId instance; ///< invalid for model parameters
 };
 
-enum class EquationOrigin { kComponent, kModel, kConnection, kUnconnectedFlow, kFixedStart, kInitial };
+/// kAbsentConnector: `x = 0` for a potential of a conditional connector that is absent.
+enum class EquationOrigin { kComponent, kModel, kConnection, kUnconnectedFlow, kFixedStart, kInitial, kAbsentConnector };
 
 struct FlatEquation {
   ExprId residual;  ///< lhs - rhs
@@ -103,6 +104,19 @@ struct FlatTable {
   std::vector<uint8_t> jumps;
 };
 
+/// A connector that exists only when a Boolean parameter of its component is true
+/// (ConnectorDecl::condition). Its variables are in the flat system either way; the build
+/// decides from the parameter's value whether they are the connector's or absent
+/// (core/conditional_connectors.h).
+struct FlatConditionalConnector {
+  InstanceId instance;
+  std::string name;          ///< the connector's name in its type, e.g. "heatPort"
+  ParamId condition;         ///< the instance's Boolean parameter, e.g. "damper.useHeatPort"
+  VarId first_var;           ///< its potentials, then its flows
+  uint32_t num_potentials = 0, num_flows = 0;
+  SourceLoc connected_at;    ///< the first connection naming it; unknown when unconnected
+};
+
 struct FlatOutput {
   std::string text;
   ExprId expr;
@@ -122,6 +136,7 @@ struct FlatSystem {
   std::vector<FlatImpact> impacts;
   std::vector<FlatTable> tables;
   std::vector<FlatOutput> outputs;
+  std::vector<FlatConditionalConnector> conditional_connectors;
   ExperimentSpec experiment;
   std::shared_ptr<const Library> defines;  ///< the model's own types (instances point into them)
   std::map<std::string, double> structural;  ///< parameters that shaped the structure, and their values

@@ -171,6 +171,9 @@ struct TypeLayout {
   std::vector<ImpactTemplate> impacts;
   std::vector<bool> discrete;  ///< by local variable
   std::vector<SubInstance> subs;
+  /// The parts' connectors that a connection inside the type names, by the local index of the
+  /// connector's first variable (at any depth): where the first such connection is written.
+  std::unordered_map<uint32_t, SourceLoc> connected;
   std::vector<std::string> LocalNames() const {
     std::vector<std::string> names;
     for (const auto& v : vars) names.push_back(v.name);
@@ -649,6 +652,7 @@ class Flattener {
       L.table_index[d.name] = static_cast<uint32_t>(L.tables.size());
       L.tables.push_back({&d, 0, 0, {}});
     }
+    for (const ConnectorSlot& cs : L.connectors) CheckCondition(L, *cs.decl);
     // A composite's parts: their names first, so that every expression of the type can use them
     // (mass.s, spring.c); their templates after the type's own.
     std::vector<PartPlan> parts = LayoutPartNames(&L);
@@ -815,10 +819,33 @@ class Flattener {
         };
         adopt(S.vars, &L.vars, &L.var_index);
         adopt(S.params, &L.params, &L.param_index);
+        for (const auto& [var, at] : S.connected) L.connected.emplace(var_off + var, at);
         plans.push_back(std::move(pl));
       }
     }
     return plans;
+  }
+
+  /// A conditional connector's `condition:` names a Boolean parameter of its type; a type with
+  /// parts cannot make its own connectors conditional (its inner connections would name them).
+  void CheckCondition(const TypeLayout& L, const ConnectorDecl& c) {
+    if (c.condition.empty()) return;
+    const ComponentType* type = L.type;
+    auto p = L.param_index.find(c.condition);
+    if (p == L.param_index.end() || type->parameters[p->second].type != ValueType::kBoolean) {
+      std::vector<std::string> booleans;
+      for (const auto& q : type->parameters) {
+        if (q.type == ValueType::kBoolean) booleans.push_back(q.name);
+      }
+      throw ModelError(c.loc, "the condition of connector " + type->name + "." + c.name + " must be a Boolean " +
+                                  "parameter of " + type->name + ", found '" + c.condition + "'" +
+                                  (p == L.param_index.end() ? "" : " (a " + std::string(ValueTypeName(type->parameters[p->second].type)) + " parameter)") +
+                                  " (Boolean parameters: " + (booleans.empty() ? std::string("none") : JoinNames(booleans)) + ")");
+    }
+    if (!type->components.empty()) {
+      throw ModelError(c.loc, "connector " + type->name + "." + c.name + " of a type with parts cannot be conditional; " +
+                                  "make the part's connector conditional instead");
+    }
   }
 
   /// The count of an array part: a whole number written in the type (its structure is fixed;
@@ -1074,6 +1101,9 @@ class Flattener {
       if (x == y) throw ModelError(loc, "connection of " + xt + " to itself");
       if (!slot_loc[x].known()) slot_loc[x] = loc;
       if (!slot_loc[y].known()) slot_loc[y] = loc;
+      for (uint32_t s : {x, y}) {
+        if (!slots[s].outside) L.connected.emplace(slots[s].first_var, loc);
+      }
       parent[find(x)] = find(y);
     };
     for (const auto& c : type->connections) {
@@ -1126,7 +1156,7 @@ class Flattener {
           if (slots[s].cs->type->is_input == slots[s].outside) drivers.push_back(s);
         }
         if (set.size() == 1) {
-          if (!s0.outside && ct->is_input) {
+          if (!s0.outside && ct->is_input && s0.cs->decl->condition.empty()) {
             throw ModelError(s0.loc, "the signal input " + s0.name + " inside " + type->name +
                                  " is connected to nothing; connect it to an output or to an input of " + type->name);
           }
@@ -1891,6 +1921,32 @@ class Flattener {
     }
     auto instance_of = [&](int32_t sub) { return sub < 0 ? inst : InstanceId(inst.value() + 1 + sub); };
     auto loc_of = [&](int32_t sub) { return sub < 0 ? c.loc : L.subs[sub].loc; };
+    // Conditional connectors: the instance's own (its connections come later) and its parts'.
+    auto conditional = [&](const TypeLayout& S, int32_t sub, uint32_t var_off, uint32_t param_off) {
+      for (uint32_t k = 0; k < S.connectors.size(); ++k) {
+        const ConnectorSlot& cs = S.connectors[k];
+        if (cs.decl->condition.empty()) continue;
+        FlatConditionalConnector cc;
+        cc.instance = instance_of(sub);
+        cc.name = cs.decl->name;
+        cc.condition = ParamId(data.first_param.value() + param_off + S.param_index.at(cs.decl->condition));
+        cc.first_var = VarId(data.first_var.value() + var_off + cs.first_local_var);
+        // A signal connector's one variable counts as a potential: absent, it is set to zero.
+        cc.num_potentials = cs.type->is_signal ? 1 : static_cast<uint32_t>(cs.type->potentials.size());
+        cc.num_flows = cs.type->is_signal ? 0 : static_cast<uint32_t>(cs.type->flows.size());
+        if (sub >= 0) {
+          auto at = L.connected.find(var_off + cs.first_local_var);
+          if (at != L.connected.end()) cc.connected_at = at->second;
+        } else {
+          conditional_slot_[data.first_slot + k] = flat_.conditional_connectors.size();
+        }
+        flat_.conditional_connectors.push_back(std::move(cc));
+      }
+    };
+    conditional(L, -1, 0, 0);
+    for (size_t k = 0; k < L.subs.size(); ++k) {
+      conditional(*L.subs[k].layout, static_cast<int32_t>(k), L.subs[k].first_var, L.subs[k].first_param);
+    }
     // Parameters.
     for (size_t k = 0; k < L.params.size(); ++k) {
       const LocalParam& lp = L.params[k];
@@ -2148,6 +2204,8 @@ class Flattener {
         if (!slot_loc[s].known()) {
           slot_loc[s] = e->loc;
           slot_text[s] = e->text;
+          auto cc = conditional_slot_.find(s);
+          if (cc != conditional_slot_.end()) flat_.conditional_connectors[cc->second].connected_at = e->loc;
         }
       }
       parent_[Find(sx)] = Find(sy);
@@ -2368,6 +2426,8 @@ class Flattener {
   std::vector<InstanceData> instance_data_;
   std::vector<uint32_t> slot_instance_;  ///< connector slot -> instance
   std::vector<uint32_t> parent_;         ///< union-find over connector slots
+  /// The model's conditional connector slots -> their FlatSystem::conditional_connectors entry.
+  std::unordered_map<uint32_t, size_t> conditional_slot_;
   std::vector<ExprId> scratch_;
   std::vector<const Modifier*> table_mod_;     ///< the current component's table values, by slot
   std::vector<InstanceTable> instance_tables_;  ///< the current instance's tables, by slot
@@ -2481,7 +2541,8 @@ ExprNamer FlatSystem::Namer() const {
 
 std::string FlatSystem::DescribeEquation(const FlatEquation& eq) const {
   std::string s;
-  if (eq.instance.valid() && eq.origin != EquationOrigin::kUnconnectedFlow) {
+  if (eq.instance.valid() && eq.origin != EquationOrigin::kUnconnectedFlow &&
+      eq.origin != EquationOrigin::kAbsentConnector) {
     const FlatInstance& inst = instances[eq.instance.value()];
     s = inst.path + " (" + inst.type->name + ", " + inst.loc.ToString() + "): '" + eq.text + "'";
   } else {

@@ -388,11 +388,12 @@ class Reader {
         c.name = it->first.as<std::string>();
         c.loc = Loc(it->second);
         if (it->second.IsMap()) {
-          CheckKeys(it->second, "connector " + name + "." + c.name, {"type", "doc", "shape"});
+          CheckKeys(it->second, "connector " + name + "." + c.name, {"type", "doc", "shape", "condition"});
           if (it->second["shape"]) c.shape = ReadShape(it->second["shape"], name + "." + c.name);
           if (!it->second["type"]) Fail(it->second, "connector " + name + "." + c.name + " needs a type");
           c.type = Scalar(it->second["type"], "type");
           if (it->second["doc"]) c.doc = it->second["doc"].Scalar();
+          if (it->second["condition"]) c.condition = Name(it->second["condition"], "condition of connector " + name + "." + c.name);
         } else {
           c.type = Scalar(it->second, "type of connector " + name + "." + c.name);
         }

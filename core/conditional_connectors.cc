@@ -1,0 +1,101 @@
+#include "core/conditional_connectors.h"
+
+#include "core/expr_algebra.h"
+
+namespace momenta {
+
+namespace {
+
+/// The first variable of `absent` that `e` names (its value, derivative or left limit), if any.
+VarId NamedAbsent(const ExprPool& p, ExprId e, const std::vector<bool>& absent) {
+  if (!(p.mask(e) & (kHasVar | kHasDer | kHasPre))) return VarId();
+  for (ExprId leaf : CollectLeaves(p, e, kHasVar | kHasDer | kHasPre)) {
+    const Node& n = p.node(leaf);
+    if ((n.op == Op::kVar || n.op == Op::kDer || n.op == Op::kPre) && absent[n.a]) return VarId(n.a);
+  }
+  return VarId();
+}
+
+}  // namespace
+
+size_t ResolveConditionalConnectors(EquationSystem* sys, const std::vector<double>& params) {
+  if (sys->flat->conditional_connectors.empty()) return 0;
+  const std::shared_ptr<const FlatSystem> as_flattened = sys->flat;  // MutableFlat may replace sys->flat
+  const FlatSystem& flat = *as_flattened;
+  ExprPool& p = *sys->pool;
+  // Which connectors are absent; connecting one is the user's error.
+  std::vector<bool> absent(flat.variables.size(), false);
+  std::vector<const FlatConditionalConnector*> gone;
+  std::vector<uint32_t> by_var(flat.variables.size(), 0);  // absent variable -> its connector in `gone`
+  for (const FlatConditionalConnector& cc : flat.conditional_connectors) {
+    if (params[cc.condition.value()] != 0) continue;
+    const FlatInstance& inst = flat.instances[cc.instance.value()];
+    const std::string& cond = flat.parameters[cc.condition.value()].name;
+    if (cc.connected_at.known()) {
+      throw ModelError(cc.connected_at, "cannot connect " + inst.path + "." + cc.name + ": " + inst.path + " (" +
+                                            inst.type->name + ") has the connector " + cc.name + " only when " +
+                                            cond.substr(inst.path.size() + 1) + " is true, and " + cond +
+                                            " is false; set " + cond.substr(inst.path.size() + 1) + ": true in " +
+                                            inst.path + "'s entry");
+    }
+    for (uint32_t k = 0; k < cc.num_potentials + cc.num_flows; ++k) {
+      absent[cc.first_var.value() + k] = true;
+      by_var[cc.first_var.value() + k] = static_cast<uint32_t>(gone.size());
+    }
+    gone.push_back(&cc);
+  }
+  FlatSystem& f = sys->MutableFlat();
+  for (const FlatConditionalConnector& cc : flat.conditional_connectors) {
+    f.structural[flat.parameters[cc.condition.value()].name] = params[cc.condition.value()];
+  }
+  if (gone.empty()) return 0;
+  auto absent_text = [&](VarId v) {
+    const FlatConditionalConnector& cc = *gone[by_var[v.value()]];
+    const std::string& path = flat.instances[cc.instance.value()].path;
+    return flat.variables[v.value()].name + ", but " + path + " has no connector " + cc.name + " (" +
+           flat.parameters[cc.condition.value()].name + " is false)";
+  };
+
+  // Equations: the component's own that name the connector hold only with it; a model equation
+  // that names it is an error.
+  auto keep = [&](const SystemEquation& eq) {
+    VarId v = NamedAbsent(p, eq.residual, absent);
+    if (!v.valid()) return true;
+    if (eq.kind == SystemEquation::Kind::kFixedStart) return false;
+    const FlatEquation& fe = eq.kind == SystemEquation::Kind::kDynamic ? f.equations[eq.origin]
+                                                                       : f.initial_equations[eq.origin];
+    if (fe.origin == EquationOrigin::kComponent || fe.origin == EquationOrigin::kInitial) {
+      if (fe.instance.valid()) return false;
+    }
+    if (fe.origin == EquationOrigin::kUnconnectedFlow) return true;
+    throw ModelError(fe.loc, "the equation '" + fe.text + "' names " + absent_text(v));
+  };
+  for (auto* list : {&sys->equations, &sys->initial}) {
+    std::vector<SystemEquation> kept;
+    for (const SystemEquation& eq : *list) {
+      if (keep(eq)) kept.push_back(eq);
+    }
+    list->swap(kept);
+  }
+  for (size_t k = 0; k < sys->outputs.size(); ++k) {
+    VarId v = NamedAbsent(p, sys->outputs[k], absent);
+    if (v.valid()) throw ModelError(f.outputs[k].loc, "the output '" + f.outputs[k].text + "' names " + absent_text(v));
+  }
+
+  // The potentials of an absent connector are zero (its flows are, being unconnected).
+  for (const FlatConditionalConnector* cc : gone) {
+    for (uint32_t k = 0; k < cc->num_potentials; ++k) {
+      VarId v(cc->first_var.value() + k);
+      FlatEquation eq;
+      eq.residual = p.Var(v);
+      eq.origin = EquationOrigin::kAbsentConnector;
+      eq.instance = cc->instance;
+      eq.text = f.variables[v.value()].name + " = 0 (absent: " + f.parameters[cc->condition.value()].name + " is false)";
+      eq.loc = f.instances[cc->instance.value()].loc;
+      sys->AddEquation(std::move(eq));
+    }
+  }
+  return gone.size();
+}
+
+}  // namespace momenta
