@@ -499,6 +499,10 @@ class Flattener {
           return Arity(op) == 1 ? p.Unary(op, sub(0)) : p.Binary(op, sub(0), sub(1));
         }
         if (a.op == "noEvent") return p.NoEvent(sub(0));
+        if (a.op == "interpolate" || a.op == "timeTable" || a.op == "booleanTable") {
+          throw ModelError(loc.Shifted(a.column), a.op + "() reads a table of a component type, in its equations; the model's own " +
+                                                      "equations cannot (use a CombiTimeTable, or a type with the table), in '" + text + "'");
+        }
         if (!allow_variables) {
           throw ModelError(loc.Shifted(a.column), a.op + "() cannot be used in '" + text + "'");
         }

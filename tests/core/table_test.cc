@@ -159,6 +159,14 @@ components:
       << e;
   e = testing::BuildError(model("y = f"));
   EXPECT_NE(e.find("'f' is a table of Curve; read it with interpolate(f, x)"), std::string::npos) << e;
+  e = testing::BuildError(R"yaml(
+model: Bad
+variables: {y: {}}
+equations: ["y = interpolate(g, time)"]
+)yaml");
+  EXPECT_NE(e.find("interpolate() reads a table of a component type, in its equations; the model's own equations cannot"),
+            std::string::npos)
+      << e;
   e = testing::BuildError(model("y = interpolate(f)"));
   EXPECT_NE(e.find("interpolate() takes 2 or 3 arguments, found 1"), std::string::npos) << e;
 }
