@@ -707,7 +707,9 @@ class EventIntegrator {
     return -1;
   }
 
-  double Band(size_t i) const { return 1e-12 * zscale_[i]; }
+  /// The rounding band of condition i's zero-crossing function: 1e-12 of the largest magnitude
+  /// it has had, and at least 1e-15 (a function that has only ever been rounding noise).
+  double Band(size_t i) const { return 1e-12 * std::max(zscale_[i], 1e-3); }
   /// Per condition: at zero with a nonzero rate in the first round of the current event.
   std::vector<bool> moving_at_zero_;
 
@@ -885,10 +887,12 @@ class EventIntegrator {
       // at h = -1e-12 after a bounce would switch back an instant later: a duplicate event.
       const double near = 4 * Band(i) + std::fabs(rate[i]) * 1e-12 * std::max(1.0, std::fabs(t));
       const bool ordered = m_.conditions[i].op != Op::kEq && m_.conditions[i].op != Op::kNe;
-      if (std::fabs(zi) <= near && ordered && side != kAtValue) {
+      if (std::fabs(zi) <= near && ordered) {
         if (side == kRightLimit) moving_at_zero_[i] = rate[i] != 0;
         if (side == kHoldAtZero && !moving_at_zero_[i]) continue;
-        if (rate[i] != 0) zi = rate[i];
+        // At zero up to the location error or rounding (a velocity of 1e-17 m/s left by the
+        // initial Newton solve): the side the rate leads to, or zero itself when it rests there.
+        zi = side != kAtValue && rate[i] != 0 ? rate[i] : 0.0;
       }
       double v = RelationHolds(m_.conditions[i].op, zi) ? 1.0 : 0.0;
       if (v != c[i]) changed = true;
