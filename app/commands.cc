@@ -354,7 +354,10 @@ int RunList(const std::string& name) {
     o << "  " << p.name << " = " << p.value_text << (p.unit.empty() ? "" : " [" + p.unit + "]") << (p.doc.empty() ? "" : ": " + p.doc) << "\n";
   }
   if (!t->connectors.empty()) o << "connectors:\n";
-  for (const auto& c : t->connectors) o << "  " << c.name << ": " << c.type << (c.doc.empty() ? "" : " — " + c.doc) << "\n";
+  for (const auto& c : t->connectors) {
+    o << "  " << c.name << ": " << c.type << (c.condition.empty() ? "" : " if " + c.condition)
+      << (c.doc.empty() ? "" : " — " + c.doc) << "\n";
+  }
   if (!t->variables.empty()) o << "variables:\n";
   for (const auto& v : t->variables) {
     o << "  " << v.name << (v.unit.empty() ? "" : " [" + v.unit + "]") << (v.doc.empty() ? "" : ": " + v.doc) << "\n";

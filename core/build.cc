@@ -51,17 +51,15 @@ std::shared_ptr<const CompiledModel> BuildModel(const ModelSpec& spec, const Lib
   const std::vector<double> params = EvaluateParameters(*flat, overrides);
   ExprPool& p = *flat->pool;
   EquationSystem sys = MakeEquationSystem(flat);
-  // Branches chosen by Boolean and Integer parameters are fixed before the structure is analysed.
-  if (size_t n = FoldStructuralConditions(&sys, params); n > 0) {
+  // Branches chosen by Boolean and Integer parameters are fixed before the structure is analysed;
+  // then connectors whose condition is false leave, with the equations that hold only with them.
+  const size_t folded = FoldStructuralConditions(&sys, params);
+  const size_t absent = ResolveConditionalConnectors(&sys, params);
+  if (folded + absent > 0) {
     std::ostringstream note;
-    note << n << " conditions on Boolean or Integer parameters fixed";
+    note << folded << " conditions on Boolean or Integer parameters fixed";
+    if (absent > 0) note << ", " << absent << " conditional connectors absent";
     record("structural parameters", sys.num_unknowns(), sys.equations.size(), note.str());
-  }
-  // Connectors whose condition is false leave, with the equations that hold only with them.
-  if (size_t n = ResolveConditionalConnectors(&sys, params); n > 0) {
-    std::ostringstream note;
-    note << n << " conditional connectors absent";
-    record("conditional connectors", sys.num_unknowns(), sys.equations.size(), note.str());
   }
 
   // Simplify: aliases, derivative aliases and constrained states, until nothing changes.

@@ -67,7 +67,7 @@ size_t ResolveConditionalConnectors(EquationSystem* sys, const std::vector<doubl
     if (fe.origin == EquationOrigin::kComponent || fe.origin == EquationOrigin::kInitial) {
       if (fe.instance.valid()) return false;
     }
-    if (fe.origin == EquationOrigin::kUnconnectedFlow) return true;
+    if (fe.origin == EquationOrigin::kUnconnectedFlow) return false;  // 0 = 0 once the flow is zero
     throw ModelError(fe.loc, "the equation '" + fe.text + "' names " + absent_text(v));
   };
   for (auto* list : {&sys->equations, &sys->initial}) {
@@ -82,19 +82,15 @@ size_t ResolveConditionalConnectors(EquationSystem* sys, const std::vector<doubl
     if (v.valid()) throw ModelError(f.outputs[k].loc, "the output '" + f.outputs[k].text + "' names " + absent_text(v));
   }
 
-  // The potentials of an absent connector are zero (its flows are, being unconnected).
-  for (const FlatConditionalConnector* cc : gone) {
-    for (uint32_t k = 0; k < cc->num_potentials; ++k) {
-      VarId v(cc->first_var.value() + k);
-      FlatEquation eq;
-      eq.residual = p.Var(v);
-      eq.origin = EquationOrigin::kAbsentConnector;
-      eq.instance = cc->instance;
-      eq.text = f.variables[v.value()].name + " = 0 (absent: " + f.parameters[cc->condition.value()].name + " is false)";
-      eq.loc = f.instances[cc->instance.value()].loc;
-      sys->AddEquation(std::move(eq));
-    }
+  // Absent, the connector's variables are constants: zero (its flows, being unconnected, are).
+  for (uint32_t v = 0; v < absent.size(); ++v) {
+    if (!absent[v]) continue;
+    sys->eliminated->Set(p.Var(VarId(v)), p.Zero());
+    if (ExprId der = p.FindLeaf(Op::kDer, v); der.valid()) sys->eliminated->Set(der, p.Zero());
+    if (ExprId pre = p.FindLeaf(Op::kPre, v); pre.valid()) sys->eliminated->Set(pre, p.Zero());
+    sys->role[v] = VarRole::kConstant;
   }
+  sys->ApplyEliminations();
   return gone.size();
 }
 

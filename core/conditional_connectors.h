@@ -7,8 +7,7 @@
 ///   - a connection naming it is an error naming the component and the parameter;
 ///   - the component's equations (and initial equations) that still name its variables are left
 ///     out: they are the ones that hold only with the connector (`heatPort.Q_flow = -lossPower`);
-///   - its flows are zero (it is unconnected) and its potentials are set to zero, so its
-///     variables are determined and drop out as constants;
+///   - its variables drop out as constants: zero (its flows' `= 0 (unconnected)` go with them);
 ///   - a model equation or output that names its variables is an error.
 /// The condition parameters are recorded as structural: `-p` on them needs a new build.
 

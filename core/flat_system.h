@@ -51,8 +51,7 @@ struct FlatParameter {
   InstanceId instance; ///< invalid for model parameters
 };
 
-/// kAbsentConnector: `x = 0` for a potential of a conditional connector that is absent.
-enum class EquationOrigin { kComponent, kModel, kConnection, kUnconnectedFlow, kFixedStart, kInitial, kAbsentConnector };
+enum class EquationOrigin { kComponent, kModel, kConnection, kUnconnectedFlow, kFixedStart, kInitial };
 
 struct FlatEquation {
   ExprId residual;  ///< lhs - rhs

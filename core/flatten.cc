@@ -2478,8 +2478,7 @@ ExprNamer FlatSystem::Namer() const {
 
 std::string FlatSystem::DescribeEquation(const FlatEquation& eq) const {
   std::string s;
-  if (eq.instance.valid() && eq.origin != EquationOrigin::kUnconnectedFlow &&
-      eq.origin != EquationOrigin::kAbsentConnector) {
+  if (eq.instance.valid() && eq.origin != EquationOrigin::kUnconnectedFlow) {
     const FlatInstance& inst = instances[eq.instance.value()];
     s = inst.path + " (" + inst.type->name + ", " + inst.loc.ToString() + "): '" + eq.text + "'";
   } else {

@@ -121,6 +121,20 @@ components:
   leak: {type: Leaky}
 )");
   EXPECT_NE(msg.find("found 'missing' (Boolean parameters: on)"), std::string::npos) << msg;
+  // A type with parts cannot make its own connectors conditional.
+  msg = BuildError(head + R"(    connectors:
+      flange: {type: Flange, condition: on}
+    components:
+      mass: {type: Mass}
+    connections:
+      - [flange, mass.flange_a]
+components:
+  leak: {type: Leaky}
+)");
+  EXPECT_NE(msg.find("connector Leaky.flange of a type with parts cannot be conditional; make the part's connector "
+                     "conditional instead"),
+            std::string::npos)
+      << msg;
 }
 
 // A part's conditional connector inside a composite: absent by default (the Cell of

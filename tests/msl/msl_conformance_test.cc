@@ -214,6 +214,20 @@ TEST(MslTubeTest, RejectsAWrongParameter) {
   EXPECT_GT(worst.ratio, 1.0) << worst.ToString();
 }
 
+// EddyCurrentBrake's tube tests the temperature law too: without it (alpha20 = 0, so the heated
+// copper fin keeps v_nominal = 10 m/s) the braking is so different that lossPower leaves the tube
+// about fifty times over.
+TEST(MslTubeTest, EddyCurrentBrakeNeedsTheTemperatureLaw) {
+  const ParameterOverrides cold = {{"eddyCurrentForce.alpha20", 0}};
+  Built b = testing::BuildFile(ModelPath("EddyCurrentBrake"), cold);
+  SimulationOptions opt = OptionsFromExperiment(b.model->experiment);
+  Trajectory ours = testing::Run(b, opt, cold);
+  Worst worst;
+  Compare("EddyCurrentBrake with alpha20 = 0", ours, Reference("EddyCurrentBrake"), opt.interval, MslTube, &worst,
+          true);
+  EXPECT_GT(worst.ratio, 10.0) << worst.ToString();
+}
+
 // At a tight tolerance our InitialConditions converges to the exact solution; the reference's own
 // error in sd1.v_rel and m1.v (against an independent RK4 cross-check) is 5.3e-4, so ours must
 // then agree with it to 1e-3 (the reference's error plus margin for ours, ~1e-7 at rtol 1e-10).

@@ -21,20 +21,15 @@
 #include <sstream>
 #include <string>
 
+#include "tests/support/physics_checks.h"
 #include "tests/support/test_models.h"
 
 namespace momenta {
 namespace {
 
+using testing::BuildClean;
 using testing::Built;
 using testing::Trajectory;
-
-/// Builds inline YAML and fails the test on any warning (none is expected from these models).
-Built BuildClean(const std::string& yaml, const ParameterOverrides& overrides = {}) {
-  Built b = testing::BuildYaml(yaml, overrides);
-  for (const auto& w : b.report.warnings) ADD_FAILURE() << "unexpected warning: " << w;
-  return b;
-}
 
 std::string Sci(double x) {
   std::ostringstream s;

@@ -27,31 +27,18 @@
 #include <string>
 #include <vector>
 
+#include "tests/support/physics_checks.h"
 #include "tests/support/test_models.h"
 
 namespace momenta {
 namespace {
 
+using testing::BuildClean;
 using testing::Built;
+using testing::MaxError;
 using testing::Trajectory;
 
 constexpr double kPi = 3.14159265358979323846;
-
-/// Builds inline YAML and fails the test on any warning (none is expected from these models).
-Built BuildClean(const std::string& yaml, const ParameterOverrides& overrides = {}) {
-  Built b = testing::BuildYaml(yaml, overrides);
-  for (const auto& w : b.report.warnings) ADD_FAILURE() << "unexpected warning: " << w;
-  return b;
-}
-
-/// The largest |column - exact(t)| over all rows.
-template <typename F>
-double MaxError(const Trajectory& tr, const std::string& column, F exact) {
-  const size_t j = tr.Index(column);
-  double worst = 0;
-  for (size_t k = 0; k < tr.t.size(); ++k) worst = std::max(worst, std::abs(tr.values[k][j] - exact(tr.t[k])));
-  return worst;
-}
 
 /// Times at which the column crosses zero upwards, linearly interpolated between rows.
 std::vector<double> UpwardZeros(const Trajectory& tr, const std::string& column) {

@@ -27,29 +27,16 @@
 #include <cstdio>
 #include <string>
 
+#include "tests/support/physics_checks.h"
 #include "tests/support/test_models.h"
 
 namespace momenta {
 namespace {
 
+using testing::BuildClean;
 using testing::Built;
+using testing::MaxError;
 using testing::Trajectory;
-
-/// Builds inline YAML and fails the test on any warning (none is expected from these models).
-Built BuildClean(const std::string& yaml) {
-  Built b = testing::BuildYaml(yaml);
-  for (const auto& w : b.report.warnings) ADD_FAILURE() << "unexpected warning: " << w;
-  return b;
-}
-
-/// The largest |column - exact(t)| over all rows.
-template <typename F>
-double MaxError(const Trajectory& tr, const std::string& column, F exact) {
-  const size_t j = tr.Index(column);
-  double worst = 0;
-  for (size_t k = 0; k < tr.t.size(); ++k) worst = std::max(worst, std::abs(tr.values[k][j] - exact(tr.t[k])));
-  return worst;
-}
 
 // A 10 J/K capacitor at 350 K cools through G = 2 W/K towards 300 K: time constant C/G = 5 s.
 // The same law twice: through a ThermalConductor to a FixedTemperature, and through a
