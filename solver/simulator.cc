@@ -890,9 +890,13 @@ class EventIntegrator {
       if (std::fabs(zi) <= near && ordered) {
         if (side == kRightLimit) moving_at_zero_[i] = rate[i] != 0;
         if (side == kHoldAtZero && !moving_at_zero_[i]) continue;
-        // At zero up to the location error or rounding (a velocity of 1e-17 m/s left by the
-        // initial Newton solve): the side the rate leads to, or zero itself when it rests there.
-        zi = side != kAtValue && rate[i] != 0 ? rate[i] : 0.0;
+        // At zero up to the location error or rounding: at the start (a velocity of 1e-17 m/s
+        // left by the initial Newton solve) zero itself, at an event the side the rate leads to.
+        if (side == kAtValue) {
+          zi = 0;
+        } else if (rate[i] != 0) {
+          zi = rate[i];
+        }
       }
       double v = RelationHolds(m_.conditions[i].op, zi) ? 1.0 : 0.0;
       if (v != c[i]) changed = true;
