@@ -52,15 +52,6 @@ double At(const Trajectory& tr, const std::string& name, double t) {
   return tr.Column(name, row);
 }
 
-/// The times listed twice (left and right limits of an event).
-std::vector<double> EventTimes(const Trajectory& tr) {
-  std::vector<double> out;
-  for (size_t k = 1; k < tr.t.size(); ++k) {
-    if (tr.t[k] == tr.t[k - 1] && (out.empty() || out.back() != tr.t[k])) out.push_back(tr.t[k]);
-  }
-  return out;
-}
-
 // u1 is true on [1, 3) and u2 on [2, 4): the four input pairs FF, TF, TT, FT, FF on the unit
 // intervals from 0 to 5, read at their midpoints.
 TEST(LogicalBlocksTest, TruthTablesOfXorNorNandAndLogicalSwitch) {
