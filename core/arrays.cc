@@ -806,6 +806,11 @@ std::vector<Modifier> ScalarModifiers(const ComponentSpec& component, const Comp
   std::vector<Modifier> out;
   Scalariser s(scope, nullptr, "");
   for (const Modifier& m : component.modifiers) {
+    // A table's value (shape: [":", 2]) is sized by the flattener.
+    if (std::any_of(type.tables.begin(), type.tables.end(), [&](const ParameterDecl& t) { return t.name == m.key; })) {
+      out.push_back(m);
+      continue;
+    }
     Modifier base = m;
     // `R[1, 2]` and `R[1,2]` name the same element.
     if (base.key.find('[') != std::string::npos) base.key.erase(std::remove(base.key.begin(), base.key.end(), ' '), base.key.end());

@@ -18,6 +18,14 @@ enum class ValueType { kReal, kInteger, kBoolean };
 /// The fixed shape of an array declaration (docs/FORMAT.md, "Vectors and matrices"): empty for a
 /// scalar, {n} for a vector, {n, m} for a matrix.
 using Shape = std::vector<int>;
+/// A size given by the value (`shape: [":", 2]`): only in the shape of a table parameter.
+constexpr int kOpenSize = -1;
+inline bool IsOpen(const Shape& shape) {
+  for (int n : shape) {
+    if (n == kOpenSize) return true;
+  }
+  return false;
+}
 /// Local name → shape of the arrays a type was declared with (its scalar form names the elements
 /// `r[1]`, `R[1,2]`; core/arrays.h).
 using ArrayShapes = std::map<std::string, Shape>;
@@ -135,6 +143,9 @@ struct ConnectionSpec {
 struct ComponentType {
   std::string name, doc;
   std::vector<ParameterDecl> parameters;
+  /// Parameters whose size their value gives (`shape: [":", 2]`, docs/FORMAT.md "Tables"): each
+  /// instance has its own number of rows; equations read them through interpolate().
+  std::vector<ParameterDecl> tables;
   std::vector<ConnectorDecl> connectors;
   std::vector<VariableDecl> variables;
   std::vector<EquationDecl> equations;

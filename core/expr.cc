@@ -20,6 +20,7 @@ int Arity(Op op) {
     case Op::kInitial:
     case Op::kCj:
     case Op::kCond:
+    case Op::kTable:
       return 0;
     case Op::kNeg:
     case Op::kSin:
@@ -68,6 +69,7 @@ const char* OpName(Op op) {
     case Op::kInitial: return "initial";
     case Op::kCj: return "cj";
     case Op::kCond: return "cond";
+    case Op::kTable: return "table";
     case Op::kAdd: return "+";
     case Op::kSub: return "-";
     case Op::kMul: return "*";
@@ -102,6 +104,8 @@ const char* OpName(Op op) {
     case Op::kOr: return "or";
     case Op::kNot: return "not";
     case Op::kIf: return "if";
+    case Op::kInterp: return "interpolate";
+    case Op::kInterpSlope: return "interpolate_slope";
   }
   return "?";
 }
@@ -185,6 +189,7 @@ ExprId ExprPool::Intern(const Node& n) {
     case Op::kDer: stored.mask = kHasDer; break;
     case Op::kPre: stored.mask = kHasPre; break;
     case Op::kParam: stored.mask = kHasParam; break;
+    case Op::kTable: stored.mask = kHasParam; break;
     case Op::kTime: stored.mask = kHasTime; break;
     case Op::kInitial: stored.mask = kHasInitial; break;
     case Op::kCj: stored.mask = kHasTime; break;
@@ -237,6 +242,17 @@ ExprId ExprPool::Leaf(Op op, uint32_t payload) {
   Node n;
   n.op = op;
   n.a = payload;
+  return Intern(n);
+}
+
+ExprId ExprPool::Table(ParamId first, uint32_t rows, uint32_t cols, uint32_t column) {
+  MOMENTA_CHECK_MSG(rows >= 1 && column >= 1 && column <= cols, "a table column lies in the table");
+  Node n;
+  n.op = Op::kTable;
+  n.a = first.value();
+  n.b = rows;
+  n.c = cols;
+  n.value = column;
   return Intern(n);
 }
 

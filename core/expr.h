@@ -24,6 +24,10 @@ enum class Op : uint8_t {
   kInitial,  ///< true during initialisation only
   kCj,       ///< IDA's coefficient cj in dF/dy + cj dF/dy' (Jacobians only)
   kCond,     ///< a = condition index: an event relation's value, frozen between events
+  /// A column of a table parameter (docs/FORMAT.md, "Tables"): a = ParamId of its element [1,1],
+  /// b = rows, c = columns (elements row by row in consecutive parameters), value = the column
+  /// read (1-based). Read only as the second operand of kInterp and kInterpSlope.
+  kTable,
   // Arithmetic.
   kAdd, kSub, kMul, kDiv, kPow, kNeg,
   // Functions of one argument.
@@ -35,6 +39,10 @@ enum class Op : uint8_t {
   kLt, kLe, kGt, kGe, kEq, kNe, kAnd, kOr, kNot,
   // if a then b else c.
   kIf,
+  // interpolate(table, x): a = x, b = a kTable leaf; linear between rows, linear extrapolation
+  // through the first or last two rows, constant for a one-row table. kInterpSlope is its
+  // derivative with respect to x (the slope of the segment x lies in).
+  kInterp, kInterpSlope,
 };
 
 /// Bits of Node::flags.
@@ -85,6 +93,9 @@ class ExprPool {
   ExprId Initial() { return Leaf(Op::kInitial, 0); }
   ExprId Cj() { return Leaf(Op::kCj, 0); }
   ExprId Cond(uint32_t index) { return Leaf(Op::kCond, index); }
+  /// Column `column` (1-based) of the rows × cols table whose elements are the consecutive
+  /// parameters from `first`, row by row.
+  ExprId Table(ParamId first, uint32_t rows, uint32_t cols, uint32_t column);
   ExprId Zero() const { return zero_; }
   ExprId One() const { return one_; }
 

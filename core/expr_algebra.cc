@@ -277,6 +277,9 @@ ExprId ChainRule(ExprPool& p, const Node& n, ExprId self, ExprId da, ExprId db, 
       return p.If(p.Binary(Op::kGt, a, b, kNoEvent), da, db);
     case Op::kIf:
       return p.If(a, db, dc);
+    case Op::kInterp:
+      // The table is data (b is its kTable leaf): only x varies.
+      return p.Mul(p.Binary(Op::kInterpSlope, a, b), da);
     default:
       // Relations and logic are piecewise constant.
       return p.Zero();
@@ -570,6 +573,20 @@ void Print(const ExprPool& pool, ExprId e, const ExprNamer& names, int depth, st
     case Op::kInitial: *out += "initial()"; return;
     case Op::kCj: *out += "cj"; return;
     case Op::kCond: *out += "c" + std::to_string(n.a); return;
+    case Op::kTable: {
+      // The table's name: its element [1,1]'s name without the subscript.
+      std::string first = names.param ? names.param(n.a) : "p" + std::to_string(n.a);
+      *out += first.substr(0, first.rfind('['));
+      return;
+    }
+    case Op::kInterp:
+    case Op::kInterpSlope:
+      *out += n.op == Op::kInterp ? "interpolate(" : "interpolate_slope(";
+      Print(pool, ExprId(n.b), names, depth + 1, out);
+      *out += ", ";
+      Print(pool, ExprId(n.a), names, depth + 1, out);
+      *out += ", " + FormatNumber(pool.node(ExprId(n.b)).value) + ")";
+      return;
     case Op::kNeg: *out += "-"; child(n.a, Precedence(Op::kNeg) + 1); return;
     case Op::kNot: *out += "not "; child(n.a, Precedence(Op::kNot)); return;
     case Op::kIf:

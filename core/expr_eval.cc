@@ -50,7 +50,13 @@ double Evaluate(const ExprPool& pool, ExprId root, const LeafValues& leaves) {
     if (!ready) continue;
     stack.pop_back();
     double r;
-    if (arity == 1) {
+    if (n.op == Op::kInterp || n.op == Op::kInterpSlope) {
+      // The table's elements are parameters: read them from the parameter values.
+      const Node& t = pool.node(ExprId(n.b));
+      r = leaves.params ? InterpolateTable(leaves.params + t.a, t.b, t.c, static_cast<uint32_t>(t.value),
+                                           value.at(n.a), n.op == Op::kInterpSlope)
+                        : 0.0;
+    } else if (arity == 1) {
       r = ApplyUnary(n.op, value.at(n.a));
     } else if (arity == 2) {
       r = ApplyBinary(n.op, value.at(n.a), value.at(n.b));

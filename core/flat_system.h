@@ -90,6 +90,19 @@ struct FlatImpact {
   SourceLoc loc;
 };
 
+/// A table parameter of an instance (docs/FORMAT.md, "Tables"): rows × cols elements, row by
+/// row, in the consecutive parameters from `first`, named `name[i,j]` (`name[i]` for a vector).
+struct FlatTable {
+  std::string name;  ///< "friction.f_pos"
+  ParamId first;
+  uint32_t rows = 0, cols = 0;
+  InstanceId instance;
+  SourceLoc loc;  ///< where its value was given
+  /// Read by timeTable(): by row r, 1 when t_r = t_{r+1} at the build (a jump), which must stay
+  /// so; every other abscissa increases strictly. Empty: all increase strictly.
+  std::vector<uint8_t> jumps;
+};
+
 struct FlatOutput {
   std::string text;
   ExprId expr;
@@ -107,6 +120,7 @@ struct FlatSystem {
   std::vector<FlatInstance> instances;
   std::vector<FlatWhen> whens;
   std::vector<FlatImpact> impacts;
+  std::vector<FlatTable> tables;
   std::vector<FlatOutput> outputs;
   ExperimentSpec experiment;
   std::shared_ptr<const Library> defines;  ///< the model's own types (instances point into them)

@@ -72,7 +72,12 @@ std::string ByteText(double bytes) {
 
 /// A node of an equation template: an expression over a component's local names.
 struct TNode {
-  enum Kind : uint8_t { kOp, kConst, kLocalVar, kLocalParam, kPre, kDerOf, kNoEvent, kTime, kInitial };
+  /// kTable: column `value` of the layout's table `local` (the second operand of an interpolation).
+  /// kTimeTable: timeTable(table, x, column, smoothness, extrapolation) with a = x, b = the kTable
+  /// node, c = smoothness, local = extrapolation; kBooleanTable: booleanTable(table, x), a = x,
+  /// b = the kTable node. Both expand per instance (TableExpansion).
+  enum Kind : uint8_t { kOp, kConst, kLocalVar, kLocalParam, kPre, kDerOf, kNoEvent, kTime, kInitial, kTable,
+                        kTimeTable, kBooleanTable };
   Kind kind = kConst;
   Op op = Op::kConst;
   int32_t a = -1, b = -1, c = -1;  ///< children (template node indices)
@@ -140,6 +145,14 @@ struct TypeLayout {
   std::vector<LocalParam> params;
   std::unordered_map<std::string, uint32_t> var_index;
   std::unordered_map<std::string, uint32_t> param_index;
+  /// A table parameter (shape: [":", 2]): each instance sizes it from its value.
+  struct TableSlot {
+    const ParameterDecl* decl = nullptr;
+    uint32_t rows = 0, cols = 0;     ///< of the default value
+    std::vector<Template> defaults;  ///< the default value's elements, row by row
+  };
+  std::vector<TableSlot> tables;
+  std::unordered_map<std::string, uint32_t> table_index;
   std::vector<ConnectorSlot> connectors;  ///< the type's own connectors
   std::unordered_map<std::string, uint32_t> connector_index;
   std::vector<Template> equations, initial_equations, param_defaults, starts;
@@ -175,6 +188,13 @@ constexpr double kMaxTypeVariables = 250000;
 
 /// No connector slot: a composite's part, which the model's connections cannot reach.
 constexpr uint32_t kNoSlot = UINT32_MAX;
+
+/// Where one instance keeps a table's elements: consecutive parameters from `first`.
+struct InstanceTable {
+  ParamId first;
+  uint32_t rows = 0, cols = 0;
+  size_t flat_index = 0;  ///< its FlatSystem::tables entry
+};
 
 struct InstanceData {
   const TypeLayout* layout;
@@ -622,12 +642,25 @@ class Flattener {
       }
       L.param_index[p.name] = k;
     }
+    for (const auto& d : type->tables) {
+      if (L.param_index.count(d.name) || L.var_index.count(d.name) || L.table_index.count(d.name)) {
+        throw ModelError(d.loc, type->name + "." + d.name + " is declared twice");
+      }
+      L.table_index[d.name] = static_cast<uint32_t>(L.tables.size());
+      L.tables.push_back({&d, 0, 0, {}});
+    }
     // A composite's parts: their names first, so that every expression of the type can use them
     // (mass.s, spring.c); their templates after the type's own.
     std::vector<PartPlan> parts = LayoutPartNames(&L);
     // Templates.
     for (const auto& p : type->parameters) {
       L.param_defaults.push_back(MakeTemplate(L, *p.value, p.value_text, p.loc, true));
+    }
+    for (TypeLayout::TableSlot& slot : L.tables) {
+      const ParameterDecl& d = *slot.decl;
+      for (const AstPtr& e : TableElements(d.value, d, d.loc, type->name + "." + d.name, &slot.rows, &slot.cols)) {
+        slot.defaults.push_back(MakeTemplate(L, *e, d.value_text, d.loc, true));
+      }
     }
     for (size_t k = 0; k < own_vars; ++k) {
       const LocalVar& v = L.vars[k];
@@ -735,6 +768,11 @@ class Flattener {
       const ComponentSpec* saved = current_component_;
       current_component_ = &c;
       const TypeLayout& S = Layout(part_type);
+      if (!S.tables.empty()) {
+        throw ModelError(c.loc, c.name + " (" + c.type + ") in " + type->name + " has the table " +
+                                    S.tables[0].decl->name + "; a part of a composite type cannot have a table yet " +
+                                    "(use the component in the model)");
+      }
       uint32_t n = c.count ? PartCount(c, L, S) : 1;
       // The type's parts so far, and these, must fit in the memory budget before they are laid out
       // (parts of parts multiply: twenty levels of two parts each are a million components).
@@ -1228,6 +1266,99 @@ class Flattener {
                          " (type defined at " + type->loc.ToString() + ")");
   }
 
+  /// The elements of a table's value row by row, with its rows and columns: a list of rows of one
+  /// length (`[[0, 1], [1, 2]]`) for a matrix table, a list of numbers for a vector (one column).
+  /// The declared fixed sizes must match.
+  static std::vector<AstPtr> TableElements(const AstPtr& value, const ParameterDecl& d, const SourceLoc& loc,
+                                           const std::string& who, uint32_t* rows, uint32_t* cols) {
+    const std::string example = d.shape.size() == 1 ? "[0, 1, 2]" : "[[0, 1], [1, 2]]";
+    const std::string expected = "the value of " + who + " (shape " + ShapeText(d.shape) + ") must be a list of " +
+                                 (d.shape.size() == 1 ? "numbers" : "rows of one length") + ", e.g. " + example;
+    std::vector<AstPtr> elements;
+    const bool list = value->kind == Ast::Kind::kArray;
+    if (d.shape.size() == 1) {
+      if (!list) throw ModelError(loc, expected);
+      for (const AstPtr& e : value->args) {
+        if (e->kind == Ast::Kind::kArray) throw ModelError(loc, expected + "; found a nested list");
+        elements.push_back(e);
+      }
+      *rows = static_cast<uint32_t>(elements.size());
+      *cols = 1;
+    } else {
+      if (!list || value->args[0]->kind != Ast::Kind::kArray) throw ModelError(loc, expected);
+      *rows = static_cast<uint32_t>(value->args.size());
+      *cols = static_cast<uint32_t>(value->args[0]->args.size());
+      for (size_t r = 0; r < value->args.size(); ++r) {
+        const Ast& row = *value->args[r];
+        if (row.kind != Ast::Kind::kArray || row.args.size() != *cols) {
+          throw ModelError(loc, expected + "; row " + std::to_string(r + 1) + " has " +
+                                    std::to_string(row.kind == Ast::Kind::kArray ? row.args.size() : 1) +
+                                    " elements, row 1 has " + std::to_string(*cols));
+        }
+        for (const AstPtr& e : row.args) {
+          if (e->kind == Ast::Kind::kArray) throw ModelError(loc, expected + "; found a list nested deeper");
+          elements.push_back(e);
+        }
+      }
+    }
+    const Shape found = d.shape.size() == 1 ? Shape{static_cast<int>(*rows)}
+                                            : Shape{static_cast<int>(*rows), static_cast<int>(*cols)};
+    for (size_t k = 0; k < d.shape.size(); ++k) {
+      if (d.shape[k] != kOpenSize && d.shape[k] != found[k]) {
+        throw ModelError(loc, "the value of " + who + " has shape " + ShapeText(found) + ", but it is declared with shape " +
+                                  ShapeText(d.shape));
+      }
+    }
+    if (elements.size() > kMaxArrayElements) {
+      throw ModelError(loc, "the value of " + who + " has " + std::to_string(elements.size()) + " elements, more than " +
+                                std::to_string(kMaxArrayElements));
+    }
+    return elements;
+  }
+
+  /// The table operand of `interpolate(table, x[, column])`: a table of the type, and a column
+  /// that is a whole number (default 2), checked against the declared columns.
+  TNode TableOperand(const TypeLayout& L, const Ast& a, const std::string& text, const SourceLoc& loc,
+                     size_t dims) {
+    const std::string& owner = L.type->name;
+    const Ast& name = *a.args[0];
+    std::vector<std::string> tables;
+    for (const auto& slot : L.tables) tables.push_back(slot.decl->name);
+    const std::string valid = " (tables of " + owner + ": " + (tables.empty() ? "none; declare one with shape: [\":\", 2]" : JoinNames(tables)) + ")";
+    auto found = name.kind == Ast::Kind::kName && name.path.size() == 1 && !name.path[0].index
+                     ? L.table_index.find(name.path[0].name)
+                     : L.table_index.end();
+    if (found == L.table_index.end()) {
+      throw ModelError(loc.Shifted(name.column), "the first argument of interpolate() must name a table, found '" +
+                                                     AstToString(name) + "' in '" + text + "' of " + owner + valid);
+    }
+    const ParameterDecl& d = *L.tables[found->second].decl;
+    if (d.shape.size() != dims) {
+      throw ModelError(loc.Shifted(name.column),
+                       a.op + "() takes " + (dims == 2 ? "a table of rows {x, y1, y2, …}" : "a vector of times") + ", but " +
+                           owner + "." + d.name + " has shape " + ShapeText(d.shape) + ", in '" + text + "'");
+    }
+    double column = dims == 2 ? 2 : 1;
+    if (dims == 2 && a.args.size() >= 3) {
+      std::optional<double> c = ConstantValue(*a.args[2], template_loop_);
+      if (!c && a.args[2]->kind == Ast::Kind::kName) {
+        column = 0;  // a parameter: the caller adds it as the node's child c
+      } else if (!c || *c != std::floor(*c) || *c < 1 || (d.shape[1] != kOpenSize && *c > d.shape[1])) {
+        throw ModelError(loc.Shifted(a.args[2]->column),
+                         "the column of " + a.op + "() must be a whole number from 1 to the table's columns" +
+                             std::string(d.shape[1] != kOpenSize ? " (" + std::to_string(d.shape[1]) + ")" : "") +
+                             ", found '" + AstToString(*a.args[2]) + "' in '" + text + "' of " + owner);
+      } else {
+        column = *c;
+      }
+    }
+    TNode n;
+    n.kind = TNode::kTable;
+    n.local = found->second;
+    n.value = column;
+    return n;
+  }
+
   Template EquationTemplate(const TypeLayout& L, const EquationDecl& e) {
     Template t;
     const std::string quoted = Excerpt(e.text, 0);  // messages quote the text
@@ -1281,6 +1412,10 @@ class Flattener {
           n.kind = TNode::kLocalVar;
           n.local = v->second;
           return push(n);
+        }
+        if (L.table_index.count(local)) {
+          throw ModelError(loc.Shifted(a.column), "'" + local + "' is a table of " + owner +
+                                                      "; read it with interpolate(" + local + ", x), in '" + text + "'");
         }
         auto p = L.param_index.find(local);
         if (p != L.param_index.end()) {
@@ -1356,6 +1491,28 @@ class Flattener {
           n.a = child(0);
           return push(n);
         }
+        if (a.op == "timeTable" || a.op == "booleanTable") {
+          const bool boolean = a.op == "booleanTable";
+          TNode table = TableOperand(L, a, text, loc, boolean ? 1 : 2);
+          if (table.value == 0) table.c = child(2);
+          n.kind = boolean ? TNode::kBooleanTable : TNode::kTimeTable;
+          n.a = child(1);
+          n.b = push(table);
+          if (!boolean) {
+            n.c = child(3);
+            n.local = static_cast<uint32_t>(child(4));
+          }
+          return push(n);
+        }
+        if (a.op == "interpolate") {
+          TNode table = TableOperand(L, a, text, loc, 2);
+          if (table.value == 0) table.c = child(2);
+          n.kind = TNode::kOp;
+          n.op = Op::kInterp;
+          n.a = child(1);
+          n.b = push(table);
+          return push(n);
+        }
         if (a.op == "der") {
           n.kind = TNode::kDerOf;
           n.a = child(0);
@@ -1418,6 +1575,23 @@ class Flattener {
         case TNode::kPre: r = p.Pre(VarId(first_var.value() + n.local)); break;
         case TNode::kTime: r = p.Time(); break;
         case TNode::kInitial: r = p.Initial(); break;
+        case TNode::kTable: {
+          const InstanceTable& table = instance_tables_.at(n.local);
+          const auto column = static_cast<uint32_t>(n.c >= 0 ? OptionValue(scratch_[n.c], "column", loc) : n.value);
+          if (column < 1 || column > table.cols) {
+            throw ModelError(loc, path + ": interpolate() reads column " + std::to_string(column) + " of a table with " +
+                                      std::to_string(table.cols) + " columns, in '" + Excerpt(text, 0) + "'");
+          }
+          r = p.Table(table.first, table.rows, table.cols, column);
+          break;
+        }
+        case TNode::kTimeTable:
+          r = TimeTableExpr(scratch_[n.a], scratch_[n.b], static_cast<int>(OptionValue(scratch_[n.c], "smoothness", loc)),
+                            static_cast<int>(OptionValue(scratch_[n.local], "extrapolation", loc)));
+          break;
+        case TNode::kBooleanTable:
+          r = BooleanTableExpr(scratch_[n.a], scratch_[n.b]);
+          break;
         case TNode::kNoEvent: r = p.NoEvent(scratch_[n.a]); break;
         case TNode::kDerOf:
           r = TimeDerivative(&p, scratch_[n.a]);
@@ -1437,6 +1611,142 @@ class Flattener {
       scratch_[k] = r;
     }
     return scratch_[t.root];
+  }
+
+  // -------------------------------------------------------------------------------------------
+  // Tables read with events (docs/FORMAT.md, "Tables")
+  //
+  // timeTable() and booleanTable() expand, per instance, into sums over the table's rows of
+  // frozen relations c_r = (x >= t_r). Between events each c_r keeps its value, so the
+  // interpolation reads one segment; a relation of time alone is a time event, so the integrator
+  // stops exactly at every table point (never integrating across a kink or a jump), and the left
+  // limit at a point is the old segment's value. With y_r, t_r the rows and s_r the slope of
+  // segment r (0-based):
+  //   LinearSegments:   y = y_0 + s_0 (x - t_0) + sum_{r=1}^{n-2} c_r (s_r - s_{r-1}) (x - t_r)
+  //                     (LastTwoPoints: the outer segments extend); HoldLastPoint adds the hinges
+  //                     at both ends that make the slope 0 outside [t_0, t_{n-1}];
+  //   ConstantSegments: y = y_0 + sum_{r=1}^{n-1} c_r (y_r - y_{r-1});
+  //   booleanTable:     y = sum_r (-1)^r c_r, 1 after an odd number of the times, else 0.
+
+  /// MSL's Modelica.Blocks.Types.Smoothness and Extrapolation, as their enumeration ordinals.
+  static constexpr int kLinearSegments = 1, kConstantSegments = 3;
+  static constexpr int kHoldLastPoint = 1, kLastTwoPoints = 2;
+
+  /// The value of a structural option of timeTable(): a number, or a parameter whose value is a
+  /// number (recorded as structural, so -p cannot change it after the build).
+  double OptionValue(ExprId e, const std::string& what, const SourceLoc& loc) {
+    ExprPool& p = pool();
+    double v = 0;
+    if (p.IsConst(e)) {
+      v = p.ConstValue(e);
+    } else if (p.op(e) == Op::kParam) {
+      const FlatParameter& fp = flat_.parameters[p.node(e).a];
+      auto ov = overrides_.find(fp.name);
+      if (ov != overrides_.end()) {
+        v = ov->second;
+      } else if (p.IsConst(fp.binding)) {
+        v = p.ConstValue(fp.binding);
+      } else {
+        throw ModelError(fp.loc, fp.name + " sets the " + what + " of a table, which shapes the equations: give it a number");
+      }
+      structural_[fp.name] = v;
+    } else {
+      throw ModelError(loc, "the " + what + " of a table must be a number or a parameter");
+    }
+    if (what == "column") {
+      if (v != std::floor(v)) throw ModelError(loc, "the column of a table must be a whole number, found " + NumberText(v));
+      return v;
+    }
+    const bool ok = what == "smoothness" ? (v == kLinearSegments || v == kConstantSegments)
+                                         : (v == kHoldLastPoint || v == kLastTwoPoints);
+    if (!ok) {
+      throw ModelError(loc, "the " + what + " of a table is " + NumberText(v) + "; valid: " +
+                                (what == "smoothness" ? "1 (LinearSegments), 3 (ConstantSegments)"
+                                                      : "1 (HoldLastPoint), 2 (LastTwoPoints)"));
+    }
+    return v;
+  }
+
+  ExprId TimeTableExpr(ExprId x, ExprId table, int smoothness, int extrapolation) {
+    ExprPool& p = pool();
+    const Node t = p.node(table);
+    const uint32_t n = t.b, cols = t.c, column = static_cast<uint32_t>(t.value);
+    auto abscissa = [&](uint32_t r) { return p.Param(ParamId(t.a + r * cols)); };
+    auto ordinate = [&](uint32_t r) { return p.Param(ParamId(t.a + r * cols + column - 1)); };
+    auto reached = [&](uint32_t r) { return p.Binary(Op::kGe, x, abscissa(r)); };
+    // A time given twice is a jump (MSL's CombiTimeTable allows it): which times repeat shapes
+    // the sum, so the check of the parameters keeps them as built.
+    FlatTable& flat_table = FlatTableAt(t.a);
+    flat_table.jumps.assign(n, 0);
+    for (uint32_t r = 0; r + 1 < n; ++r) {
+      flat_table.jumps[r] = BuildValue(ParamId(t.a + r * cols)) == BuildValue(ParamId(t.a + (r + 1) * cols));
+    }
+    if (n == 1) return ordinate(0);
+    std::vector<ExprId> terms{ordinate(0)};
+    if (smoothness == kConstantSegments) {
+      for (uint32_t r = 1; r < n; ++r) terms.push_back(p.Mul(reached(r), p.Sub(ordinate(r), ordinate(r - 1))));
+      return SumOf(terms);
+    }
+    auto slope = [&](uint32_t r) {
+      return p.Div(p.Sub(ordinate(r + 1), ordinate(r)), p.Sub(abscissa(r + 1), abscissa(r)));
+    };
+    auto hinge = [&](uint32_t r, ExprId change) { return p.Mul(p.Mul(reached(r), change), p.Sub(x, abscissa(r))); };
+    const bool hold = extrapolation == kHoldLastPoint;
+    // The slope so far; LastTwoPoints extends the first segment backwards.
+    ExprId prev = p.Zero();
+    uint32_t r0 = 0;
+    if (!hold && !flat_table.jumps[0]) {
+      prev = slope(0);
+      terms.push_back(p.Mul(prev, p.Sub(x, abscissa(0))));
+      r0 = 1;
+    }
+    for (uint32_t r = r0; r + 1 < n; ++r) {
+      if (flat_table.jumps[r]) {  // a jump at t_r; the slope carries on after it
+        terms.push_back(p.Mul(reached(r + 1), p.Sub(ordinate(r + 1), ordinate(r))));
+        continue;
+      }
+      ExprId s = slope(r);
+      terms.push_back(hinge(r, p.Sub(s, prev)));
+      prev = s;
+    }
+    if (hold) terms.push_back(p.Neg(hinge(n - 1, prev)));
+    return SumOf(terms);
+  }
+
+  /// The FlatSystem entry of the current instance's table whose element [1,1] is `first`.
+  FlatTable& FlatTableAt(uint32_t first) {
+    for (const InstanceTable& it : instance_tables_) {
+      if (it.first.value() == first) return flat_.tables[it.flat_index];
+    }
+    MOMENTA_CHECK_MSG(false, "a table read belongs to its instance");
+    return flat_.tables.front();
+  }
+
+  /// A parameter's value as the model is built: its -p override or its constant binding (NaN
+  /// when it is an expression).
+  double BuildValue(ParamId id) {
+    const FlatParameter& fp = flat_.parameters[id.value()];
+    auto ov = overrides_.find(fp.name);
+    if (ov != overrides_.end()) return ov->second;
+    return pool().IsConst(fp.binding) ? pool().ConstValue(fp.binding) : std::nan("");
+  }
+
+  ExprId BooleanTableExpr(ExprId x, ExprId table) {
+    ExprPool& p = pool();
+    const Node t = p.node(table);
+    std::vector<ExprId> terms;
+    for (uint32_t r = 0; r < t.b; ++r) {
+      ExprId c = p.Binary(Op::kGe, x, p.Param(ParamId(t.a + r * t.c)));
+      terms.push_back(r % 2 == 0 ? c : p.Neg(c));
+    }
+    return SumOf(terms);
+  }
+
+  /// The sum of `terms` as a balanced tree (a long table stays shallow).
+  ExprId SumOf(const std::vector<ExprId>& terms) {
+    ExprPool& p = pool();
+    return BuildChain(terms, std::vector<bool>(terms.size(), false),
+                      [&](ExprId a, bool, ExprId b) { return p.Add(a, b); });
   }
 
   // -------------------------------------------------------------------------------------------
@@ -1479,7 +1789,13 @@ class Flattener {
       // Which modifiers set parameters and which set start values.
       std::vector<const Modifier*> param_mod(L.params.size(), nullptr);
       std::vector<const Modifier*> var_mod(L.vars.size(), nullptr);
+      table_mod_.assign(L.tables.size(), nullptr);
       for (const auto& m : c.modifiers) {
+        if (auto t = L.table_index.find(m.key); t != L.table_index.end()) {
+          if (!m.value) throw ModelError(m.loc, c.name + "." + m.key + " is a table: give its value, e.g. " + m.key + ": [[0, 1], [1, 2]]");
+          table_mod_[t->second] = &m;
+          continue;
+        }
         auto [is_param, k] = ModifierTarget(c, L, m);
         (is_param ? param_mod : var_mod)[k] = &m;
       }
@@ -1596,6 +1912,7 @@ class Flattener {
       }
       flat_.parameters.push_back(std::move(fp));
     }
+    AddTables(c, L, data, inst, path, index);
     // Variables.
     for (size_t k = 0; k < L.vars.size(); ++k) {
       const LocalVar& lv = L.vars[k];
@@ -1688,6 +2005,40 @@ class Flattener {
       flat_.impacts.push_back(std::move(im));
     }
     add_equations(L.initial_equations, L.initial_info, &flat_.initial_equations);
+  }
+
+  /// An instance's tables: each element a parameter `path.table[i,j]`, row by row, from the
+  /// component's value for it or the type's default; recorded for the check of the abscissas.
+  void AddTables(const ComponentSpec& c, const TypeLayout& L, const InstanceData& data, InstanceId inst,
+                 const std::string& path, const std::pair<std::string, double>* index) {
+    instance_tables_.clear();
+    for (size_t k = 0; k < L.tables.size(); ++k) {
+      const TypeLayout::TableSlot& slot = L.tables[k];
+      const ParameterDecl& d = *slot.decl;
+      const Modifier* m = k < table_mod_.size() ? table_mod_[k] : nullptr;
+      InstanceTable table{ParamId(flat_.parameters.size()), slot.rows, slot.cols, flat_.tables.size()};
+      std::vector<AstPtr> given;
+      if (m) given = TableElements(m->value, d, m->loc, path + "." + d.name, &table.rows, &table.cols);
+      const Shape shape = d.shape.size() == 1 ? Shape{static_cast<int>(table.rows)}
+                                              : Shape{static_cast<int>(table.rows), static_cast<int>(table.cols)};
+      for (size_t e = 0; e < static_cast<size_t>(table.rows) * table.cols; ++e) {
+        FlatParameter fp;
+        fp.name = path + "." + ElementName(d.name, shape, e);
+        fp.unit = d.unit;
+        fp.doc = d.doc;
+        fp.instance = inst;
+        if (m) {
+          fp.binding = ModelExpr(*given[e], m->value_text, m->loc, index, false);
+          fp.loc = m->loc;
+        } else {
+          fp.binding = Instantiate(slot.defaults[e], data.first_var, data.first_param, path, d.value_text, d.loc);
+          fp.loc = c.loc;
+        }
+        flat_.parameters.push_back(std::move(fp));
+      }
+      flat_.tables.push_back({path + "." + d.name, table.first, table.rows, table.cols, inst, m ? m->loc : c.loc});
+      instance_tables_.push_back(table);
+    }
   }
 
   /// A layout's equation text with its placeholders ('\x01': a connector relative to the
@@ -2018,6 +2369,8 @@ class Flattener {
   std::vector<uint32_t> slot_instance_;  ///< connector slot -> instance
   std::vector<uint32_t> parent_;         ///< union-find over connector slots
   std::vector<ExprId> scratch_;
+  std::vector<const Modifier*> table_mod_;     ///< the current component's table values, by slot
+  std::vector<InstanceTable> instance_tables_;  ///< the current instance's tables, by slot
   std::vector<double> model_values_;  ///< model parameters' values for structural expressions
   std::map<std::string, double> structural_;
   const ComponentSpec* current_component_ = nullptr;  ///< for messages about its type
@@ -2034,6 +2387,34 @@ FlatSystem Flatten(const ModelSpec& spec, const Library& library, const Paramete
   std::optional<ModelSpec> scalar = ScalarModel(spec, library);
   return Flattener(scalar ? *scalar : spec, library, overrides).Run();
 }
+
+namespace {
+/// A table's first column (a vector table: its elements) must increase strictly: interpolation
+/// and time events need ordered, distinct abscissas.
+void CheckTables(const FlatSystem& flat, const std::vector<double>& values) {
+  for (const FlatTable& t : flat.tables) {
+    for (uint32_t r = 1; r < t.rows; ++r) {
+      const double prev = values[t.first.value() + static_cast<size_t>(r - 1) * t.cols];
+      const double x = values[t.first.value() + static_cast<size_t>(r) * t.cols];
+      const bool jump = r - 1 < t.jumps.size() && t.jumps[r - 1];
+      if (jump ? x == prev : x > prev) continue;
+      std::ostringstream msg;
+      const FlatInstance& inst = flat.instances[t.instance.value()];
+      msg << t.name << " (" << inst.type->name << "): row " << r + 1 << " has " << (t.cols > 1 ? "abscissa " : "")
+          << x;
+      if (jump) {
+        msg << ", but the model was built with a jump there (the same time as row " << r
+            << "); build the model again with the new table";
+      } else {
+        msg << ", not greater than row " << r << "'s " << prev << "; the "
+            << (t.cols > 1 ? "first column of a table" : "elements of a table") << " must increase strictly"
+            << (t.jumps.empty() ? "" : " (a time given twice, a jump, is fixed when the model is built)");
+      }
+      throw ModelError(t.loc, msg.str());
+    }
+  }
+}
+}  // namespace
 
 std::vector<double> EvaluateParameters(const FlatSystem& flat, const ParameterOverrides& overrides) {
   const ExprPool& pool = *flat.pool;
@@ -2087,6 +2468,7 @@ std::vector<double> EvaluateParameters(const FlatSystem& flat, const ParameterOv
     if (p.max && v > *p.max) fail(what + " = " + num(v) + " is above its maximum " + num(*p.max));
     values[id.value()] = v;
   }
+  CheckTables(flat, values);
   return values;
 }
 

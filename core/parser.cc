@@ -21,6 +21,8 @@ const std::map<std::string, int>& Functions() {
       {"reinit", 2},
       // Array functions (core/arrays.h); zeros takes 1 or 2 (kOneOrTwo).
       {"transpose", 1}, {"cross", 2}, {"norm", 1}, {"identity", 1}, {"zeros", -2}, {"sum", 1},
+      // interpolate(table, x) or interpolate(table, x, column): 2 or 3 (kTwoOrThree).
+      {"interpolate", -3}, {"timeTable", 5}, {"booleanTable", 2},
   };
   return kFunctions;
 }
@@ -387,9 +389,13 @@ class Parser {
       if (Peek().kind != Tok::kRParen) Fail("expected ')' or ','");
       Next();
       const int count = static_cast<int>(args.size());
-      if (arity == -2 ? count < 1 || count > 2 : count != arity) {
+      const bool bad_count = arity == -2   ? count < 1 || count > 2
+                             : arity == -3 ? count < 2 || count > 3
+                                           : count != arity;
+      if (bad_count) {
         throw ModelError(loc_.Shifted(name.column),
-                         name.text + "() takes " + (arity == -2 ? "1 or 2" : std::to_string(arity)) +
+                         name.text + "() takes " +
+                             (arity == -2 ? "1 or 2" : arity == -3 ? "2 or 3" : std::to_string(arity)) +
                              " argument" + (arity == 1 ? "" : "s") + ", found " +
                              std::to_string(args.size()) + " in '" + Excerpt(text_, name.column) + "'");
       }

@@ -24,6 +24,13 @@ void Program::Run(double* r, double* out) const {
       case Op::kCos: v = std::cos(r[in.a]); break;
       case Op::kExp: v = std::exp(r[in.a]); break;
       case Op::kSqrt: v = std::sqrt(r[in.a]); break;
+      case Op::kInterp:
+      case Op::kInterpSlope: {
+        // b is the register of the table's element [1,1]: the parameters as they are now.
+        const TableShape& t = tables_[in.c];
+        v = InterpolateTable(r + in.b, t.rows, t.cols, t.column, r[in.a], in.op == static_cast<uint8_t>(Op::kInterpSlope));
+        break;
+      }
       case Op::kAtan2:
       case Op::kMin:
       case Op::kMax:
@@ -51,6 +58,18 @@ void Program::Run(double* r, double* out) const {
     }
     r[in.dst] = v;
   }
+}
+
+uint32_t Program::AddTable(const Node& table) {
+  MOMENTA_CHECK(table.op == Op::kTable);
+  TableShape shape{table.b, table.c, static_cast<uint32_t>(table.value)};
+  for (size_t k = 0; k < tables_.size(); ++k) {
+    if (tables_[k].rows == shape.rows && tables_[k].cols == shape.cols && tables_[k].column == shape.column) {
+      return static_cast<uint32_t>(k);
+    }
+  }
+  tables_.push_back(shape);
+  return static_cast<uint32_t>(tables_.size() - 1);
 }
 
 ProgramCompiler::ProgramCompiler(const ExprPool& pool, uint32_t num_params,
@@ -82,6 +101,7 @@ uint32_t ProgramCompiler::LeafRegister(ExprId e) {
     case Op::kInitial: return RegisterLayout::kInitial;
     case Op::kCj: return RegisterLayout::kCj;
     case Op::kParam: return layout_.param_base + n.a;
+    case Op::kTable: return layout_.param_base + n.a;  // its element [1,1]; the rest follow
     case Op::kCond:
       MOMENTA_CHECK(n.a < layout_.num_conditions);
       return layout_.cond_base + n.a;
@@ -156,6 +176,9 @@ void ProgramCompiler::EmitParamOnly(ExprId root) {
     uint32_t dst = Global();
     params_.code().push_back({static_cast<uint8_t>(n.op), dst, arity >= 1 ? global_of_[n.a] : 0,
                               arity >= 2 ? global_of_[n.b] : 0, arity >= 3 ? global_of_[n.c] : 0});
+    if (n.op == Op::kInterp || n.op == Op::kInterpSlope) {
+      params_.code().back().c = params_.AddTable(pool_.node(ExprId(n.b)));
+    }
     global_of_[id] = dst;
   }
 }
@@ -259,6 +282,7 @@ Program ProgramCompiler::Compile(const std::vector<ExprId>& roots, const std::ve
     if (arity >= 1) in.a = operand(n.a);
     if (arity >= 2) in.b = operand(n.b);
     if (arity >= 3) in.c = operand(n.c);
+    if (n.op == Op::kInterp || n.op == Op::kInterpSlope) in.c = prog.AddTable(pool_.node(ExprId(n.b)));
     if (arity >= 1) release(n.a);
     if (arity >= 2) release(n.b);
     if (arity >= 3) release(n.c);

@@ -24,15 +24,23 @@ constexpr uint8_t kStore = 255;
 /// regs[dst] = regs[a] (results that later instructions read, e.g. discrete values in order)
 constexpr uint8_t kStoreRegister = 254;
 
+/// The shape of a table an interpolation reads (Op::kTable): its instruction's c indexes these.
+struct TableShape {
+  uint32_t rows, cols, column;
+};
+
 class Program {
  public:
   void Run(double* regs, double* out) const;
+  /// Registers the shape of the kTable leaf `table` for an interpolation instruction's c.
+  uint32_t AddTable(const Node& table);
   size_t size() const { return code_.size(); }
   std::vector<Instruction>& code() { return code_; }
   const std::vector<Instruction>& code() const { return code_; }
 
  private:
   std::vector<Instruction> code_;
+  std::vector<TableShape> tables_;
 };
 
 /// Registers every compiled function of a model shares: time, cj, the initialisation flag,

@@ -111,14 +111,20 @@ class Reader {
     return s + "]";
   }
 
-  /// `shape: [2]` or `shape: [3, 3]`: one or two whole numbers of at least 1.
-  Shape ReadShape(const YAML::Node& n, const std::string& what) const {
+  /// `shape: [2]` or `shape: [3, 3]`: one or two whole numbers of at least 1. With `open`, a
+  /// size may be ":" (kOpenSize): the parameter's value gives it (`shape: [":", 2]`).
+  Shape ReadShape(const YAML::Node& n, const std::string& what, bool open = false) const {
     if (!n.IsSequence() || n.size() < 1 || n.size() > 2) {
       Fail(n, "the shape of " + what + " is a list of one or two sizes, e.g. shape: [2] or shape: [3, 3]");
     }
     Shape shape;
     double elements = 1;
     for (const auto& d : n) {
+      if (d.IsScalar() && d.Scalar() == ":") {
+        if (!open) Fail(d, "the shape of " + what + " has ':', which only a parameter of a component type may have");
+        shape.push_back(kOpenSize);
+        continue;
+      }
       double v = Number(d, "a size in the shape of " + what);
       if (v != std::floor(v) || v < 1) Fail(d, "a size in the shape of " + what + " must be a whole number of at least 1");
       elements *= v;
@@ -181,7 +187,7 @@ class Reader {
       if (!n["value"]) Fail(n, "parameter " + what + " needs a value");
       p.value = Expression(n["value"], "value of " + what);
       p.value_text = ValueText(n["value"], "value of " + what);
-      if (n["shape"]) p.shape = ReadShape(n["shape"], what);
+      if (n["shape"]) p.shape = ReadShape(n["shape"], what, true);
       p.loc = TextLoc(n["value"]);
       if (n["unit"]) p.unit = Scalar(n["unit"], what + ".unit");
       if (n["doc"]) p.doc = Scalar(n["doc"], what + ".doc");
@@ -370,7 +376,9 @@ class Reader {
     if (n["parameters"] && !n["parameters"].IsNull()) {
       ExpectMap(n["parameters"], "parameters of " + name);
       for (auto it = n["parameters"].begin(); it != n["parameters"].end(); ++it) {
-        t.parameters.push_back(Parameter(Name(it->first, "parameter of " + name), it->second, name));
+        ParameterDecl p = Parameter(Name(it->first, "parameter of " + name), it->second, name);
+        // A size from the value (shape: [":", 2]) makes a table (docs/FORMAT.md, "Tables").
+        (IsOpen(p.shape) ? t.tables : t.parameters).push_back(std::move(p));
       }
     }
     if (n["connectors"] && !n["connectors"].IsNull()) {
@@ -547,6 +555,10 @@ class Reader {
       ExpectMap(root["parameters"], "parameters");
       for (auto it = root["parameters"].begin(); it != root["parameters"].end(); ++it) {
         m.parameters.push_back(Parameter(Name(it->first, "parameter"), it->second, m.name));
+        if (IsOpen(m.parameters.back().shape)) {
+          Fail(it->second["shape"], "the model parameter " + m.parameters.back().name +
+                                        " has a size ':'; only a component type's parameter (a table) may");
+        }
       }
     }
     if (root["define"] && !root["define"].IsNull()) {
