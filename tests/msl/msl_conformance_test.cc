@@ -6,7 +6,8 @@
 //   plane, built from the planar library (tolerance 1e-6, interval StopTime/5000, the
 //   reference's output interval).
 //
-// - models with events: Translational PreLoad (ElastoGap contacts, interval 0.05).
+// - two models with events: ModelicaTest.Blocks.Logical (every Boolean block, interval 2e-3)
+//   and Translational PreLoad (ElastoGap contacts, interval 0.05).
 //
 // Criterion: the MSL's CSV-compare tube with tolerance 2e-3 — at every reference time that is
 // also one of our output times, for every reference column,
@@ -281,9 +282,11 @@ INSTANTIATE_TEST_SUITE_P(
     ExampleName);
 
 // Models with events, compared at every reference row including both limits at each event
-// (2e-3 of each signal's range). PreLoad: 7 state events in the reference run.
+// (2e-3 of each signal's range). Logical: 38 state and 10 time events in the reference run;
+// PreLoad: 7 state events.
 INSTANTIATE_TEST_SUITE_P(Events, MslConformanceTest,
-                         ::testing::Values(MslExample{kTranslational, "PreLoad", 0.05, RangeTube, 7, 0}),
+                         ::testing::Values(MslExample{kModelicaTestBlocks, "Logical", 2e-3, RangeTube, 38, 10},
+                                           MslExample{kTranslational, "PreLoad", 0.05, RangeTube, 7, 0}),
                          ExampleName);
 
 // The event comparison has teeth too: PreLoad with 10 % more damping between spool and housing
