@@ -349,6 +349,10 @@ int RunList(const std::string& name) {
     if (p.max) o << ", max " << FormatDouble(*p.max);
     o << (p.doc.empty() ? "" : ": " + p.doc) << "\n";
   }
+  if (!t->tables.empty()) o << "tables (sized by their value):\n";
+  for (const auto& p : t->tables) {
+    o << "  " << p.name << " = " << p.value_text << (p.unit.empty() ? "" : " [" + p.unit + "]") << (p.doc.empty() ? "" : ": " + p.doc) << "\n";
+  }
   if (!t->connectors.empty()) o << "connectors:\n";
   for (const auto& c : t->connectors) o << "  " << c.name << ": " << c.type << (c.doc.empty() ? "" : " — " + c.doc) << "\n";
   if (!t->variables.empty()) o << "variables:\n";

@@ -17,7 +17,9 @@ namespace momenta {
 std::string ShapeText(const Shape& shape) {
   if (shape.empty()) return "scalar";
   std::string s = "[";
-  for (size_t k = 0; k < shape.size(); ++k) s += (k ? ", " : "") + std::to_string(shape[k]);
+  for (size_t k = 0; k < shape.size(); ++k) {
+    s += (k ? ", " : "") + (shape[k] == kOpenSize ? std::string(":") : std::to_string(shape[k]));
+  }
   return s + "]";
 }
 

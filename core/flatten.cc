@@ -22,6 +22,7 @@
 #include "core/flat_system.h"
 #include "core/memory_budget.h"
 #include "core/parser.h"
+#include "core/time_table.h"
 
 namespace momenta {
 
@@ -498,6 +499,10 @@ class Flattener {
           return Arity(op) == 1 ? p.Unary(op, sub(0)) : p.Binary(op, sub(0), sub(1));
         }
         if (a.op == "noEvent") return p.NoEvent(sub(0));
+        if (a.op == "interpolate" || a.op == "timeTable" || a.op == "booleanTable") {
+          throw ModelError(loc.Shifted(a.column), a.op + "() reads a table of a component type, in its equations; the model's own " +
+                                                      "equations cannot (use a CombiTimeTable, or a type with the table), in '" + text + "'");
+        }
         if (!allow_variables) {
           throw ModelError(loc.Shifted(a.column), a.op + "() cannot be used in '" + text + "'");
         }
@@ -1590,7 +1595,7 @@ class Flattener {
                             static_cast<int>(OptionValue(scratch_[n.local], "extrapolation", loc)));
           break;
         case TNode::kBooleanTable:
-          r = BooleanTableExpr(scratch_[n.a], scratch_[n.b]);
+          r = BooleanTableSum(&p, scratch_[n.a], scratch_[n.b]);
           break;
         case TNode::kNoEvent: r = p.NoEvent(scratch_[n.a]); break;
         case TNode::kDerOf:
@@ -1614,23 +1619,7 @@ class Flattener {
   }
 
   // -------------------------------------------------------------------------------------------
-  // Tables read with events (docs/FORMAT.md, "Tables")
-  //
-  // timeTable() and booleanTable() expand, per instance, into sums over the table's rows of
-  // frozen relations c_r = (x >= t_r). Between events each c_r keeps its value, so the
-  // interpolation reads one segment; a relation of time alone is a time event, so the integrator
-  // stops exactly at every table point (never integrating across a kink or a jump), and the left
-  // limit at a point is the old segment's value. With y_r, t_r the rows and s_r the slope of
-  // segment r (0-based):
-  //   LinearSegments:   y = y_0 + s_0 (x - t_0) + sum_{r=1}^{n-2} c_r (s_r - s_{r-1}) (x - t_r)
-  //                     (LastTwoPoints: the outer segments extend); HoldLastPoint adds the hinges
-  //                     at both ends that make the slope 0 outside [t_0, t_{n-1}];
-  //   ConstantSegments: y = y_0 + sum_{r=1}^{n-1} c_r (y_r - y_{r-1});
-  //   booleanTable:     y = sum_r (-1)^r c_r, 1 after an odd number of the times, else 0.
-
-  /// MSL's Modelica.Blocks.Types.Smoothness and Extrapolation, as their enumeration ordinals.
-  static constexpr int kLinearSegments = 1, kConstantSegments = 3;
-  static constexpr int kHoldLastPoint = 1, kLastTwoPoints = 2;
+  // Tables read with events (core/time_table.h)
 
   /// The value of a structural option of timeTable(): a number, or a parameter whose value is a
   /// number (recorded as structural, so -p cannot change it after the build).
@@ -1667,50 +1656,16 @@ class Flattener {
     return v;
   }
 
+  /// timeTable(): which times repeat (a jump) shapes the sum, so the check of the parameters
+  /// keeps them as built.
   ExprId TimeTableExpr(ExprId x, ExprId table, int smoothness, int extrapolation) {
-    ExprPool& p = pool();
-    const Node t = p.node(table);
-    const uint32_t n = t.b, cols = t.c, column = static_cast<uint32_t>(t.value);
-    auto abscissa = [&](uint32_t r) { return p.Param(ParamId(t.a + r * cols)); };
-    auto ordinate = [&](uint32_t r) { return p.Param(ParamId(t.a + r * cols + column - 1)); };
-    auto reached = [&](uint32_t r) { return p.Binary(Op::kGe, x, abscissa(r)); };
-    // A time given twice is a jump (MSL's CombiTimeTable allows it): which times repeat shapes
-    // the sum, so the check of the parameters keeps them as built.
+    const Node t = pool().node(table);
     FlatTable& flat_table = FlatTableAt(t.a);
-    flat_table.jumps.assign(n, 0);
-    for (uint32_t r = 0; r + 1 < n; ++r) {
-      flat_table.jumps[r] = BuildValue(ParamId(t.a + r * cols)) == BuildValue(ParamId(t.a + (r + 1) * cols));
+    flat_table.jumps.assign(t.b, 0);
+    for (uint32_t r = 0; r + 1 < t.b; ++r) {
+      flat_table.jumps[r] = BuildValue(ParamId(t.a + r * t.c)) == BuildValue(ParamId(t.a + (r + 1) * t.c));
     }
-    if (n == 1) return ordinate(0);
-    std::vector<ExprId> terms{ordinate(0)};
-    if (smoothness == kConstantSegments) {
-      for (uint32_t r = 1; r < n; ++r) terms.push_back(p.Mul(reached(r), p.Sub(ordinate(r), ordinate(r - 1))));
-      return SumOf(terms);
-    }
-    auto slope = [&](uint32_t r) {
-      return p.Div(p.Sub(ordinate(r + 1), ordinate(r)), p.Sub(abscissa(r + 1), abscissa(r)));
-    };
-    auto hinge = [&](uint32_t r, ExprId change) { return p.Mul(p.Mul(reached(r), change), p.Sub(x, abscissa(r))); };
-    const bool hold = extrapolation == kHoldLastPoint;
-    // The slope so far; LastTwoPoints extends the first segment backwards.
-    ExprId prev = p.Zero();
-    uint32_t r0 = 0;
-    if (!hold && !flat_table.jumps[0]) {
-      prev = slope(0);
-      terms.push_back(p.Mul(prev, p.Sub(x, abscissa(0))));
-      r0 = 1;
-    }
-    for (uint32_t r = r0; r + 1 < n; ++r) {
-      if (flat_table.jumps[r]) {  // a jump at t_r; the slope carries on after it
-        terms.push_back(p.Mul(reached(r + 1), p.Sub(ordinate(r + 1), ordinate(r))));
-        continue;
-      }
-      ExprId s = slope(r);
-      terms.push_back(hinge(r, p.Sub(s, prev)));
-      prev = s;
-    }
-    if (hold) terms.push_back(p.Neg(hinge(n - 1, prev)));
-    return SumOf(terms);
+    return TimeTableSum(&pool(), x, table, smoothness, extrapolation, flat_table.jumps);
   }
 
   /// The FlatSystem entry of the current instance's table whose element [1,1] is `first`.
@@ -1729,24 +1684,6 @@ class Flattener {
     auto ov = overrides_.find(fp.name);
     if (ov != overrides_.end()) return ov->second;
     return pool().IsConst(fp.binding) ? pool().ConstValue(fp.binding) : std::nan("");
-  }
-
-  ExprId BooleanTableExpr(ExprId x, ExprId table) {
-    ExprPool& p = pool();
-    const Node t = p.node(table);
-    std::vector<ExprId> terms;
-    for (uint32_t r = 0; r < t.b; ++r) {
-      ExprId c = p.Binary(Op::kGe, x, p.Param(ParamId(t.a + r * t.c)));
-      terms.push_back(r % 2 == 0 ? c : p.Neg(c));
-    }
-    return SumOf(terms);
-  }
-
-  /// The sum of `terms` as a balanced tree (a long table stays shallow).
-  ExprId SumOf(const std::vector<ExprId>& terms) {
-    ExprPool& p = pool();
-    return BuildChain(terms, std::vector<bool>(terms.size(), false),
-                      [&](ExprId a, bool, ExprId b) { return p.Add(a, b); });
   }
 
   // -------------------------------------------------------------------------------------------
@@ -2036,7 +1973,7 @@ class Flattener {
         }
         flat_.parameters.push_back(std::move(fp));
       }
-      flat_.tables.push_back({path + "." + d.name, table.first, table.rows, table.cols, inst, m ? m->loc : c.loc});
+      flat_.tables.push_back({path + "." + d.name, table.first, table.rows, table.cols, inst, m ? m->loc : c.loc, {}});
       instance_tables_.push_back(table);
     }
   }

@@ -465,6 +465,7 @@ class EventIntegrator {
         y_.assign(yv, yv + n_);
         yp_.assign(ypv, ypv + n_);
         DoEvent(tret, true);
+        EmitGridAtEvent(tret);
       }
     }
   }
@@ -487,8 +488,19 @@ class EventIntegrator {
       bool at_time_event = t_next == t_event && t_event < HUGE_VAL;
       EmitGrid(t_next, !at_time_event);
       t_ = t_next;
-      if (at_time_event) DoEvent(t_next, true);
+      if (at_time_event) {
+        DoEvent(t_next, true);
+        EmitGridAtEvent(t_next);
+      }
     }
+  }
+
+  /// An event at t that changed no output wrote no rows: the grid row at t, if there is one, is
+  /// written now from the values after the event (at the stop time no later step would write it).
+  void EmitGridAtEvent(double t) {
+    if (next_grid_ > num_intervals_ || GridTime(next_grid_) != t || t <= last_event_time_) return;
+    Emit(t, y_.data(), yp_.data());
+    ++next_grid_;
   }
 
   /// Grid rows up to `t` (and at t when inclusive), interpolated within the last step.

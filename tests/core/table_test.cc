@@ -20,7 +20,7 @@ model: TableDemo
 define:
   Curve:
     parameters:
-      f: {shape: [":", 3], value: [[0, 1, 2]], doc: rows {x, y, z}}
+      f: {shape: [":", 3], value: [[0, 1, 2]], doc: "rows {x, y, z}"}
     variables:
       y: {}
       z: {}
@@ -108,7 +108,7 @@ experiment: {stop: 1, interval: 0.1}
 }
 
 TEST(TableTest, BadTablesAreReportedByComponentParameterAndRow) {
-  const std::string base = R"(
+  const std::string base = R"yaml(
 model: Bad
 define:
   Curve:
@@ -117,13 +117,13 @@ define:
     variables: {y: {}}
     equations: ["y = interpolate(f, time)"]
 components:
-)";
+)yaml";
   std::string e = testing::BuildError(base + "  c: {type: Curve, f: [[0, 1], [2, 3], [2, 4]]}\n");
   EXPECT_NE(e.find("c.f (Curve): row 3 has abscissa 2, not greater than row 2's 2; the first column of a table must "
                    "increase strictly"),
             std::string::npos)
       << e;
-  EXPECT_NE(e.find(":9:"), std::string::npos) << e;  // the component's line
+  EXPECT_NE(e.find(":10:"), std::string::npos) << e;  // the line of c's value
   e = testing::BuildError(base + "  c: {type: Curve, f: [[0, 1], [2]]}\n");
   EXPECT_NE(e.find("the value of c.f (shape [:, 2]) must be a list of rows of one length, e.g. [[0, 1], [1, 2]]; "
                    "row 2 has 1 elements, row 1 has 2"),
@@ -159,6 +159,14 @@ components:
       << e;
   e = testing::BuildError(model("y = f"));
   EXPECT_NE(e.find("'f' is a table of Curve; read it with interpolate(f, x)"), std::string::npos) << e;
+  e = testing::BuildError(R"yaml(
+model: Bad
+variables: {y: {}}
+equations: ["y = interpolate(g, time)"]
+)yaml");
+  EXPECT_NE(e.find("interpolate() reads a table of a component type, in its equations; the model's own equations cannot"),
+            std::string::npos)
+      << e;
   e = testing::BuildError(model("y = interpolate(f)"));
   EXPECT_NE(e.find("interpolate() takes 2 or 3 arguments, found 1"), std::string::npos) << e;
 }

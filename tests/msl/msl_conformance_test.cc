@@ -1,7 +1,7 @@
 // MSL examples in models/msl/ against the MSL's own reference results (tests/data/msl/), with the
 // models' own experiment settings:
-// - seven Modelica.Mechanics.Translational examples (tolerance 1e-6, interval 5e-4, the
-//   reference's output interval);
+// - nine Modelica.Mechanics.Translational examples (tolerance 1e-6, interval 5e-4 — Vehicle
+//   5e-3 —, the reference's output interval);
 // - six Modelica.Mechanics.MultiBody.Examples.Elementary examples whose motion lies in the x-y
 //   plane, built from the planar library (tolerance 1e-6, interval StopTime/5000, the
 //   reference's output interval).
@@ -23,6 +23,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <ostream>
 #include <sstream>
@@ -217,8 +218,8 @@ TEST_P(MslConformanceTest, WithinTheMslTube) {
   for (const auto& w : b.report.warnings) ADD_FAILURE() << name << ": unexpected warning: " << w;
   SimulationOptions opt = OptionsFromExperiment(b.model->experiment);
   // The models' own experiment: every MSL example here runs at the reference's tolerance, 1e-6,
-  // and output interval (5e-4 for Translational, StopTime/5000 for MultiBody); rows at every
-  // event, as the reference has them.
+  // and output interval (5e-4 for Translational but Vehicle's 5e-3, StopTime/5000 for MultiBody);
+  // rows at every event, as the reference has them.
   ASSERT_EQ(opt.rtol, 1e-6) << name;
   ASSERT_EQ(opt.interval, GetParam().interval) << name;
   opt.rows_at_every_event = true;
@@ -266,7 +267,9 @@ INSTANTIATE_TEST_SUITE_P(Translational, MslConformanceTest,
                                            MslExample{kTranslational, "Accelerate", 5e-4},
                                            MslExample{kTranslational, "Damper", 5e-4},
                                            MslExample{kTranslational, "Oscillator", 5e-4},
-                                           MslExample{kTranslational, "Sensors", 5e-4}),
+                                           MslExample{kTranslational, "Sensors", 5e-4},
+                                           MslExample{kTranslational, "Vehicle", 5e-3},
+                                           MslExample{kTranslational, "GenerationOfFMUs", 5e-4}),
                          ExampleName);
 
 // MultiBody.Examples.Elementary in the plane (models/msl/<Name>.yaml say how each maps to the
