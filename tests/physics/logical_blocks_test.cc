@@ -18,15 +18,15 @@ namespace {
 using testing::Built;
 using testing::Trajectory;
 
-/// Library types every model below uses: a Boolean pulse true on [on, off), and a counter of the
-/// instants where its input becomes true.
+/// Library types every model below uses: a Boolean pulse true on [on, off) and, if given, on
+/// [on2, off2), and a counter of the instants where its input becomes true.
 constexpr const char* kPulseAndCounter = R"yaml(
 define:
   Pulse:
-    parameters: {on: 1, off: 2}
+    parameters: {on: 1, off: 2, on2: -1, off2: -1}
     connectors: {y: BooleanOutput}
     equations:
-      - y = time >= on and time < off
+      - y = (time >= on and time < off) or (time >= on2 and time < off2)
   Counter:
     connectors: {u: BooleanInput}
     variables:
@@ -97,18 +97,10 @@ TEST(LogicalBlocksTest, RSFlipFlopTruthTable) {
   const std::string model = R"yaml(
 model: FlipFlop
 components:
-  S1: {type: Pulse, on: 1, off: 2}
-  S2: {type: Pulse, on: 5, off: 6}
-  R1: {type: Pulse, on: 3, off: 4}
-  R2: {type: Pulse, on: 5, off: 6}
-  s: {type: Or}
-  r: {type: Or}
+  s: {type: Pulse, on: 1, off: 2, on2: 5, off2: 6}
+  r: {type: Pulse, on: 3, off: 4, on2: 5, off2: 6}
   rSFlipFlop: {type: RSFlipFlop}
 connections:
-  - [S1.y, s.u1]
-  - [S2.y, s.u2]
-  - [R1.y, r.u1]
-  - [R2.y, r.u2]
   - [s.y, rSFlipFlop.S]
   - [r.y, rSFlipFlop.R]
 experiment: {stop: 7, interval: 0.25}
@@ -136,9 +128,7 @@ TEST(LogicalBlocksTest, PreChangeEdgeAndFallingEdgeFireAtTheirInstants) {
   Trajectory tr = RunModel(R"yaml(
 model: Instants
 components:
-  p1: {type: Pulse, on: 1, off: 3}
-  p2: {type: Pulse, on: 5, off: 7}
-  u: {type: Or}
+  u: {type: Pulse, on: 1, off: 3, on2: 5, off2: 7}
   pre1: {type: Pre}
   change1: {type: Change}
   edge1: {type: Edge}
@@ -147,8 +137,6 @@ components:
   rises: {type: Counter}
   falls: {type: Counter}
 connections:
-  - [p1.y, u.u1]
-  - [p2.y, u.u2]
   - [u.y, pre1.u]
   - [u.y, change1.u]
   - [u.y, edge1.u]
@@ -253,13 +241,9 @@ TEST(LogicalBlocksTest, TimerMeasuresTheTimeSinceTheInputBecameTrue) {
   Trajectory tr = RunModel(R"yaml(
 model: Timing
 components:
-  p1: {type: Pulse, on: 1, off: 3}
-  p2: {type: Pulse, on: 5, off: 7}
-  u: {type: Or}
+  u: {type: Pulse, on: 1, off: 3, on2: 5, off2: 7}
   timer: {type: Timer}
 connections:
-  - [p1.y, u.u1]
-  - [p2.y, u.u2]
   - [u.y, timer.u]
 experiment: {stop: 8, interval: 0.25}
 outputs: [timer.y, timer.entryTime]
@@ -286,13 +270,9 @@ TEST(LogicalBlocksTest, TriggeredTrapezoidRampsFromWhereItIs) {
   Trajectory tr = RunModel(R"yaml(
 model: Trapezoid
 components:
-  p1: {type: Pulse, on: 1, off: 1.5}
-  p2: {type: Pulse, on: 3, off: 5}
-  u: {type: Or}
+  u: {type: Pulse, on: 1, off: 1.5, on2: 3, off2: 5}
   triggeredTrapezoid: {type: TriggeredTrapezoid, amplitude: 2, offset: 0.5, rising: 1, falling: 0.5}
 connections:
-  - [p1.y, u.u1]
-  - [p2.y, u.u2]
   - [u.y, triggeredTrapezoid.u]
 experiment: {stop: 6, interval: 0.05}
 outputs: [triggeredTrapezoid.y, triggeredTrapezoid.T, triggeredTrapezoid.rate, triggeredTrapezoid.endValue]
