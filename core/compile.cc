@@ -127,10 +127,14 @@ void SortToPattern(std::vector<Entry>* entries, int32_t rows, int32_t cols, Spar
 }
 
 /// Event relations: every relation outside noEvent() whose operands change with time or state
-/// becomes a condition, frozen between events.
+/// becomes a condition, frozen between events. A relation of discrete variables, pre-values and
+/// parameters alone (`u <> pre(u)` of change(u), `k > 0` of an Integer) is not one: its operands
+/// change only at events, so it is evaluated as it stands, and reads the values of the event
+/// iteration's current round (Modelica's rule: such relations make no crossing functions).
 class ConditionTable {
  public:
-  ConditionTable(ExprPool* pool, const ExprNamer& names) : pool_(pool), names_(names) {}
+  ConditionTable(ExprPool* pool, const ExprNamer& names, const std::vector<int32_t>& disc_of_var)
+      : pool_(pool), names_(names), disc_of_var_(disc_of_var) {}
 
   /// Registers the relations below `e` (outermost first, then nested ones).
   void Collect(ExprId e) {
@@ -142,7 +146,7 @@ class ConditionTable {
       stack.pop_back();
       const Node& n = p.node(ExprId(id));
       if (!(n.mask & kHasRelation) || !visited_.insert(id).second) continue;
-      if (IsRelation(n.op) && !(n.flags & kNoEvent) && !p.IsParamOnly(ExprId(id))) {
+      if (IsRelation(n.op) && !(n.flags & kNoEvent) && !p.IsParamOnly(ExprId(id)) && !OfDiscreteOnly(ExprId(id))) {
         index_.emplace(id, static_cast<uint32_t>(relations_.size()));
         relations_.push_back(ExprId(id));
       }
@@ -166,11 +170,24 @@ class ConditionTable {
 
   size_t size() const { return relations_.size(); }
   ExprId relation(size_t r) const { return relations_[r]; }
+
+  /// Whether `e` reads no time, derivative or continuous unknown: only discrete variables,
+  /// pre-values and parameters.
+  bool OfDiscreteOnly(ExprId e) const {
+    const ExprPool& p = *pool_;
+    if (p.mask(e) & (kHasTime | kHasDer | kHasInitial | kHasCond)) return false;
+    for (ExprId leaf : CollectLeaves(p, e, kHasVar)) {
+      const Node& v = p.node(leaf);
+      if (v.op != Op::kVar || disc_of_var_[v.a] < 0) return false;
+    }
+    return true;
+  }
   std::string Text(size_t r) const { return ToString(*pool_, relations_[r], names_); }
 
  private:
   ExprPool* pool_;
   const ExprNamer& names_;
+  const std::vector<int32_t>& disc_of_var_;  ///< flat variable -> discrete index, -1 if continuous
   std::unordered_map<uint32_t, uint32_t> index_;
   std::unordered_map<uint32_t, ExprId> map_;
   std::unordered_set<uint32_t> visited_;
@@ -285,7 +302,7 @@ std::shared_ptr<CompiledModel> CompileModel(EquationSystem sys, const Structure&
   }
 
   // Event conditions, from everything that is evaluated.
-  ConditionTable conds(&p, names);
+  ConditionTable conds(&p, names, slots.disc_of_var);
   auto collect_all = [&](auto&& fn) {
     for (ExprId& e : m->residual_exprs) fn(e);
     for (ExprId& e : m->output_exprs) fn(e);

@@ -770,8 +770,8 @@ class EventIntegrator {
     ++stats_->events;
     if (time_event) ++stats_->time_events;
     CheckChattering(t);
-    // The left limit is written only if the event changes an output: an event that merely flips
-    // a relation nobody sees leaves no rows.
+    // The left limit is written only if the event changes an output (or every event's is asked
+    // for): an event that merely flips a relation nobody sees leaves no rows.
     std::vector<double> left(outputs_.size());
     state_->Outputs(t, y_.data(), yp_.data(), left.data());
     state_->SavePre(y_.data());
@@ -781,7 +781,7 @@ class EventIntegrator {
     Restart(t);
     t_ = t;
     state_->Outputs(t, y_.data(), yp_.data(), outputs_.data());
-    if (outputs_ != left || stats_->impacts != impacts_before) {
+    if (outputs_ != left || stats_->impacts != impacts_before || opt_.rows_at_every_event) {
       Row(t, left);
       Row(t, outputs_);
       last_event_time_ = t;

@@ -18,6 +18,10 @@ struct SimulationOptions {
   double rtol = 1e-6;
   double atol = -1;         ///< < 0: rtol; each variable's is atol*nominal
   std::string linear_solver = "auto";  ///< auto, dense or klu
+  /// Left- and right-limit rows at every event, also one that changes no output (as Dymola's
+  /// events=true output, which the MSL reference results use); otherwise only at events that
+  /// change an output.
+  bool rows_at_every_event = false;
   /// When set and raised (by a signal handler), the run stops before the next step or output row:
   /// the rows so far have been given out, SolverStats::interrupted says so, no error is thrown.
   const std::atomic<bool>* interrupt = nullptr;

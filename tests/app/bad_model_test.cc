@@ -68,7 +68,7 @@ components:
        "components:\n"
        "  A: {type: Mas, m: 1}\n",
        {},
-       {"@:3:13: ", "'Mas'", "A", "did you mean Mass?", "valid types: ", "SpringDamper", "Resistor"}},
+       {"@:3:13: ", "'Mas'", "A", "did you mean Mass?", "valid types: ", "Damper", "Resistor"}},
 
       // A connector the component does not have.
       {"unknown_connector",

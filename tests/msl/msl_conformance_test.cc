@@ -7,11 +7,18 @@
 //   plane, built from the planar library (tolerance 1e-6, interval StopTime/5000, the
 //   reference's output interval).
 //
+// - two models with events: ModelicaTest.Blocks.Logical (every Boolean block, interval 2e-3)
+//   and Translational PreLoad (ElastoGap contacts, interval 0.05).
+//
 // Criterion: the MSL's CSV-compare tube with tolerance 2e-3 — at every reference time that is
 // also one of our output times, for every reference column,
-//   |ours - ref| <= 2e-3 * max(1, max over time |ref| of that signal).
-// Our output times are start + k*interval (plus any event rows); the reference lists event times
-// (here the stop time) twice, and each of its rows is compared with our row at the same time.
+//   |ours - ref| <= 2e-3 * max(1, max over time |ref| of that signal),
+// or, for the models with events, 2e-3 of the signal's range (max - min over time; a constant
+// signal takes max(1, |ref|)), which is what a Boolean's 0/1 and PreLoad's millimetres need.
+// Our output times are start + k*interval plus a left- and a right-limit row at every event (as
+// the reference's events=true output); the reference lists event times twice (left, then right
+// limit), and each of its rows is compared with our row at the same time. A reference event our
+// solver located a little apart (within kEventTimeWindow) is compared with our rows there.
 
 #include <gtest/gtest.h>
 
@@ -22,6 +29,7 @@
 #include <ostream>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "tests/support/test_models.h"
@@ -36,10 +44,19 @@ using testing::Trajectory;
 /// The MSL CSV-compare tolerance (Modelica Association's regression-test default).
 constexpr double kTubeTolerance = 2e-3;
 
+/// How far apart (relative to the run's length) a reference event and ours may lie and still be
+/// compared as one event: the CSV-compare tube's width in time, 2e-3 of the run. Logical's
+/// switching times agree with the reference's to < 1e-9 s (its initial event, listed at
+/// 1.8e-11 s, is ours at 0); PreLoad's contacts, which close or open at a crawl (5e-6 m/s),
+/// within 1.5e-4 s; Vehicle's within 2e-4 s. Where such a window has no event of ours, the test
+/// fails; our rows at events are checked against the reference's curve (DistanceToReference).
+constexpr double kEventTimeWindow = kTubeTolerance;
+
 std::string ModelPath(const std::string& name) { return "models/msl/" + name + ".yaml"; }
 
 constexpr const char* kTranslational = "Modelica.Mechanics.Translational.Examples";
 constexpr const char* kMultiBody = "Modelica.Mechanics.MultiBody.Examples.Elementary";
+constexpr const char* kModelicaTestBlocks = "ModelicaTest.Blocks";
 
 /// The reference result of the MSL example `package`.`name` (the file's name is the full class
 /// name).
@@ -47,12 +64,27 @@ Csv Reference(const std::string& name, const std::string& package = kTranslation
   return testing::ReadCsv(testing::SourcePath("tests/data/msl/" + package + "." + name + ".csv"));
 }
 
-/// One MSL example: its package, its short name (the model file's and the test's name) and the
-/// output interval of its reference, which the model's experiment must use.
+/// The allowed absolute deviation of a signal whose largest |ref| is max_abs and whose range
+/// (max - min over time) is range.
+using TubeWidth = double (*)(double max_abs, double range);
+
+/// The MSL tube: 2e-3 relative to the signal's largest magnitude, absolute below 1.
+double MslTube(double max_abs, double /*range*/) { return kTubeTolerance * std::max(1.0, max_abs); }
+
+/// 2e-3 of the signal's range; a constant signal's is that of MslTube.
+double RangeTube(double max_abs, double range) {
+  return range > 0 ? kTubeTolerance * range : MslTube(max_abs, range);
+}
+
+/// One MSL example: its package, its short name (the model file's and the test's name), the
+/// output interval of its reference, which the model's experiment must use, the tube, and the
+/// reference run's event counts where MODELS.md gives them (-1: not given), printed beside ours.
 struct MslExample {
   const char* package;
   const char* name;
   double interval;
+  TubeWidth tube = MslTube;
+  int ref_state_events = -1, ref_time_events = -1;
   /// The reference was stored in single precision (EddyCurrentBrake): its times carry a relative
   /// error up to 2^-24, so 0.0005 reads 0.00050000002.
   bool single_precision = false;
@@ -81,10 +113,41 @@ std::pair<size_t, size_t> RowsAt(const Trajectory& ours, double t, double eps) {
   return {static_cast<size_t>(lo - ours.t.begin()), static_cast<size_t>(hi - ours.t.begin())};
 }
 
-/// Compares every reference column of `ref` with `ours` at the times both have; `tube(max_abs)`
-/// is the allowed absolute deviation of a column whose largest |ref| is max_abs. Fails the test
-/// when a reference time is missing from our output or a column is missing; `worst` receives the
-/// worst point.
+/// Our rows at the event (a time listed more than once) nearest to `t` within `window`; an empty
+/// range when there is none.
+std::pair<size_t, size_t> EventRowsNear(const Trajectory& ours, double t, double window) {
+  auto [lo, hi] = RowsAt(ours, t, window);
+  std::pair<size_t, size_t> best{0, 0};
+  double best_dt = window;
+  for (size_t k = lo; k + 1 < hi; ++k) {
+    if (ours.t[k + 1] != ours.t[k] || std::fabs(ours.t[k] - t) > best_dt) continue;
+    best_dt = std::fabs(ours.t[k] - t);
+    best = RowsAt(ours, ours.t[k], 0);
+  }
+  return best;
+}
+
+/// The distance from v to the reference column c's curve within [t - window, t + window]: the
+/// CSV-compare tube's rectangle. The curve joins the reference rows by straight lines (a time
+/// listed twice, an event, joins its left and right limits by a vertical one).
+double DistanceToReference(const Csv& ref, size_t c, double t, double v, double window) {
+  double best = HUGE_VAL;
+  for (size_t r = 0; r + 1 < ref.rows.size(); ++r) {
+    const double t0 = ref.rows[r][0], t1 = ref.rows[r + 1][0];
+    const double a = std::max(t0, t - window), b = std::min(t1, t + window);
+    if (a > b) continue;
+    const double v0 = ref.rows[r][c], v1 = ref.rows[r + 1][c];
+    const double va = t1 > t0 ? v0 + (v1 - v0) * (a - t0) / (t1 - t0) : v0;
+    const double vb = t1 > t0 ? v0 + (v1 - v0) * (b - t0) / (t1 - t0) : v1;
+    const double lo = std::min(va, vb), hi = std::max(va, vb);
+    best = std::min(best, v < lo ? lo - v : v > hi ? v - hi : 0.0);
+  }
+  return best;
+}
+
+/// Compares every reference column of `ref` with `ours`; `tube(max_abs, range)` is the allowed
+/// absolute deviation of a column. Fails the test when a reference time is missing from our
+/// output or a column is missing; `worst` receives the worst point.
 template <typename Tube>
 void Compare(const std::string& model, const Trajectory& ours, const Csv& ref, double interval,
              Tube tube, Worst* worst, bool single_precision = false) {
@@ -92,47 +155,68 @@ void Compare(const std::string& model, const Trajectory& ours, const Csv& ref, d
   // digits and ours are start + k*interval, so a match is within 1e-9 of an interval (far below
   // the grid step); a single-precision reference's times are off by up to 2^-24 of their value
   // (6e-8 s at t = 1 s), matched within 1e-7 of the largest time (still 1e-4 of a 5e-4 step at
-  // t = 1 s). At a time listed more than once (an event: left and right limits), the first
-  // reference row goes with our first row there and the last with our last.
-  // A reference row off the output grid is a state event of the reference's (a relation's
-  // crossing, located by each tool to its own resolution): it is compared only if we have a row
-  // at that very time, and the grid rows on both sides of it are compared anyway.
+  // t = 1 s). At a time listed more than once (an event: left and right limits), the
+  // first reference row goes with our first row there and the last with our last. A reference
+  // event off our grid must have an event of ours within kEventTimeWindow; its rows are not
+  // paired (the two events' times differ), our rows there are checked against the reference's
+  // curve below instead.
   const double eps = single_precision ? 1e-7 * std::max(1.0, std::fabs(ref.rows.back()[0])) : 1e-9 * interval;
-  constexpr size_t kSkip = SIZE_MAX;
-  std::vector<size_t> row_of(ref.rows.size());
+  const double window = kEventTimeWindow * (ref.rows.back()[0] - ref.rows.front()[0]);
+  constexpr size_t kUnpaired = static_cast<size_t>(-1);
+  std::vector<size_t> row_of(ref.rows.size(), kUnpaired);
+  std::vector<bool> paired(ours.t.size(), false);
+  double event_offset = 0;
   for (size_t r = 0; r < ref.rows.size(); ++r) {
     const double t = ref.rows[r][0];
     auto [lo, hi] = RowsAt(ours, t, eps);
-    const bool on_grid = std::fabs(t - std::round(t / interval) * interval) <= eps;
-    if (lo == hi && !on_grid) {
-      row_of[r] = kSkip;
+    if (lo == hi) {
+      auto [elo, ehi] = EventRowsNear(ours, t, window);
+      ASSERT_LT(elo, ehi) << model << ": no output row at the reference time " << t
+                          << " and no event of ours within " << window << " s";
+      event_offset = std::max(event_offset, std::fabs(ours.t[elo] - t));
       continue;
     }
-    ASSERT_LT(lo, hi) << model << ": no output row at the reference time " << t;
     const bool first = r == 0 || std::fabs(ref.rows[r - 1][0] - t) > eps;
     row_of[r] = first ? lo : hi - 1;
+    for (size_t k = lo; k < hi; ++k) paired[k] = true;
+  }
+  if (event_offset > 0) {
+    std::printf("[   INFO   ] %s: reference events off our grid have ours within %.3g s\n",
+                model.c_str(), event_offset);
   }
   *worst = Worst{};
   for (size_t c = 1; c < ref.header.size(); ++c) {
     const std::string& col = ref.header[c];
     size_t ours_col = 0;
     ASSERT_NO_THROW(ours_col = ours.Index(col)) << model << ": no output " << col;
-    double max_abs = 0;
-    for (const auto& row : ref.rows) max_abs = std::max(max_abs, std::fabs(row[c]));
-    const double allowed = tube(max_abs);
-    for (size_t r = 0; r < ref.rows.size(); ++r) {
-      if (row_of[r] == kSkip) continue;
-      const double mine = ours.values[row_of[r]][ours_col];
-      const double err = std::fabs(mine - ref.rows[r][c]);
+    double max_abs = 0, lowest = HUGE_VAL, highest = -HUGE_VAL;
+    for (const auto& row : ref.rows) {
+      max_abs = std::max(max_abs, std::fabs(row[c]));
+      lowest = std::min(lowest, row[c]);
+      highest = std::max(highest, row[c]);
+    }
+    const double allowed = tube(max_abs, highest - lowest);
+    auto record = [&](double err, double t, double mine, double theirs) {
       if (!(err / allowed <= worst->ratio)) {  // also catches a NaN of ours
-        *worst = Worst{err / allowed, err, allowed, ref.rows[r][0], mine, ref.rows[r][c], col};
+        *worst = Worst{err / allowed, err, allowed, t, mine, theirs, col};
       }
+    };
+    // Rows at the same time: their difference.
+    for (size_t r = 0; r < ref.rows.size(); ++r) {
+      if (row_of[r] == kUnpaired) continue;
+      const double mine = ours.values[row_of[r]][ours_col];
+      record(std::fabs(mine - ref.rows[r][c]), ref.rows[r][0], mine, ref.rows[r][c]);
+    }
+    // Our rows at times the reference does not list (events): inside the tube around the
+    // reference's curve (the reported "reference" value is ours less the distance).
+    for (size_t k = 0; k < ours.t.size(); ++k) {
+      if (paired[k] || ours.t[k] < ref.rows.front()[0] || ours.t[k] > ref.rows.back()[0]) continue;
+      const double mine = ours.values[k][ours_col];
+      const double d = DistanceToReference(ref, c, ours.t[k], mine, window);
+      record(d, ours.t[k], mine, mine - d);
     }
   }
 }
-
-/// The MSL tube: 2e-3 relative to the signal's largest magnitude, absolute below 1.
-double MslTube(double max_abs) { return kTubeTolerance * std::max(1.0, max_abs); }
 
 class MslConformanceTest : public ::testing::TestWithParam<MslExample> {};
 
@@ -142,9 +226,11 @@ TEST_P(MslConformanceTest, WithinTheMslTube) {
   for (const auto& w : b.report.warnings) ADD_FAILURE() << name << ": unexpected warning: " << w;
   SimulationOptions opt = OptionsFromExperiment(b.model->experiment);
   // The models' own experiment: every MSL example here runs at the reference's tolerance, 1e-6,
-  // and output interval (5e-4 for Translational but Vehicle's 5e-3, StopTime/5000 for MultiBody).
+  // and output interval (5e-4 for Translational but Vehicle's 5e-3, StopTime/5000 for MultiBody);
+  // rows at every event, as the reference has them.
   ASSERT_EQ(opt.rtol, 1e-6) << name;
   ASSERT_EQ(opt.interval, GetParam().interval) << name;
+  opt.rows_at_every_event = true;
   Trajectory ours = testing::Run(b, opt);
   Csv ref = Reference(name, GetParam().package);
   ASSERT_FALSE(ref.rows.empty());
@@ -167,10 +253,15 @@ TEST_P(MslConformanceTest, WithinTheMslTube) {
   }
 
   Worst worst;
-  Compare(name, ours, ref, opt.interval, MslTube, &worst, GetParam().single_precision);
+  Compare(name, ours, ref, opt.interval, GetParam().tube, &worst, GetParam().single_precision);
   RecordProperty("worst_error", worst.ToString());
   std::printf("[   INFO   ] %s: worst %s\n", name.c_str(), worst.ToString().c_str());
   EXPECT_LE(worst.ratio, 1.0) << name << ": outside the MSL tube: " << worst.ToString();
+  if (GetParam().ref_state_events >= 0) {
+    std::printf("[   INFO   ] %s: %ld state events and %ld time events (reference: %d and %d)\n",
+                name.c_str(), ours.stats.events - ours.stats.time_events, ours.stats.time_events,
+                GetParam().ref_state_events, GetParam().ref_time_events);
+  }
 }
 
 std::string ExampleName(const ::testing::TestParamInfo<MslExample>& info) {
@@ -187,7 +278,7 @@ INSTANTIATE_TEST_SUITE_P(Translational, MslConformanceTest,
                                            MslExample{kTranslational, "Sensors", 5e-4},
                                            MslExample{kTranslational, "Vehicle", 5e-3},
                                            MslExample{kTranslational, "GenerationOfFMUs", 5e-4},
-                                           MslExample{kTranslational, "EddyCurrentBrake", 5e-4, true}),
+                                           MslExample{kTranslational, "EddyCurrentBrake", 5e-4, MslTube, -1, -1, true}),
                          ExampleName);
 
 // MultiBody.Examples.Elementary in the plane (models/msl/<Name>.yaml say how each maps to the
@@ -201,6 +292,29 @@ INSTANTIATE_TEST_SUITE_P(
                       MslExample{kMultiBody, "SpringDamperSystem", 10.0 / 5000},
                       MslExample{kMultiBody, "SpringWithMass", 5.0 / 5000}),
     ExampleName);
+
+// Models with events, compared at every reference row including both limits at each event
+// (2e-3 of each signal's range). Logical: 38 state and 10 time events in the reference run;
+// PreLoad: 7 state events.
+INSTANTIATE_TEST_SUITE_P(Events, MslConformanceTest,
+                         ::testing::Values(MslExample{kModelicaTestBlocks, "Logical", 2e-3, RangeTube, 38, 10},
+                                           MslExample{kTranslational, "PreLoad", 0.05, RangeTube, 7, 0},
+                                           MslExample{kTranslational, "Friction", 5e-4, RangeTube, 18, 0},
+                                           MslExample{kTranslational, "Brake", 5e-4, RangeTube, 1, 1}),
+                         ExampleName);
+
+// The event comparison has teeth too: PreLoad with 10 % more damping between spool and housing
+// slows the spool's creep (friction.v_rel) by about 10 %, ten times the tube's width.
+TEST(MslTubeTest, RejectsAStifferPreloadDamper) {
+  const ParameterOverrides stiffer = {{"friction.d", 2750}};
+  Built b = testing::BuildFile(ModelPath("PreLoad"), stiffer);
+  SimulationOptions opt = OptionsFromExperiment(b.model->experiment);
+  opt.rows_at_every_event = true;
+  Trajectory ours = testing::Run(b, opt, stiffer);
+  Worst worst;
+  Compare("PreLoad with friction.d = 2750", ours, Reference("PreLoad"), opt.interval, RangeTube, &worst);
+  EXPECT_GT(worst.ratio, 1.0) << worst.ToString();
+}
 
 // The tube has teeth: WhyArrows with a 2 % stiffer spring in both oscillators (c = 11.22 instead
 // of 11) shifts the frequency by 1 % and must leave the tube.
@@ -243,7 +357,7 @@ TEST(MslInitialConditionsTest, TightToleranceApproachesTheExactSolution) {
     only.rows.push_back({row[0], row[ref.Index("sd1.v_rel")], row[ref.Index("m1.v")]});
   }
   Worst worst;
-  Compare("InitialConditions at rtol 1e-10", ours, only, opt.interval, [](double) { return 1e-3; },
+  Compare("InitialConditions at rtol 1e-10", ours, only, opt.interval, [](double, double) { return 1e-3; },
           &worst);
   RecordProperty("worst_error", worst.ToString());
   std::printf("[   INFO   ] InitialConditions at rtol 1e-10: worst %s\n", worst.ToString().c_str());
