@@ -22,6 +22,7 @@
 #include "core/flat_system.h"
 #include "core/memory_budget.h"
 #include "core/parser.h"
+#include "core/unit_check.h"
 
 namespace momenta {
 
@@ -694,6 +695,7 @@ class Flattener {
       L.discrete[tmpl.contact] = true;
       L.impacts.push_back(std::move(tmpl));
     }
+    CheckTypeUnits(L);
     LayoutPartTemplates(&L, parts);
     InnerConnections(&L, parts);
     CheckLocalBalance(L);
@@ -701,6 +703,17 @@ class Flattener {
     const TypeLayout& ref = *layout;
     layouts_[type] = std::move(layout);
     return ref;
+  }
+
+  /// The dimension check of a type's own equations (core/unit_check.h), once per type.
+  static void CheckTypeUnits(const TypeLayout& L) {
+    CheckComponentUnits(*L.type, [&L](const std::string& name) -> std::string {
+      if (auto v = L.var_index.find(name); v != L.var_index.end()) return L.vars[v->second].unit;
+      if (auto p = L.param_index.find(name); p != L.param_index.end()) {
+        return L.params[p->second].decl ? L.params[p->second].decl->unit : std::string();
+      }
+      return std::string();
+    });
   }
 
   // -------------------------------------------------------------------------------------------
