@@ -871,7 +871,8 @@ class Flattener {
       for (const Modifier& m : pl.spec->modifiers) {
         auto [is_param, k] = ModifierTarget(*pl.spec, S, m);
         if (is_param) {
-          L.param_defaults[po + k] = MakeTemplate(L, *m.value, m.value_text, m.loc, true);
+          const AstPtr value = ModifierValue(m, *S.params[k].decl, pl.spec->name);
+          L.param_defaults[po + k] = MakeTemplate(L, *value, m.value_text, m.loc, true);
           L.params[po + k].loc = m.loc;
         } else {
           if (m.start) L.starts[vo + k] = MakeTemplate(L, *m.start, AstToString(*m.start), m.loc, true);
@@ -882,6 +883,13 @@ class Flattener {
       }
       template_loop_ = nullptr;
     }
+  }
+
+  /// A parameter modifier's value; one written with a unit (`m: 40 kg`) converted to the
+  /// parameter's declared unit.
+  static AstPtr ModifierValue(const Modifier& m, const ParameterDecl& target, const std::string& component) {
+    if (m.value_unit.empty()) return m.value;
+    return ValueInUnit(m.value->number, m.value_unit, target.unit, component + "." + target.name, m.loc);
   }
 
   /// Which parameter (first = true) or variable of `S` a modifier of component `c` sets.
@@ -1601,7 +1609,7 @@ class Flattener {
       fp.doc = d.doc;
       fp.instance = instance_of(lp.sub);
       if (const Modifier* m = param_mod[k]) {
-        fp.binding = ModelExpr(*m->value, m->value_text, m->loc, index, false);
+        fp.binding = ModelExpr(*ModifierValue(*m, d, path), m->value_text, m->loc, index, false);
         fp.loc = m->loc;
       } else {
         fp.binding = Instantiate(L.param_defaults[k], data.first_var, data.first_param, path, d.value_text, d.loc);
@@ -1927,6 +1935,9 @@ class Flattener {
       out->push_back(std::move(eq));
     };
     for (const auto& d : spec_.equations) add(d, EquationOrigin::kModel, &flat_.equations);
+    for (const auto* list : {&spec_.equations, &spec_.initial_equations}) {
+      for (const auto& d : *list) ModelUnits().CheckEquation(*d.ast.lhs, *d.ast.rhs, d.text, d.loc);
+    }
     for (const auto& w : spec_.whens) {
       FlatWhen fw;
       fw.condition = ModelExpr(*w.condition, w.text, w.loc, nullptr, true);
@@ -1945,8 +1956,27 @@ class Flattener {
       fw.text = w.text;
       fw.loc = w.loc;
       flat_.whens.push_back(std::move(fw));
+      ModelUnits().CheckExpression(*w.condition, w.text, w.loc);
     }
     for (const auto& d : spec_.initial_equations) add(d, EquationOrigin::kInitial, &flat_.initial_equations);
+  }
+
+  /// The dimension check of the model's own equations and outputs: names are resolved as the
+  /// model's expressions resolve them (a variable's or parameter's unit; "" for anything else).
+  UnitChecker& ModelUnits() {
+    if (!model_units_) {
+      model_units_.emplace("model " + spec_.name, [this](const std::string& path) -> std::string {
+        try {
+          ExprId e = ModelExpr(*ParseName(path, SourceLoc()), path, SourceLoc(), nullptr, true);
+          if (pool().op(e) == Op::kVar) return flat_.variables[pool().node(e).a].unit;
+          if (pool().op(e) == Op::kParam) return flat_.parameters[pool().node(e).a].unit;
+        } catch (const ModelError&) {
+          // time, pi, a loop index: not a variable or parameter.
+        }
+        return std::string();
+      });
+    }
+    return *model_units_;
   }
 
   void Outputs() {
@@ -1955,7 +1985,7 @@ class Flattener {
       if (seen.count(o.text)) throw ModelError(o.loc, "output '" + o.text + "' is listed twice");
       seen[o.text] = o.loc;
       ExprId e = ModelExpr(*o.expr, o.text, o.loc, nullptr, true);
-      flat_.outputs.push_back({o.text, e, o.loc});
+      flat_.outputs.push_back({o.text, e, o.loc, ModelUnits().UnitText(*o.expr, o.text, o.loc)});
     }
   }
 
@@ -2019,6 +2049,7 @@ class Flattener {
   const ModelSpec& spec_;
   const Library& library_;
   const ParameterOverrides& overrides_;
+  std::optional<UnitChecker> model_units_;
   std::shared_ptr<Library> defines_ = std::make_shared<Library>();
   FlatSystem flat_;
   std::unordered_map<std::string, ParamId> model_param_;

@@ -218,6 +218,13 @@ void UnitChecker::CheckExpression(const Ast& e, const std::string& text, const S
   Eval(e);
 }
 
+std::string UnitChecker::UnitText(const Ast& e, const std::string& text, const SourceLoc& loc) {
+  text_ = &text;
+  loc_ = loc;
+  Term t = Eval(e);
+  return t.kind == Term::kKnown ? t.text : std::string();
+}
+
 void UnitChecker::CheckAssignment(const std::string& target, const std::string& target_unit,
                                   const Ast& value, const std::string& text, const SourceLoc& loc) {
   text_ = &text;
@@ -255,6 +262,36 @@ void UnitChecker::Infer(const std::vector<std::pair<const Ast*, const Ast*>>& eq
       }
     }
   }
+}
+
+std::vector<std::string> OutputUnits(const FlatSystem& flat, const std::vector<std::string>& output_names) {
+  std::unordered_map<std::string, std::string> unit_of;
+  for (const auto& o : flat.outputs) unit_of.emplace(o.text, o.unit);
+  if (unit_of.size() < output_names.size()) {  // the default outputs: states, by name
+    for (const auto& v : flat.variables) unit_of.emplace(v.name, v.unit);
+  }
+  std::vector<std::string> units;
+  for (const auto& name : output_names) {
+    auto it = unit_of.find(name);
+    units.push_back(it == unit_of.end() ? std::string() : it->second);
+  }
+  return units;
+}
+
+AstPtr ValueInUnit(double value, const std::string& unit, const std::string& target_unit,
+                   const std::string& who, const SourceLoc& loc) {
+  if (target_unit.empty()) {
+    throw ModelError(loc, who + " declares no unit, so a value in " + unit +
+                              " cannot be converted; give it as a plain number");
+  }
+  auto number = std::make_shared<Ast>();
+  try {
+    number->number = ConvertValue(value, unit, target_unit);
+  } catch (const UnitError& e) {
+    throw ModelError(loc, "the value of " + who + " is in " + unit + ", but " + who + " is in " +
+                              target_unit + ": " + e.what());
+  }
+  return number;
 }
 
 void CheckUnitString(const std::string& unit, const SourceLoc& loc, const std::string& what) {

@@ -23,6 +23,7 @@
 #include "core/ast.h"
 #include "core/component_type.h"
 #include "core/error.h"
+#include "core/flat_system.h"
 #include "core/units.h"
 
 namespace momenta {
@@ -44,6 +45,9 @@ class UnitChecker {
   void CheckEquation(const Ast& lhs, const Ast& rhs, const std::string& text, const SourceLoc& loc);
   /// An expression on its own (a when-condition, an output): its inner consistency.
   void CheckExpression(const Ast& e, const std::string& text, const SourceLoc& loc);
+  /// The unit of an expression, checked as CheckExpression does: a name's declared unit as
+  /// written, a known dimension in the words of DimensionText, or "" when not known.
+  std::string UnitText(const Ast& e, const std::string& text, const SourceLoc& loc);
   /// `target := value` (a parameter binding, a start value, a when-statement): value has the
   /// dimension of the unit `target_unit` ("" = unknown).
   void CheckAssignment(const std::string& target, const std::string& target_unit, const Ast& value,
@@ -78,6 +82,16 @@ class UnitChecker {
 /// `unit_of` gives the units of the type's local names (its variables, connector variables,
 /// parameters and its parts' names).
 void CheckComponentUnits(const ComponentType& type, const UnitOfName& unit_of);
+
+/// The number `value` written in `unit` as a number in `target_unit` (docs/FORMAT.md, "Units"),
+/// as an expression tree. Throws ModelError at `loc` naming `who` and both units when the
+/// dimensions differ or the target declares no unit.
+AstPtr ValueInUnit(double value, const std::string& unit, const std::string& target_unit,
+                   const std::string& who, const SourceLoc& loc);
+
+/// The unit of each column `output_names` names (an output's text or a variable's name, as a
+/// compiled model's output_names), "" where not known; `time` is not among them.
+std::vector<std::string> OutputUnits(const FlatSystem& flat, const std::vector<std::string>& output_names);
 
 /// Parses `unit` and throws ModelError at `loc` when it does not parse (the loader's check of
 /// every `unit:` string).
