@@ -212,7 +212,9 @@ int RunSimulate(const SimulateArgs& args) {
                                         opt.stop, OutputUnits(*model->flat, model->output_names));
     } else {
       csv = std::make_unique<CsvWriter>(out_path, model->output_names);
-      WriteUnitsFile(UnitsPath(out_path), model->output_names, OutputUnits(*model->flat, model->output_names));
+      if (out_path != "-") {
+        WriteUnitsFile(UnitsPath(out_path), model->output_names, OutputUnits(*model->flat, model->output_names));
+      }
     }
   } catch (const CsvWriteError& e) {
     std::cerr << "momenta: " << e.what() << "\n";

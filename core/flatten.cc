@@ -1899,6 +1899,7 @@ class Flattener {
         }
         for (uint32_t s : set) {
           if (s == outputs[0]) continue;
+          CheckConnectedUnits(var_of(s, 0), name_of(s), var_of(outputs[0], 0), name_of(outputs[0]), loc);
           add(p.Sub(p.Var(var_of(s, 0)), p.Var(var_of(outputs[0], 0))),
               name_of(s) + " = " + name_of(outputs[0]) + " (connection)");
         }
@@ -1917,6 +1918,20 @@ class Flattener {
         for (size_t j = 1; j < set.size(); ++j) sum = p.Add(sum, p.Var(var_of(set[j], local)));
         add(sum, "sum of " + c0.type->flows[k].name + " over {" + members + "} = 0 (connection)");
       }
+    }
+  }
+
+  /// Connected signals have one dimension when both declare a unit (a string compare first, so
+  /// the cost per connection is small).
+  void CheckConnectedUnits(VarId a, const std::string& a_name, VarId b, const std::string& b_name,
+                           const SourceLoc& loc) {
+    const std::string& ua = flat_.variables[a.value()].unit;
+    const std::string& ub = flat_.variables[b.value()].unit;
+    if (ua.empty() || ub.empty() || ua == ub) return;
+    std::optional<Dimension> da = ModelUnits().DimensionOf(ua), db = ModelUnits().DimensionOf(ub);
+    if (da && db && *da != *db) {
+      throw ModelError(loc, "dimension mismatch in the connection of " + a_name + " [" + ua + "] to " + b_name +
+                                " [" + ub + "]: " + DimensionText(*da) + " against " + DimensionText(*db));
     }
   }
 

@@ -209,7 +209,7 @@ void UnitChecker::CheckEquation(const Ast& lhs, const Ast& rhs, const std::strin
       return;
     }
   }
-  Unify(Eval(lhs), Eval(rhs), rhs, [] { return std::string("the two sides"); });
+  Unify(Eval(lhs), Eval(rhs), lhs, [] { return std::string("the two sides"); });
 }
 
 void UnitChecker::CheckExpression(const Ast& e, const std::string& text, const SourceLoc& loc) {

@@ -113,7 +113,7 @@ class UnitParser {
     if (text_.empty()) Fail("an empty unit string (write \"1\" for a dimensionless quantity)");
     Unit u = Quotient();
     if (pos_ != text_.size()) Fail("unexpected '" + std::string(1, text_[pos_]) + "'");
-    if (u.offset != 0 && offset_combined_) {
+    if (offset_combined_) {
       Fail("degC is an offset unit and cannot be combined with other units (use K)");
     }
     return u;
@@ -259,7 +259,7 @@ std::string DimensionText(const Dimension& d) {
     std::vector<std::pair<Dimension, std::string>> v;
     for (const char* s : {"1", "m", "kg", "s", "A", "K", "mol", "cd", "m/s", "m/s2", "N", "N.m",
                           "W", "V", "Ohm", "F", "H", "C", "Pa", "1/s", "1/s2", "kg.m2", "N/m",
-                          "N.s/m", "N.m.s", "m2", "m3", "Wb", "T", "S", "kg/m3", "W/K", "J/K",
+                          "N.s/m", "N.s", "N.m.s", "m2", "m3", "Wb", "T", "S", "kg/m3", "W/K", "J/K",
                           "m/s3", "N/s", "V/s", "A/s", "K/s", "W/s"}) {
       v.emplace_back(ParseUnit(s).dimension, s);
     }
