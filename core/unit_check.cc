@@ -209,7 +209,8 @@ void UnitChecker::CheckEquation(const Ast& lhs, const Ast& rhs, const std::strin
       return;
     }
   }
-  Unify(Eval(lhs), Eval(rhs), lhs, [] { return std::string("the two sides"); });
+  static const Ast kStart;  // column 0: the message points at the equation
+  Unify(Eval(lhs), Eval(rhs), kStart, [] { return std::string("the two sides"); });
 }
 
 void UnitChecker::CheckExpression(const Ast& e, const std::string& text, const SourceLoc& loc) {

@@ -138,7 +138,7 @@ equations:
   - e = 0.5*mass.m*mass.v
 outputs: [e]
 )"),
-            "test.yaml:7:9: dimension mismatch in 'e = 0.5*mass.m*mass.v' of model M: the two sides have different "
+            "test.yaml:7:5: dimension mismatch in 'e = 0.5*mass.m*mass.v' of model M: the two sides have different "
             "dimensions: J against N.s");
 }
 
