@@ -80,7 +80,6 @@ UnitChecker::Term UnitChecker::NameTerm(const Ast& a) {
   }
   auto inf = inferred_.find(path);
   if (inf != inferred_.end()) return Term::Known(inf->second);
-  if (path == "time") return Term::Known(ParseUnit("s").dimension, "s");
   if (path == "pi") return Term::Flexible();
   return Term::Unknown();
 }
@@ -184,14 +183,14 @@ UnitChecker::Term UnitChecker::Eval(const Ast& a) {
     if (args[0].kind == Term::kKnown && !args[0].dim.dimensionless()) {
       Fail(*a.args[0], "the argument of " + f + "() must be dimensionless, found " + args[0].text);
     }
-    return Term::Known(Dimension(), "1");
+    return Term::Flexible();
   }
   if (f == "sqrt" && args.size() == 1) {
     return args[0].kind == Term::kKnown ? Term::Known(args[0].dim.Power(0.5)) : args[0];
   }
   if ((f == "min" || f == "max" || f == "atan2") && args.size() == 2) {
     Term t = Unify(args[0], args[1], a, [&] { return "the arguments of " + f + "()"; });
-    return f == "atan2" ? Term::Known(Dimension(), "1") : t;
+    return f == "atan2" ? Term::Flexible() : t;
   }
   // Anything else (array functions, table look-ups): not known here.
   return Term::Unknown();

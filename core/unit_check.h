@@ -12,7 +12,9 @@
 /// - a number is *dimensionless but flexible*, as Modelica tools treat literals: it is 1 in a
 ///   product (`2*x` has x's dimension) and takes the dimension of what it is added to or compared
 ///   with (`x + 1`, `x > 0`, `m*a = 0`);
-/// - `time` is in s; `pi` is a number.
+/// - the value of exp, log, sin, atan2, sign … is dimensionless and flexible like a number;
+/// - `time` and `pi` have no dimension of their own (models without units use time freely, as in
+///   `sin(time)`); `der(x)` is x's dimension per second all the same.
 
 #include <functional>
 #include <optional>
