@@ -88,7 +88,8 @@ UnitChecker::Term UnitChecker::Unify(const Term& x, const Term& y, const Ast& at
                                      const std::function<std::string()>& what) {
   // Unknown matches anything; a number takes the other's dimension.
   if (x.kind == Term::kKnown && y.kind == Term::kKnown) {
-    if (x.dim != y.dim) Fail(at, what() + " have different dimensions: " + x.text + " against " + y.text);
+    if (x.dim != y.dim)
+      Fail(at, what() + " have different dimensions: " + x.text + " against " + y.text);
     return x;
   }
   if (x.kind == Term::kKnown) return x;
@@ -112,7 +113,8 @@ UnitChecker::Term UnitChecker::Eval(const Ast& a) {
       Term t = Eval(*a.args[0]);
       for (size_t k = 1; k < a.args.size(); ++k) {
         t = Unify(t, Eval(*a.args[k]), *a.args[k], [&] {
-          return "the terms '" + AstToString(*a.args[k - 1]) + "' and '" + AstToString(*a.args[k]) + "'";
+          return "the terms '" + AstToString(*a.args[k - 1]) + "' and '" + AstToString(*a.args[k]) +
+                 "'";
         });
       }
       return t;
@@ -138,7 +140,8 @@ UnitChecker::Term UnitChecker::Eval(const Ast& a) {
         Term base = Eval(*a.args[0]);
         Term exponent = Eval(*a.args[1]);
         if (exponent.kind == Term::kKnown && !exponent.dim.dimensionless()) {
-          Fail(*a.args[1], "the exponent '" + AstToString(*a.args[1]) + "' must be dimensionless, found " + exponent.text);
+          Fail(*a.args[1], "the exponent '" + AstToString(*a.args[1]) +
+                               "' must be dimensionless, found " + exponent.text);
         }
         if (base.kind != Term::kKnown || base.dim.dimensionless()) return base;
         std::optional<double> p = LiteralNumber(*a.args[1]);
@@ -156,14 +159,17 @@ UnitChecker::Term UnitChecker::Eval(const Ast& a) {
         bool is_value = k % 2 == 1 || k + 1 == a.args.size();
         Term x = Eval(*a.args[k]);
         if (!is_value) continue;
-        t = first ? x : Unify(t, x, *a.args[k], [] { return std::string("the branches of the if-expression"); });
+        t = first ? x : Unify(t, x, *a.args[k], [] {
+          return std::string("the branches of the if-expression");
+        });
         first = false;
       }
       return t;
     }
     case K::kArray: {
       Term t = Term::Flexible();
-      for (const auto& x : a.args) t = Unify(t, Eval(*x), *x, [] { return std::string("the elements of the array"); });
+      for (const auto& x : a.args)
+        t = Unify(t, Eval(*x), *x, [] { return std::string("the elements of the array"); });
       return t;
     }
     case K::kCall:
@@ -174,10 +180,12 @@ UnitChecker::Term UnitChecker::Eval(const Ast& a) {
   std::vector<Term> args;
   for (const auto& x : a.args) args.push_back(Eval(*x));
   if (f == "der") {
-    if (args.size() != 1 || args[0].kind != Term::kKnown) return args.empty() ? Term::Unknown() : args[0];
+    if (args.size() != 1 || args[0].kind != Term::kKnown)
+      return args.empty() ? Term::Unknown() : args[0];
     return Term::Known(args[0].dim / ParseUnit("s").dimension);
   }
-  if (f == "pre" || f == "noEvent" || f == "abs" || f == "smooth") return args.empty() ? Term::Unknown() : args.back();
+  if (f == "pre" || f == "noEvent" || f == "abs" || f == "smooth")
+    return args.empty() ? Term::Unknown() : args.back();
   if (f == "edge" || f == "change" || f == "initial" || f == "sign") return Term::Flexible();
   if (kTranscendental.count(f) && args.size() == 1) {
     if (args[0].kind == Term::kKnown && !args[0].dim.dimensionless()) {
@@ -249,7 +257,8 @@ void UnitChecker::Infer(const std::vector<std::pair<const Ast*, const Ast*>>& eq
       for (auto [side, other] : {std::pair{lhs, rhs}, std::pair{rhs, lhs}}) {
         bool is_der = false;
         const Ast* name = bare(*side, &is_der);
-        if (!name || NameTerm(*name).kind != Term::kUnknown || !unit_of_(name->PathText()).empty()) continue;
+        if (!name || NameTerm(*name).kind != Term::kUnknown || !unit_of_(name->PathText()).empty())
+          continue;
         Term t;
         try {
           t = Eval(*other);
@@ -264,7 +273,8 @@ void UnitChecker::Infer(const std::vector<std::pair<const Ast*, const Ast*>>& eq
   }
 }
 
-std::vector<std::string> OutputUnits(const FlatSystem& flat, const std::vector<std::string>& output_names) {
+std::vector<std::string> OutputUnits(const FlatSystem& flat,
+                                     const std::vector<std::string>& output_names) {
   std::unordered_map<std::string, std::string> unit_of;
   for (const auto& o : flat.outputs) unit_of.emplace(o.text, o.unit);
   if (unit_of.size() < output_names.size()) {  // the default outputs: states, by name
@@ -319,7 +329,8 @@ void CheckComponentUnits(const ComponentType& type, const UnitOfName& unit_of) {
     if (p.value) check.CheckAssignment(p.name, p.unit, *p.value, p.value_text, p.loc);
   }
   for (const auto& v : type.variables) {
-    if (v.start) check.CheckAssignment(v.name, unit_of(v.name), *v.start, AstToString(*v.start), v.loc);
+    if (v.start)
+      check.CheckAssignment(v.name, unit_of(v.name), *v.start, AstToString(*v.start), v.loc);
   }
   for (const auto& w : type.whens) {
     check.CheckExpression(*w.condition, w.text, w.loc);

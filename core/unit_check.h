@@ -93,7 +93,8 @@ AstPtr ValueInUnit(double value, const std::string& unit, const std::string& tar
 
 /// The unit of each column `output_names` names (an output's text or a variable's name, as a
 /// compiled model's output_names), "" where not known; `time` is not among them.
-std::vector<std::string> OutputUnits(const FlatSystem& flat, const std::vector<std::string>& output_names);
+std::vector<std::string> OutputUnits(const FlatSystem& flat,
+                                     const std::vector<std::string>& output_names);
 
 /// Parses `unit` and throws ModelError at `loc` when it does not parse (the loader's check of
 /// every `unit:` string).

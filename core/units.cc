@@ -42,7 +42,8 @@ struct NamedUnit {
 const std::map<std::string, NamedUnit>& UnitTable() {
   static const std::map<std::string, NamedUnit> table = [] {
     std::map<std::string, NamedUnit> t;
-    auto add = [&](const char* name, Dimension d, double factor, bool prefixable, double offset = 0) {
+    auto add = [&](const char* name, Dimension d, double factor, bool prefixable,
+                   double offset = 0) {
       t[name] = {Unit{d, factor, offset}, prefixable};
     };
     const Dimension none;
@@ -97,10 +98,9 @@ const std::map<std::string, NamedUnit>& UnitTable() {
 
 const std::map<std::string, double>& Prefixes() {
   static const std::map<std::string, double> p = {
-      {"Y", 1e24}, {"Z", 1e21}, {"E", 1e18}, {"P", 1e15}, {"T", 1e12},  {"G", 1e9},
-      {"M", 1e6},  {"k", 1e3},  {"h", 1e2},  {"da", 1e1}, {"d", 1e-1},  {"c", 1e-2},
-      {"m", 1e-3}, {"u", 1e-6}, {"n", 1e-9}, {"p", 1e-12}, {"f", 1e-15}, {"a", 1e-18},
-      {"z", 1e-21}, {"y", 1e-24}};
+      {"Y", 1e24}, {"Z", 1e21},  {"E", 1e18},  {"P", 1e15},  {"T", 1e12},  {"G", 1e9},  {"M", 1e6},
+      {"k", 1e3},  {"h", 1e2},   {"da", 1e1},  {"d", 1e-1},  {"c", 1e-2},  {"m", 1e-3}, {"u", 1e-6},
+      {"n", 1e-9}, {"p", 1e-12}, {"f", 1e-15}, {"a", 1e-18}, {"z", 1e-21}, {"y", 1e-24}};
   return p;
 }
 
@@ -163,7 +163,8 @@ class UnitParser {
     } else {
       size_t start = pos_;
       while (pos_ < text_.size() && std::isalpha(static_cast<unsigned char>(text_[pos_]))) ++pos_;
-      if (start == pos_) Fail(pos_ < text_.size() ? "expected a unit name" : "a unit name is missing at the end");
+      if (start == pos_)
+        Fail(pos_ < text_.size() ? "expected a unit name" : "a unit name is missing at the end");
       u = Symbol(text_.substr(start, pos_ - start), start);
     }
     // An exponent: m2, s-1, m^2, s^-2.
@@ -257,10 +258,11 @@ std::string DimensionText(const Dimension& d) {
   // The names engineers read, most common first: the first whose dimension matches is shown.
   static const std::vector<std::pair<Dimension, std::string>> kNamed = [] {
     std::vector<std::pair<Dimension, std::string>> v;
-    for (const char* s : {"1", "m", "kg", "s", "A", "K", "mol", "cd", "m/s", "m/s2", "N", "N.m",
-                          "W", "V", "Ohm", "F", "H", "C", "Pa", "1/s", "1/s2", "kg.m2", "N/m",
-                          "N.s/m", "N.s", "N.m.s", "m2", "m3", "Wb", "T", "S", "kg/m3", "W/K", "J/K",
-                          "m/s3", "N/s", "V/s", "A/s", "K/s", "W/s"}) {
+    for (const char* s :
+         {"1",    "m",     "kg",  "s",     "A",    "K",     "mol", "cd",  "m/s", "m/s2",
+          "N",    "N.m",   "W",   "V",     "Ohm",  "F",     "H",   "C",   "Pa",  "1/s",
+          "1/s2", "kg.m2", "N/m", "N.s/m", "N.s",  "N.m.s", "m2",  "m3",  "Wb",  "T",
+          "S",    "kg/m3", "W/K", "J/K",   "m/s3", "N/s",   "V/s", "A/s", "K/s", "W/s"}) {
       v.emplace_back(ParseUnit(s).dimension, s);
     }
     return v;

@@ -32,7 +32,8 @@ TEST(UnitsTest, EverySpellingInTheLibraryParses) {
   std::set<std::string> units;
   const std::regex unit_re(R"re(unit:\s*("([^"]*)"|([^,}\s]+)))re");
   for (const char* dir : {"components", "models", "models/msl"}) {
-    for (const auto& f : std::filesystem::directory_iterator(std::string(MOMENTA_SOURCE_DIR) + "/" + dir)) {
+    for (const auto& f :
+         std::filesystem::directory_iterator(std::string(MOMENTA_SOURCE_DIR) + "/" + dir)) {
       if (f.path().extension() != ".yaml") continue;
       std::ifstream in(f.path());
       std::string line;
@@ -138,9 +139,10 @@ TEST(UnitsTest, QuantitiesSplitIntoNumberAndUnit) {
 }
 
 TEST(UnitsTest, WhatDoesNotParseIsNamed) {
-  EXPECT_EQ(ParseError("mps"),
-            "unit 'mps' does not parse: unknown unit 'mps' at character 1 (write units as Modelica does: "
-            "m/s2, N.m, kg.m2, 1/s, rad/s, degC)");
+  EXPECT_EQ(
+      ParseError("mps"),
+      "unit 'mps' does not parse: unknown unit 'mps' at character 1 (write units as Modelica does: "
+      "m/s2, N.m, kg.m2, 1/s, rad/s, degC)");
   EXPECT_NE(ParseError("m/").find("a unit name is missing at the end"), std::string::npos);
   EXPECT_NE(ParseError("N.m/(rad.s").find("a missing ')'"), std::string::npos);
   EXPECT_NE(ParseError("m^x").find("an exponent must be a whole number"), std::string::npos);
