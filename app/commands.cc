@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <fstream>
 #include <iostream>
 #include <map>
 #include <sstream>
@@ -12,6 +13,8 @@
 #include "app/mat_writer.h"
 #include "core/build.h"
 #include "core/model_state.h"
+#include "core/unit_check.h"
+#include "core/units.h"
 #include "solver/simulator.h"
 #include "solver/sundials_support.h"
 
@@ -51,9 +54,59 @@ std::vector<MatParameter> MatParameters(const CompiledModel& model, const ModelS
   return out;
 }
 
+/// `text` as a number with a unit, or nullopt for a plain number; an unparsable unit is an error.
+std::optional<Quantity> QuantityOf(const std::string& name, const std::string& text) {
+  try {
+    return SplitQuantity(text);
+  } catch (const UnitError& e) {
+    throw std::invalid_argument("-p " + name + ": " + e.what());
+  }
+}
+
 }  // namespace
 
-ParameterOverrides ParseOverrides(const std::vector<std::string>& pairs) {
+std::string UnitsPath(const std::string& csv_path) {
+  const std::string ext = ".csv";
+  bool csv = csv_path.size() > ext.size() && csv_path.compare(csv_path.size() - ext.size(), ext.size(), ext) == 0;
+  return (csv ? csv_path.substr(0, csv_path.size() - ext.size()) : csv_path) + ".units.csv";
+}
+
+void WriteUnitsFile(const std::string& path, const std::vector<std::string>& names,
+                    const std::vector<std::string>& units) {
+  std::ofstream f(path);
+  f << "name,unit\n" << "time,s\n";
+  for (size_t k = 0; k < names.size(); ++k) {
+    f << CsvField(names[k]) << "," << CsvField(k < units.size() ? units[k] : "") << "\n";
+  }
+  f.flush();
+  if (!f) throw CsvWriteError("cannot write the units file " + path);
+}
+
+bool ApplyOverrideUnits(const FlatSystem& flat, const OverrideUnits& units, ParameterOverrides* overrides) {
+  bool changed = false;
+  for (const auto& [name, q] : units) {
+    auto p = std::find_if(flat.parameters.begin(), flat.parameters.end(),
+                          [&name = name](const FlatParameter& fp) { return fp.name == name; });
+    if (p == flat.parameters.end()) continue;  // reported by the build as an unknown parameter
+    std::ostringstream given;
+    given << "-p " << name << "=" << q.value << " " << q.unit;
+    if (p->unit.empty()) {
+      throw UsageError("momenta: " + given.str() + ": " + name + " declares no unit, so a value in " + q.unit +
+                       " cannot be converted; give it as a plain number");
+    }
+    double v;
+    try {
+      v = ConvertValue(q.value, q.unit, p->unit);
+    } catch (const UnitError& e) {
+      throw UsageError("momenta: " + given.str() + ": " + name + " is in " + p->unit + ": " + e.what());
+    }
+    changed = changed || v != (*overrides)[name];
+    (*overrides)[name] = v;
+  }
+  return changed;
+}
+
+ParameterOverrides ParseOverrides(const std::vector<std::string>& pairs, OverrideUnits* units) {
   ParameterOverrides out;
   for (const auto& p : pairs) {
     size_t eq = p.find('=');
@@ -66,6 +119,13 @@ ParameterOverrides ParseOverrides(const std::vector<std::string>& pairs) {
       v = 1;
     } else if (text == "false") {
       v = 0;
+    } else if (std::optional<Quantity> q = QuantityOf(name, text)) {
+      // A value with a unit (10kN/m): SI for now; ApplyOverrideUnits converts it to the
+      // parameter's own unit once the model tells it.
+      if (!units) throw std::invalid_argument("-p " + name + ": this command takes plain numbers, found '" + text + "'");
+      (*units)[name] = *q;
+      const Unit unit = ParseUnit(q->unit);
+      v = q->value * unit.factor + unit.offset;
     } else {
       try {
         size_t used = 0;
@@ -84,13 +144,14 @@ ParameterOverrides ParseOverrides(const std::vector<std::string>& pairs) {
 /// after printing what went wrong.
 int LoadAndBuild(const std::string& path, const std::vector<std::string>& params, LoadedModel* out) {
   ParameterOverrides overrides;
+  OverrideUnits units;
   try {
-    overrides = ParseOverrides(params);
+    overrides = ParseOverrides(params, &units);
   } catch (const std::invalid_argument& e) {
     std::cerr << "momenta: " << e.what() << "\n";
     return kExitUsage;
   }
-  return LoadAndBuild(path, overrides, out);
+  return LoadAndBuild(path, overrides, out, units);
 }
 
 int ResolveRunOptions(const std::string& model_path, const LoadedModel& loaded, const SimulateOverrides& overrides,
@@ -105,13 +166,17 @@ int ResolveRunOptions(const std::string& model_path, const LoadedModel& loaded, 
   return kExitOk;
 }
 
-int LoadAndBuild(const std::string& path, const ParameterOverrides& overrides, LoadedModel* out) {
+int LoadAndBuild(const std::string& path, const ParameterOverrides& overrides, LoadedModel* out,
+                 const OverrideUnits& units) {
   out->overrides = overrides;
   try {
     auto t0 = Clock::now();
     ModelSpec spec = LoadModelFile(path);
     out->load_s = Since(t0);
     auto t1 = Clock::now();
+    // Values given with units are converted to their parameters' declared units, which the
+    // flattened model tells (flattened with the values in SI, in case one shapes the structure).
+    if (!units.empty()) ApplyOverrideUnits(Flatten(spec, BuiltinLibrary(), out->overrides), units, &out->overrides);
     out->model = BuildModel(spec, BuiltinLibrary(), out->overrides, &out->report);
     out->build_s = Since(t1);
     out->state = std::make_unique<ModelState>(out->model);
@@ -144,9 +209,12 @@ int RunSimulate(const SimulateArgs& args) {
   try {
     if (IsMatPath(out_path)) {
       csv = std::make_unique<MatWriter>(out_path, model->output_names, MatParameters(*model, *state), opt.start,
-                                        opt.stop);
+                                        opt.stop, OutputUnits(*model->flat, model->output_names));
     } else {
       csv = std::make_unique<CsvWriter>(out_path, model->output_names);
+      if (out_path != "-") {
+        WriteUnitsFile(UnitsPath(out_path), model->output_names, OutputUnits(*model->flat, model->output_names));
+      }
     }
   } catch (const CsvWriteError& e) {
     std::cerr << "momenta: " << e.what() << "\n";

@@ -6,12 +6,14 @@
 #include <string>
 #include <vector>
 
+#include <map>
 #include <memory>
 
 #include "app/simulate_options.h"
 #include "core/build.h"
 #include "core/flat_system.h"
 #include "core/model_state.h"
+#include "core/units.h"
 
 namespace momenta {
 
@@ -35,8 +37,23 @@ int RunSimulate(const SimulateArgs& args);
 int RunCheck(const CheckArgs& args);
 int RunList(const std::string& name);
 
-/// Parses NAME=VALUE pairs; throws std::invalid_argument with a usage message.
-ParameterOverrides ParseOverrides(const std::vector<std::string>& pairs);
+/// The companion file of a CSV result that gives every column's unit: "out.csv" ->
+/// "out.units.csv" (docs/FORMAT.md, "Units").
+std::string UnitsPath(const std::string& csv_path);
+/// Writes `name,unit` rows, `time,s` first; throws CsvWriteError when that fails.
+void WriteUnitsFile(const std::string& path, const std::vector<std::string>& names,
+                    const std::vector<std::string>& units);
+
+/// -p values written with a unit (`-p k=10kN/m`), by parameter name.
+using OverrideUnits = std::map<std::string, Quantity>;
+
+/// Parses NAME=VALUE pairs; throws std::invalid_argument with a usage message. A value with a
+/// unit is stored in SI in the result and recorded in `*units` (refused when `units` is null).
+ParameterOverrides ParseOverrides(const std::vector<std::string>& pairs, OverrideUnits* units = nullptr);
+
+/// Converts the values of `units` into their parameters' declared units in `*overrides`; returns
+/// whether any value changed. Throws UsageError naming both units when the dimensions differ.
+bool ApplyOverrideUnits(const FlatSystem& flat, const OverrideUnits& units, ParameterOverrides* overrides);
 
 /// What simulate, check and sweep start from: the built model and its parameter values.
 struct LoadedModel {
@@ -49,7 +66,8 @@ struct LoadedModel {
 
 /// Loads and builds the model with `overrides` and sets its parameters; returns an exit code
 /// (kExitOk on success) after printing what went wrong.
-int LoadAndBuild(const std::string& path, const ParameterOverrides& overrides, LoadedModel* out);
+int LoadAndBuild(const std::string& path, const ParameterOverrides& overrides, LoadedModel* out,
+                 const OverrideUnits& units = {});
 /// The same with -p's NAME=VALUE texts, parsed first.
 int LoadAndBuild(const std::string& path, const std::vector<std::string>& params, LoadedModel* out);
 

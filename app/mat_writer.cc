@@ -40,8 +40,14 @@ bool IsMatPath(const std::string& path) {
 }
 
 MatWriter::MatWriter(const std::string& path, const std::vector<std::string>& output_names,
-                     std::vector<MatParameter> parameters, double start, double stop)
-    : path_(path), outputs_(output_names), parameters_(std::move(parameters)), start_(start), stop_(stop) {
+                     std::vector<MatParameter> parameters, double start, double stop,
+                     std::vector<std::string> output_units)
+    : path_(path),
+      outputs_(output_names),
+      output_units_(std::move(output_units)),
+      parameters_(std::move(parameters)),
+      start_(start),
+      stop_(stop) {
   errno = 0;
   mat_ = Mat_CreateVer(path.c_str(), nullptr, MAT_FT_MAT4);
   if (!mat_) {
@@ -69,9 +75,10 @@ void MatWriter::Close() {
   descriptions.reserve(n);
   names.push_back("time");
   descriptions.push_back("Simulation time [s]");
-  for (const auto& o : outputs_) {
-    names.push_back(o);
-    descriptions.push_back("");
+  for (size_t k = 0; k < outputs_.size(); ++k) {
+    names.push_back(outputs_[k]);
+    const bool unit = k < output_units_.size() && !output_units_[k].empty();
+    descriptions.push_back(unit ? "[" + output_units_[k] + "]" : "");
   }
   for (const auto& p : parameters_) {
     names.push_back(p.name);

@@ -39,8 +39,11 @@ struct MatParameter {
 class MatWriter : public ResultWriter {
  public:
   /// Creates `path` at once (throws ResultWriteError naming it when it cannot be created).
+  /// `output_units` (optional, one per output, "" when unknown) go into each output's
+  /// description as OpenModelica writes them: "[m/s]".
   MatWriter(const std::string& path, const std::vector<std::string>& output_names,
-            std::vector<MatParameter> parameters, double start, double stop);
+            std::vector<MatParameter> parameters, double start, double stop,
+            std::vector<std::string> output_units = {});
   ~MatWriter() override;
   MatWriter(const MatWriter&) = delete;
   MatWriter& operator=(const MatWriter&) = delete;
@@ -52,7 +55,7 @@ class MatWriter : public ResultWriter {
 
  private:
   std::string path_;
-  std::vector<std::string> outputs_;
+  std::vector<std::string> outputs_, output_units_;
   std::vector<MatParameter> parameters_;
   double start_, stop_;
   _mat_t* mat_ = nullptr;

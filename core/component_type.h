@@ -119,6 +119,9 @@ struct Modifier {
   std::string key;
   AstPtr value;      ///< parameter value; null for a variable modifier
   std::string value_text;
+  /// The unit a value was written with (`m: 40 kg`): `value` is the number, converted to the
+  /// parameter's declared unit when the type is known. Empty for a plain value.
+  std::string value_unit;
   AstPtr start;      ///< variable modifier: start value (may be null)
   std::optional<bool> fixed;
   std::optional<int> state_priority;  ///< stateSelect, as VariableDecl::state_priority

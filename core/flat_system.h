@@ -120,6 +120,9 @@ struct FlatOutput {
   std::string text;
   ExprId expr;
   SourceLoc loc;
+  /// Its unit: a variable's or parameter's declared unit, an expression's dimension in the
+  /// words of core/units.h ("N.m", "m/s"), or "" when not known.
+  std::string unit;
 };
 
 struct FlatSystem {

@@ -23,6 +23,7 @@
 #include "core/memory_budget.h"
 #include "core/parser.h"
 #include "core/time_table.h"
+#include "core/unit_check.h"
 
 namespace momenta {
 
@@ -736,6 +737,7 @@ class Flattener {
       L.discrete[tmpl.contact] = true;
       L.impacts.push_back(std::move(tmpl));
     }
+    CheckTypeUnits(L);
     LayoutPartTemplates(&L, parts);
     InnerConnections(&L, parts);
     CheckLocalBalance(L);
@@ -743,6 +745,17 @@ class Flattener {
     const TypeLayout& ref = *layout;
     layouts_[type] = std::move(layout);
     return ref;
+  }
+
+  /// The dimension check of a type's own equations (core/unit_check.h), once per type.
+  static void CheckTypeUnits(const TypeLayout& L) {
+    CheckComponentUnits(*L.type, [&L](const std::string& name) -> std::string {
+      if (auto v = L.var_index.find(name); v != L.var_index.end()) return L.vars[v->second].unit;
+      if (auto p = L.param_index.find(name); p != L.param_index.end()) {
+        return L.params[p->second].decl ? L.params[p->second].decl->unit : std::string();
+      }
+      return std::string();
+    });
   }
 
   // -------------------------------------------------------------------------------------------
@@ -928,7 +941,8 @@ class Flattener {
       for (const Modifier& m : pl.spec->modifiers) {
         auto [is_param, k] = ModifierTarget(*pl.spec, S, m);
         if (is_param) {
-          L.param_defaults[po + k] = MakeTemplate(L, *m.value, m.value_text, m.loc, true);
+          const AstPtr value = ModifierValue(m, *S.params[k].decl, pl.spec->name);
+          L.param_defaults[po + k] = MakeTemplate(L, *value, m.value_text, m.loc, true);
           L.params[po + k].loc = m.loc;
         } else {
           if (m.start) L.starts[vo + k] = MakeTemplate(L, *m.start, AstToString(*m.start), m.loc, true);
@@ -939,6 +953,13 @@ class Flattener {
       }
       template_loop_ = nullptr;
     }
+  }
+
+  /// A parameter modifier's value; one written with a unit (`m: 40 kg`) converted to the
+  /// parameter's declared unit.
+  static AstPtr ModifierValue(const Modifier& m, const ParameterDecl& target, const std::string& component) {
+    if (m.value_unit.empty()) return m.value;
+    return ValueInUnit(m.value->number, m.value_unit, target.unit, component + "." + target.name, m.loc);
   }
 
   /// Which parameter (first = true) or variable of `S` a modifier of component `c` sets.
@@ -1897,7 +1918,7 @@ class Flattener {
       fp.doc = d.doc;
       fp.instance = instance_of(lp.sub);
       if (const Modifier* m = param_mod[k]) {
-        fp.binding = ModelExpr(*m->value, m->value_text, m->loc, index, false);
+        fp.binding = ModelExpr(*ModifierValue(*m, d, path), m->value_text, m->loc, index, false);
         fp.loc = m->loc;
       } else {
         fp.binding = Instantiate(L.param_defaults[k], data.first_var, data.first_param, path, d.value_text, d.loc);
@@ -2224,6 +2245,7 @@ class Flattener {
         }
         for (uint32_t s : set) {
           if (s == outputs[0]) continue;
+          CheckConnectedUnits(var_of(s, 0), name_of(s), var_of(outputs[0], 0), name_of(outputs[0]), loc);
           add(p.Sub(p.Var(var_of(s, 0)), p.Var(var_of(outputs[0], 0))),
               name_of(s) + " = " + name_of(outputs[0]) + " (connection)");
         }
@@ -2245,6 +2267,20 @@ class Flattener {
     }
   }
 
+  /// Connected signals have one dimension when both declare a unit (a string compare first, so
+  /// the cost per connection is small).
+  void CheckConnectedUnits(VarId a, const std::string& a_name, VarId b, const std::string& b_name,
+                           const SourceLoc& loc) {
+    const std::string& ua = flat_.variables[a.value()].unit;
+    const std::string& ub = flat_.variables[b.value()].unit;
+    if (ua.empty() || ub.empty() || ua == ub) return;
+    std::optional<Dimension> da = ModelUnits().DimensionOf(ua), db = ModelUnits().DimensionOf(ub);
+    if (da && db && *da != *db) {
+      throw ModelError(loc, "dimension mismatch in the connection of " + a_name + " [" + ua + "] to " + b_name +
+                                " [" + ub + "]: " + DimensionText(*da) + " against " + DimensionText(*db));
+    }
+  }
+
   // -------------------------------------------------------------------------------------------
   // Model equations, outputs, parameter order
 
@@ -2260,6 +2296,9 @@ class Flattener {
       out->push_back(std::move(eq));
     };
     for (const auto& d : spec_.equations) add(d, EquationOrigin::kModel, &flat_.equations);
+    for (const auto* list : {&spec_.equations, &spec_.initial_equations}) {
+      for (const auto& d : *list) ModelUnits().CheckEquation(*d.ast.lhs, *d.ast.rhs, d.text, d.loc);
+    }
     for (const auto& w : spec_.whens) {
       FlatWhen fw;
       fw.condition = ModelExpr(*w.condition, w.text, w.loc, nullptr, true);
@@ -2278,8 +2317,27 @@ class Flattener {
       fw.text = w.text;
       fw.loc = w.loc;
       flat_.whens.push_back(std::move(fw));
+      ModelUnits().CheckExpression(*w.condition, w.text, w.loc);
     }
     for (const auto& d : spec_.initial_equations) add(d, EquationOrigin::kInitial, &flat_.initial_equations);
+  }
+
+  /// The dimension check of the model's own equations and outputs: names are resolved as the
+  /// model's expressions resolve them (a variable's or parameter's unit; "" for anything else).
+  UnitChecker& ModelUnits() {
+    if (!model_units_) {
+      model_units_.emplace("model " + spec_.name, [this](const std::string& path) -> std::string {
+        try {
+          ExprId e = ModelExpr(*ParseName(path, SourceLoc()), path, SourceLoc(), nullptr, true);
+          if (pool().op(e) == Op::kVar) return flat_.variables[pool().node(e).a].unit;
+          if (pool().op(e) == Op::kParam) return flat_.parameters[pool().node(e).a].unit;
+        } catch (const ModelError&) {
+          // time, pi, a loop index: not a variable or parameter.
+        }
+        return std::string();
+      });
+    }
+    return *model_units_;
   }
 
   void Outputs() {
@@ -2288,7 +2346,7 @@ class Flattener {
       if (seen.count(o.text)) throw ModelError(o.loc, "output '" + o.text + "' is listed twice");
       seen[o.text] = o.loc;
       ExprId e = ModelExpr(*o.expr, o.text, o.loc, nullptr, true);
-      flat_.outputs.push_back({o.text, e, o.loc});
+      flat_.outputs.push_back({o.text, e, o.loc, ModelUnits().UnitText(*o.expr, o.text, o.loc)});
     }
   }
 
@@ -2352,6 +2410,7 @@ class Flattener {
   const ModelSpec& spec_;
   const Library& library_;
   const ParameterOverrides& overrides_;
+  std::optional<UnitChecker> model_units_;
   std::shared_ptr<Library> defines_ = std::make_shared<Library>();
   FlatSystem flat_;
   std::unordered_map<std::string, ParamId> model_param_;

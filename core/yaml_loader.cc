@@ -17,6 +17,7 @@
 #include "core/arrays.h"
 #include "core/model_spec.h"
 #include "core/parser.h"
+#include "core/unit_check.h"
 
 namespace momenta {
 
@@ -149,6 +150,33 @@ class Reader {
     }
   }
 
+  /// A `unit:` string, checked to parse (an error at its place otherwise).
+  std::string UnitString(const YAML::Node& n, const std::string& what) const {
+    std::string unit = Scalar(n, what);
+    CheckUnitString(unit, TextLoc(n), "the unit of " + what);
+    return unit;
+  }
+
+  /// A value as an expression; a number written with a unit ("40 kg", "10kN/m") is the number,
+  /// and `*unit` receives the unit for the caller to convert (core/units.h).
+  AstPtr ValueExpression(const YAML::Node& n, const std::string& what, std::string* unit) const {
+    if (n.IsScalar()) {
+      std::optional<Quantity> q;
+      try {
+        q = SplitQuantity(n.Scalar());
+      } catch (const UnitError& e) {
+        Fail(n, std::string(e.what()) + ", in the value of " + what);
+      }
+      if (q) {
+        *unit = q->unit;
+        auto number = std::make_shared<Ast>();
+        number->number = q->value;
+        return number;
+      }
+    }
+    return Expression(n, what);
+  }
+
   /// The key of a component, parameter or variable the model's expressions refer to: a name as
   /// the expression parser reads it (ASCII letters, digits and '_', not starting with a digit).
   std::string Name(const YAML::Node& key, const std::string& what) const {
@@ -182,23 +210,28 @@ class Reader {
     p.name = name;
     p.loc = Loc(n);
     std::string what = owner + "." + name;
+    std::string value_unit;
     if (n.IsMap()) {
       CheckKeys(n, "parameter " + what, {"value", "unit", "doc", "min", "max", "type", "shape"});
       if (!n["value"]) Fail(n, "parameter " + what + " needs a value");
-      p.value = Expression(n["value"], "value of " + what);
+      p.value = ValueExpression(n["value"], "value of " + what, &value_unit);
       p.value_text = ValueText(n["value"], "value of " + what);
       if (n["shape"]) p.shape = ReadShape(n["shape"], what, true);
       p.loc = TextLoc(n["value"]);
-      if (n["unit"]) p.unit = Scalar(n["unit"], what + ".unit");
+      if (n["unit"]) p.unit = UnitString(n["unit"], what);
       if (n["doc"]) p.doc = Scalar(n["doc"], what + ".doc");
       p.min = OptionalNumber(n, "min", what);
       p.max = OptionalNumber(n, "max", what);
       if (n["type"]) p.type = Type(n["type"], what);
     } else {
-      p.value = Expression(n, "value of " + what);
+      p.value = ValueExpression(n, "value of " + what, &value_unit);
       p.value_text = ValueText(n, "value of " + what);
       p.loc = TextLoc(n);
     }
+    // `m: 40 kg`: a parameter without a declared unit takes the value's; one with a unit gets the
+    // value converted to it.
+    if (!value_unit.empty() && p.unit.empty()) p.unit = value_unit;
+    if (!value_unit.empty()) p.value = ValueInUnit(p.value->number, value_unit, p.unit, what, p.loc);
     if (p.value->kind == Ast::Kind::kBool && !(n.IsMap() && n["type"])) {
       p.type = ValueType::kBoolean;
     }
@@ -227,7 +260,7 @@ class Reader {
     CheckKeys(n, "variable " + what,
               {"unit", "doc", "start", "fixed", "nominal", "min", "max", "stateSelect", "type", "shape"});
     if (n["shape"]) v.shape = ReadShape(n["shape"], what);
-    if (n["unit"]) v.unit = Scalar(n["unit"], what + ".unit");
+    if (n["unit"]) v.unit = UnitString(n["unit"], what);
     if (n["doc"]) v.doc = Scalar(n["doc"], what + ".doc");
     if (n["start"]) v.start = Expression(n["start"], "start of " + what);
     if (n["fixed"]) v.fixed = Bool(n["fixed"], what + ".fixed");
@@ -349,7 +382,7 @@ class Reader {
         if (it->second.IsMap()) {
           CheckKeys(it->second, name + "." + v.name, {"unit", "doc", "shape"});
           if (it->second["shape"]) v.shape = ReadShape(it->second["shape"], name + "." + v.name);
-          if (it->second["unit"]) v.unit = it->second["unit"].Scalar();
+          if (it->second["unit"]) v.unit = UnitString(it->second["unit"], name + "." + v.name);
           if (it->second["doc"]) v.doc = it->second["doc"].Scalar();
         }
         out->push_back(v);
@@ -484,7 +517,7 @@ class Reader {
         if (it->second["fixed"]) m.fixed = Bool(it->second["fixed"], name + "." + key + ".fixed");
         if (it->second["stateSelect"]) m.state_priority = StateSelect(it->second["stateSelect"], name + "." + key);
       } else {
-        m.value = Expression(it->second, name + "." + key);
+        m.value = ValueExpression(it->second, name + "." + key, &m.value_unit);
         m.value_text = ValueText(it->second, name + "." + key);
         m.loc = TextLoc(it->second);
       }

@@ -224,7 +224,7 @@ TEST_F(CliTest, UsageErrorsExitWithTwo) {
            {{"simulate", "pushed.yaml", "-p", "=3"}, "NAME=VALUE"},
            {{"simulate", "pushed.yaml", "-p", "F="}, "NAME=VALUE"},
            {{"simulate", "pushed.yaml", "-p", "F=abc"}, "'abc' is not a number"},
-           {{"check", "pushed.yaml", "-p", "F=1x"}, "'1x' is not a number"},
+           {{"check", "pushed.yaml", "-p", "F=1x"}, "-p F: unit 'x' does not parse"},
            {{"simulate", "pushed.yaml", "--linear-solver", "lu"}, "lu"},
            {{"simulate", "pushed.yaml", "--rtol", "small"}, "small"},
            {{"simulate", "pushed.yaml", "--no-such-flag"}, "--no-such-flag"},

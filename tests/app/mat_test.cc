@@ -217,6 +217,8 @@ TEST_F(MatTest, CarrierCollisionMatEqualsItsCsv) {
   }
   // A parameter's description is its doc and unit.
   EXPECT_EQ(descriptions[by_name["mA"]], "mass of carrier A [kg]");
+  // An output's description is its unit, as OpenModelica writes it.
+  EXPECT_EQ(descriptions[by_name["B.v"]], "[m/s]");
   // The closed form at the end: B after both impacts (eC = 0.8, eS = 0.4).
   const double vB1 = 40 * 5 * 1.8 / 80, vB2 = (40 - 0.4 * 15) * vB1 / 55;
   EXPECT_NEAR(value(by_name["B.v"], csv.rows.size() - 1), vB2, 1e-9);
