@@ -8,6 +8,7 @@
 
 #include <memory>
 
+#include "app/report_scene.h"
 #include "app/simulate_options.h"
 #include "core/build.h"
 #include "core/flat_system.h"
@@ -23,6 +24,8 @@ struct SimulateArgs {
   SimulateOverrides options;        ///< --stop, --rtol, --atol, --interval, --linear-solver
   std::string out;  ///< empty: <model file stem>.csv
   bool quiet = false;
+  std::string report;          ///< --report: the HTML report to write (empty: none)
+  bool scene_columns = false;  ///< --scene-columns: the scene's quantities go into the results file too
 };
 
 struct CheckArgs {
@@ -45,6 +48,11 @@ struct LoadedModel {
   BuildReport report;
   ParameterOverrides overrides;
   double load_s = 0, build_s = 0;
+  std::string doc;  ///< the model's doc
+  /// Set before LoadAndBuild: the model also outputs what its parts' animation draws (`scene`,
+  /// app/report_scene.h), after its own outputs.
+  bool with_scene = false;
+  Scene scene;
 };
 
 /// Loads and builds the model with `overrides` and sets its parameters; returns an exit code
