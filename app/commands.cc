@@ -24,12 +24,7 @@ using Clock = std::chrono::steady_clock;
 
 double Since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
-std::string Ms(double seconds) {
-  std::ostringstream s;
-  s.precision(3);
-  s << seconds * 1e3 << " ms";
-  return s.str();
-}
+std::string Ms(double seconds) { return FormatMs(seconds); }
 
 std::string Stem(const std::string& path) {
   size_t slash = path.find_last_of('/');
@@ -53,6 +48,20 @@ std::vector<MatParameter> MatParameters(const CompiledModel& model, const ModelS
 }
 
 }  // namespace
+
+std::string FormatMs(double seconds) {
+  std::ostringstream s;
+  s.precision(3);
+  s << seconds * 1e3 << " ms";
+  return s.str();
+}
+
+std::string WithExtension(const std::string& path, const std::string& extension) {
+  const size_t slash = path.find_last_of('/');
+  const size_t dot = path.find_last_of('.');
+  const bool has = dot != std::string::npos && (slash == std::string::npos || dot > slash + 1);
+  return (has ? path.substr(0, dot) : path) + extension;
+}
 
 ParameterOverrides ParseOverrides(const std::vector<std::string>& pairs) {
   ParameterOverrides out;

@@ -38,6 +38,12 @@ int RunSimulate(const SimulateArgs& args);
 int RunCheck(const CheckArgs& args);
 int RunList(const std::string& name);
 
+/// A duration in milliseconds, three significant digits ("3.38 ms"), as the summaries print it.
+std::string FormatMs(double seconds);
+
+/// `path` with its extension (if any, after the last '/') replaced by `extension` (".html").
+std::string WithExtension(const std::string& path, const std::string& extension);
+
 /// Parses NAME=VALUE pairs; throws std::invalid_argument with a usage message.
 ParameterOverrides ParseOverrides(const std::vector<std::string>& pairs);
 

@@ -83,7 +83,7 @@ std::string GnuplotScript(const PlotArgs& args, const std::string& out_path) {
 }
 
 int RunPlot(const PlotArgs& args) {
-  const std::string out = args.out.empty() ? args.result.substr(0, args.result.find_last_of('.')) + ".svg" : args.out;
+  const std::string out = args.out.empty() ? WithExtension(args.result, ".svg") : args.out;
   if (!EndsWith(out, ".svg") && !EndsWith(out, ".png")) {
     std::cerr << "momenta: -o " << out << ": the plot is written as SVG or PNG, chosen by the extension (.svg or .png)\n";
     return kExitUsage;

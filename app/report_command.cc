@@ -12,13 +12,6 @@ namespace momenta {
 
 namespace {
 
-std::string Ms(double seconds) {
-  std::ostringstream s;
-  s.precision(3);
-  s << seconds * 1e3 << " ms";
-  return s.str();
-}
-
 std::string Num(long n) { return std::to_string(n); }
 
 }  // namespace
@@ -38,9 +31,9 @@ ReportData ReportFromModel(const std::string& model_path, const LoadedModel& loa
   d.build.push_back({"components", Num(static_cast<long>(r.num_components))});
   d.build.push_back({"unknowns (states)", Num(static_cast<long>(model.num_unknowns())) + " (" +
                                                Num(static_cast<long>(model.num_states())) + ")"});
-  d.build.push_back({"load", Ms(loaded.load_s)});
-  for (const auto& p : r.passes) d.build.push_back({p.name, Ms(p.seconds) + (p.note.empty() ? "" : " · " + p.note)});
-  d.build.push_back({"build in all", Ms(loaded.load_s + loaded.build_s)});
+  d.build.push_back({"load", FormatMs(loaded.load_s)});
+  for (const auto& p : r.passes) d.build.push_back({p.name, FormatMs(p.seconds) + (p.note.empty() ? "" : " · " + p.note)});
+  d.build.push_back({"build in all", FormatMs(loaded.load_s + loaded.build_s)});
   for (const auto& w : r.warnings) d.notes.push_back("warning: " + w);
   return d;
 }
@@ -52,8 +45,8 @@ void AddRunStats(const SimulationOptions& o, const SolverStats& s, ReportData* d
   t.push_back({"tolerances", "rtol " + FormatDouble(o.rtol) + ", atol " + FormatDouble(o.atol)});
   t.push_back({"integrator", "IDA (SUNDIALS 6.4.1" + std::string(SundialsOptimized() ? "" : ", unoptimised") + "), " +
                                  s.linear_solver + " LU"});
-  t.push_back({"initialise", Ms(s.init_seconds)});
-  t.push_back({"integrate", Ms(s.integrate_seconds)});
+  t.push_back({"initialise", FormatMs(s.init_seconds)});
+  t.push_back({"integrate", FormatMs(s.integrate_seconds)});
   t.push_back({"steps", Num(s.steps)});
   t.push_back({"residual evaluations", Num(s.residual_evals)});
   t.push_back({"Jacobians", Num(s.jacobian_evals)});
@@ -76,7 +69,7 @@ int SaveReport(const std::string& path, const ReportData& data, std::string* sum
   const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::ostringstream line;
   line << "  report: " << path << " (" << (html.size() + 512) / 1024 << " KiB, " << data.time.size() << " rows, "
-       << data.scene.shapes.size() << " scene shapes; written in " << Ms(s) << ")\n";
+       << data.scene.shapes.size() << " scene shapes; written in " << FormatMs(s) << ")\n";
   *summary = line.str();
   if (!ReportHasPlots()) {
     std::cerr << "momenta: note: this build has no uPlot (run scripts/setup.sh and rebuild): the report " << path
@@ -114,7 +107,7 @@ int RunReport(const ReportArgs& args) {
   }
   d.num_plotted = d.scene.num_model_columns;
   d.solver.push_back({"solver statistics", "not recorded in a result file (simulate --report records them)"});
-  const std::string out = args.out.empty() ? args.result.substr(0, args.result.find_last_of('.')) + ".html" : args.out;
+  const std::string out = args.out.empty() ? WithExtension(args.result, ".html") : args.out;
   std::string summary;
   const int code = SaveReport(out, d, &summary);
   std::cout << summary;

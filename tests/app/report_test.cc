@@ -144,12 +144,47 @@ components:
   EXPECT_TRUE(Contains(error("{shape: line, from: [x, 0], to: [0, 0], colour: red}"), "test.yaml:8:"));
 }
 
+TEST(ReportPageTest, UserTextCannotEndTheDataScript) {
+  ReportData d;
+  d.model_name = "M";
+  d.doc = "a doc with </script><b>bold</b> and \"quotes\"";
+  d.columns = {"x"};
+  d.num_plotted = 1;
+  d.Row(0, {1});
+  const std::string html = ReportHtml(d);
+  // The page's own three scripts end; the doc's text is written \u003c/script>.
+  EXPECT_EQ(Count(html, "</script>"), 3u);
+  EXPECT_TRUE(Contains(html, "\"doc\":\"a doc with \\u003c/script>\\u003cb>bold\\u003c/b> and \\\"quotes\\\"\"")) << html.substr(html.find("\"doc\""), 120);
+}
+
+TEST(ReportPageTest, LongRunsAreThinnedKeepingEveryEventRow) {
+  // 50 001 rows with an event at t = 30001 (two rows): at most kMaxReportRows rows plus the
+  // event rows and the last reach the page, and the event's two rows are among them.
+  ReportData d;
+  d.model_name = "M";
+  d.columns = {"x"};
+  d.num_plotted = 1;
+  for (int i = 0; i < 50000; ++i) {
+    d.Row(i, {double(i)});
+    if (i == 30001) d.Row(i, {-1.0});
+  }
+  const std::string html = ReportHtml(d);
+  EXPECT_TRUE(Contains(html, "\"events\":[30001]"));
+  EXPECT_TRUE(Contains(html, "\"rows\":50001,"));
+  const size_t begin = html.find("\"data\":[[") + 9, end = html.find(']', begin);
+  const std::string times = html.substr(begin, end - begin);
+  EXPECT_LE(Count(times, ",") + 1, kMaxReportRows + 3);
+  EXPECT_GE(Count(times, ",") + 1, kMaxReportRows / 2);
+  EXPECT_TRUE(Contains(times, ",30001,30001,"));
+  EXPECT_TRUE(Contains(times, ",49999"));
+}
+
 // ---- In a real browser ------------------------------------------------------------------------
 
 bool HaveChromium() { return std::system("command -v chromium >/dev/null 2>&1") == 0; }
 
-/// Runs headless Chromium on `html` with `mode` (--dump-dom, or --screenshot=FILE) and returns its
-/// standard output. Virtual time lets the page's scripts finish before the DOM is taken.
+/// Runs headless Chromium on `html` with `mode` (--dump-dom and --screenshot=FILE) and returns its
+/// standard output (the DOM). Virtual time lets the page's scripts finish before the DOM is taken.
 std::string Chromium(const TempDir& dir, const std::string& html, const std::string& mode) {
   const std::string out = dir.File("chromium.out");
   const std::string cmd = "cd '" + dir.path() + "' && timeout 120 chromium --headless --no-sandbox --disable-gpu " +
@@ -174,21 +209,17 @@ struct Rendered {
   size_t rows = 0;  ///< rows of the run's CSV
 };
 
-/// Simulates `model` with --report and loads the page in Chromium: its DOM, and with `screenshot`
-/// a screenshot too (each Chromium start costs seconds, so the slider crank, whose DOM is the
-/// check, goes without).
-Rendered RenderReport(const TempDir& dir, const std::string& model, bool screenshot) {
+/// Simulates `model` with --report and loads the page once in Chromium, which dumps its DOM and
+/// takes a screenshot in the same run (each Chromium start costs seconds).
+Rendered RenderReport(const TempDir& dir, const std::string& model) {
   Rendered r;
   const std::string html = dir.File("report.html"), csv = dir.File("run.csv");
   CliResult sim = RunMomenta({"simulate", SourcePath(model), "-o", csv, "--report", html}, dir.path());
   EXPECT_EQ(sim.exit_code, 0) << sim.err;
   EXPECT_TRUE(Contains(sim.out, "report: " + html)) << sim.out;
   r.rows = ReadResult(csv).time.size();
-  r.dom = Chromium(dir, html, "--dump-dom");
-  if (screenshot) {
-    Chromium(dir, html, "--screenshot='" + dir.File("shot.png") + "'");
-    r.shot = testing::ReadPng(dir.File("shot.png"));
-  }
+  r.dom = Chromium(dir, html, "--dump-dom --screenshot='" + dir.File("shot.png") + "'");
+  r.shot = testing::ReadPng(dir.File("shot.png"));
   return r;
 }
 
@@ -212,7 +243,7 @@ class ReportBrowserTest : public ::testing::Test {
 };
 
 TEST_F(ReportBrowserTest, CarrierCollisionPlotsEveryOutput) {
-  const Rendered r = RenderReport(dir_, "models/carrier_collision.yaml", true);
+  const Rendered r = RenderReport(dir_, "models/carrier_collision.yaml");
   // Ten outputs without units: two charts of at most eight series; no scene (1-D parts only).
   EXPECT_EQ(DataAttribute(r.dom, "series"), 10) << r.dom.substr(0, 2000);
   EXPECT_EQ(DataAttribute(r.dom, "plots"), 2);
@@ -222,7 +253,7 @@ TEST_F(ReportBrowserTest, CarrierCollisionPlotsEveryOutput) {
 }
 
 TEST_F(ReportBrowserTest, BallAndPendulumAnimatesItsFiveParts) {
-  const Rendered r = RenderReport(dir_, "models/ball_pendulum_impact.yaml", true);
+  const Rendered r = RenderReport(dir_, "models/ball_pendulum_impact.yaml");
   EXPECT_EQ(DataAttribute(r.dom, "series"), 10) << r.dom.substr(0, 2000);
   EXPECT_EQ(DataAttribute(r.dom, "scene-shapes"), 5);
   EXPECT_EQ(DataAttribute(r.dom, "scene-drawn"), 5);
@@ -231,11 +262,12 @@ TEST_F(ReportBrowserTest, BallAndPendulumAnimatesItsFiveParts) {
 }
 
 TEST_F(ReportBrowserTest, SliderCrankAnimatesItsTwelveParts) {
-  const Rendered r = RenderReport(dir_, "models/slider_crank.yaml", false);
+  const Rendered r = RenderReport(dir_, "models/slider_crank.yaml");
   EXPECT_EQ(DataAttribute(r.dom, "scene-shapes"), 12) << r.dom.substr(0, 2000);
   EXPECT_EQ(DataAttribute(r.dom, "scene-drawn"), 12);
   EXPECT_EQ(DataAttribute(r.dom, "scene-frames"), static_cast<long>(r.rows));
   EXPECT_EQ(DataAttribute(r.dom, "series"), 16);  // 11 outputs, five of them vectors
+  ExpectDrawn(r.shot);
 }
 
 // ---- momenta report from a result written before ----------------------------------------------
