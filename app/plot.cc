@@ -25,7 +25,8 @@ std::string Quoted(const std::string& text) {
 bool EndsWith(const std::string& s, const std::string& tail) {
   if (s.size() < tail.size()) return false;
   for (size_t k = 0; k < tail.size(); ++k) {
-    if (std::tolower(static_cast<unsigned char>(s[s.size() - tail.size() + k])) != tail[k]) return false;
+    if (std::tolower(static_cast<unsigned char>(s[s.size() - tail.size() + k])) != tail[k])
+      return false;
   }
   return true;
 }
@@ -48,15 +49,16 @@ std::vector<std::string> Names(const std::vector<std::string>& specs) {
 std::string GnuplotScript(const PlotArgs& args, const std::string& out_path) {
   const ResultTable r = ReadResult(args.result);
   const std::vector<std::string> names = Names(args.columns);
-  if (names.empty()) throw std::invalid_argument("-y names no column (valid: " + JoinNames(r.names, 60) + ")");
+  if (names.empty())
+    throw std::invalid_argument("-y names no column (valid: " + JoinNames(r.names, 60) + ")");
   std::vector<size_t> cols;
   for (const auto& n : names) cols.push_back(r.Column(n));
 
   std::ostringstream g;
   g.precision(17);
   const bool png = EndsWith(out_path, ".png");
-  g << "set terminal " << (png ? "pngcairo" : "svg dynamic") << " noenhanced size " << args.width << ","
-    << args.width * 5 / 9 << " font 'sans,11'\n";
+  g << "set terminal " << (png ? "pngcairo" : "svg dynamic") << " noenhanced size " << args.width
+    << "," << args.width * 5 / 9 << " font 'sans,11'\n";
   g << "set output " << Quoted(out_path) << "\n";
   g << "set title " << Quoted(args.title.empty() ? args.result : args.title) << "\n";
   g << "set xlabel 'time [s]'\nset grid\nset key outside right top\n";
@@ -76,7 +78,8 @@ std::string GnuplotScript(const PlotArgs& args, const std::string& out_path) {
   }
   g << "EOD\nplot ";
   for (size_t k = 0; k < cols.size(); ++k) {
-    g << (k ? ", " : "") << "$momenta using 1:" << k + 2 << " with lines linewidth 1.5 title " << Quoted(names[k]);
+    g << (k ? ", " : "") << "$momenta using 1:" << k + 2 << " with lines linewidth 1.5 title "
+      << Quoted(names[k]);
   }
   g << "\nunset output\n";
   return g.str();
@@ -85,7 +88,8 @@ std::string GnuplotScript(const PlotArgs& args, const std::string& out_path) {
 int RunPlot(const PlotArgs& args) {
   const std::string out = args.out.empty() ? WithExtension(args.result, ".svg") : args.out;
   if (!EndsWith(out, ".svg") && !EndsWith(out, ".png")) {
-    std::cerr << "momenta: -o " << out << ": the plot is written as SVG or PNG, chosen by the extension (.svg or .png)\n";
+    std::cerr << "momenta: -o " << out
+              << ": the plot is written as SVG or PNG, chosen by the extension (.svg or .png)\n";
     return kExitUsage;
   }
   std::string script;
@@ -105,14 +109,16 @@ int RunPlot(const PlotArgs& args) {
   std::signal(SIGPIPE, SIG_IGN);
   FILE* pipe = popen(command.c_str(), "w");
   if (!pipe) {
-    std::cerr << "momenta: cannot start gnuplot (install Debian's gnuplot-nox; scripts/setup.sh does)\n";
+    std::cerr
+        << "momenta: cannot start gnuplot (install Debian's gnuplot-nox; scripts/setup.sh does)\n";
     return kExitSolver;
   }
   const bool written = std::fwrite(script.data(), 1, script.size(), pipe) == script.size();
   const int status = pclose(pipe);
   if (!written || status == -1 || !WIFEXITED(status) || WEXITSTATUS(status) != 0) {
     if (WIFEXITED(status) && WEXITSTATUS(status) == 127) {
-      std::cerr << "momenta: gnuplot was not found (install Debian's gnuplot-nox; scripts/setup.sh does)\n";
+      std::cerr << "momenta: gnuplot was not found (install Debian's gnuplot-nox; scripts/setup.sh "
+                   "does)\n";
     } else {
       std::cerr << "momenta: gnuplot failed writing " << out << "\n";
     }

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <initializer_list>
 
 #include "app/csv_writer.h"
 
@@ -26,12 +27,24 @@ void JsonString(const std::string& text, std::string* out) {
   for (const char ch : text) {
     const unsigned char c = ch;
     switch (c) {
-      case '"': *out += "\\\""; break;
-      case '\\': *out += "\\\\"; break;
-      case '\n': *out += "\\n"; break;
-      case '\r': *out += "\\r"; break;
-      case '\t': *out += "\\t"; break;
-      case '<': *out += "\\u003c"; break;
+      case '"':
+        *out += "\\\"";
+        break;
+      case '\\':
+        *out += "\\\\";
+        break;
+      case '\n':
+        *out += "\\n";
+        break;
+      case '\r':
+        *out += "\\r";
+        break;
+      case '\t':
+        *out += "\\t";
+        break;
+      case '<':
+        *out += "\\u003c";
+        break;
       default:
         if (c < 0x20) {
           char buf[8];
@@ -91,29 +104,36 @@ std::vector<size_t> ShownRows(const std::vector<double>& time) {
   return rows;
 }
 
+/// `"key":"value"` for each pair, comma-separated (the caller writes the braces around them).
+void JsonStringFields(std::initializer_list<std::pair<const char*, const std::string*>> fields,
+                      std::string* out) {
+  bool first = true;
+  for (const auto& [key, value] : fields) {
+    *out += first ? "\"" : ",\"";
+    *out += key;
+    *out += "\":";
+    JsonString(*value, out);
+    first = false;
+  }
+}
+
 /// The page's data as one JSON object (report/report.js reads it).
 std::string DataJson(const ReportData& d) {
-  std::string j = "{\"model\":";
-  JsonString(d.model_name, &j);
-  j += ",\"file\":";
-  JsonString(d.model_file, &j);
-  j += ",\"result\":";
-  JsonString(d.result_file, &j);
-  j += ",\"doc\":";
-  JsonString(d.doc, &j);
+  std::string j = "{";
+  JsonStringFields({{"model", &d.model_name},
+                    {"file", &d.model_file},
+                    {"result", &d.result_file},
+                    {"doc", &d.doc}},
+                   &j);
   j += ",\"notes\":";
   JsonStrings(d.notes, &j);
   j += ",\"parameters\":[";
   for (size_t k = 0; k < d.parameters.size(); ++k) {
     const ReportParameter& p = d.parameters[k];
-    j += k ? ",{\"name\":" : "{\"name\":";
-    JsonString(p.name, &j);
+    j += k ? ",{" : "{";
+    JsonStringFields({{"name", &p.name}, {"unit", &p.unit}, {"doc", &p.doc}}, &j);
     j += ",\"value\":";
     JsonNumber(p.value, &j);
-    j += ",\"unit\":";
-    JsonString(p.unit, &j);
-    j += ",\"doc\":";
-    JsonString(p.doc, &j);
     j += '}';
   }
   j += "],\"build\":";

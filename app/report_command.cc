@@ -30,9 +30,10 @@ ReportData ReportFromModel(const std::string& model_path, const LoadedModel& loa
   const BuildReport& r = loaded.report;
   d.build.push_back({"components", Num(static_cast<long>(r.num_components))});
   d.build.push_back({"unknowns (states)", Num(static_cast<long>(model.num_unknowns())) + " (" +
-                                               Num(static_cast<long>(model.num_states())) + ")"});
+                                              Num(static_cast<long>(model.num_states())) + ")"});
   d.build.push_back({"load", FormatMs(loaded.load_s)});
-  for (const auto& p : r.passes) d.build.push_back({p.name, FormatMs(p.seconds) + (p.note.empty() ? "" : " · " + p.note)});
+  for (const auto& p : r.passes)
+    d.build.push_back({p.name, FormatMs(p.seconds) + (p.note.empty() ? "" : " · " + p.note)});
   d.build.push_back({"build in all", FormatMs(loaded.load_s + loaded.build_s)});
   for (const auto& w : r.warnings) d.notes.push_back("warning: " + w);
   return d;
@@ -40,10 +41,11 @@ ReportData ReportFromModel(const std::string& model_path, const LoadedModel& loa
 
 void AddRunStats(const SimulationOptions& o, const SolverStats& s, ReportData* d) {
   ReportTable& t = d->solver;
-  t.push_back({"interval", FormatDouble(o.start) + " to " + FormatDouble(s.final_time) + " s, output every " +
-                               FormatDouble(o.interval) + " s"});
+  t.push_back({"interval", FormatDouble(o.start) + " to " + FormatDouble(s.final_time) +
+                               " s, output every " + FormatDouble(o.interval) + " s"});
   t.push_back({"tolerances", "rtol " + FormatDouble(o.rtol) + ", atol " + FormatDouble(o.atol)});
-  t.push_back({"integrator", "IDA (SUNDIALS 6.4.1" + std::string(SundialsOptimized() ? "" : ", unoptimised") + "), " +
+  t.push_back({"integrator", "IDA (SUNDIALS 6.4.1" +
+                                 std::string(SundialsOptimized() ? "" : ", unoptimised") + "), " +
                                  s.linear_solver + " LU"});
   t.push_back({"initialise", FormatMs(s.init_seconds)});
   t.push_back({"integrate", FormatMs(s.integrate_seconds)});
@@ -52,8 +54,8 @@ void AddRunStats(const SimulationOptions& o, const SolverStats& s, ReportData* d
   t.push_back({"Jacobians", Num(s.jacobian_evals)});
   t.push_back({"error-test failures", Num(s.error_test_failures)});
   t.push_back({"convergence failures", Num(s.nonlinear_failures)});
-  t.push_back({"events", Num(s.events) + " (" + Num(s.time_events) + " time events, " + Num(s.impacts) +
-                             " impacts), " + Num(s.restarts) + " restarts"});
+  t.push_back({"events", Num(s.events) + " (" + Num(s.time_events) + " time events, " +
+                             Num(s.impacts) + " impacts), " + Num(s.restarts) + " restarts"});
 }
 
 int SaveReport(const std::string& path, const ReportData& data, std::string* summary) {
@@ -68,12 +70,14 @@ int SaveReport(const std::string& path, const ReportData& data, std::string* sum
   }
   const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::ostringstream line;
-  line << "  report: " << path << " (" << (html.size() + 512) / 1024 << " KiB, " << data.time.size() << " rows, "
-       << data.scene.shapes.size() << " scene shapes; written in " << FormatMs(s) << ")\n";
+  line << "  report: " << path << " (" << (html.size() + 512) / 1024 << " KiB, " << data.time.size()
+       << " rows, " << data.scene.shapes.size() << " scene shapes; written in " << FormatMs(s)
+       << ")\n";
   *summary = line.str();
   if (!ReportHasPlots()) {
-    std::cerr << "momenta: note: this build has no uPlot (run scripts/setup.sh and rebuild): the report " << path
-              << " has no plots\n";
+    std::cerr
+        << "momenta: note: this build has no uPlot (run scripts/setup.sh and rebuild): the report "
+        << path << " has no plots\n";
   }
   return kExitOk;
 }
@@ -102,11 +106,13 @@ int RunReport(const ReportArgs& args) {
   const size_t before = d.scene.shapes.size();
   const size_t dropped = ResolveSceneColumns(d.columns, &d.scene);
   if (dropped > 0) {
-    d.notes.push_back("the result holds the positions of " + std::to_string(before - dropped) + " of the scene's " +
-                      std::to_string(before) + " shapes (simulate with --scene-columns to record them all)");
+    d.notes.push_back("the result holds the positions of " + std::to_string(before - dropped) +
+                      " of the scene's " + std::to_string(before) +
+                      " shapes (simulate with --scene-columns to record them all)");
   }
   d.num_plotted = d.scene.num_model_columns;
-  d.solver.push_back({"solver statistics", "not recorded in a result file (simulate --report records them)"});
+  d.solver.push_back(
+      {"solver statistics", "not recorded in a result file (simulate --report records them)"});
   const std::string out = args.out.empty() ? WithExtension(args.result, ".html") : args.out;
   std::string summary;
   const int code = SaveReport(out, d, &summary);

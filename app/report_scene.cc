@@ -16,7 +16,8 @@ AstPtr InScope(const AstPtr& a, const std::vector<NameSegment>& prefix) {
   if (!a) return a;
   auto out = std::make_shared<Ast>(*a);
   if (a->kind == Ast::Kind::kName) {
-    const bool global = a->path.size() == 1 && !a->path[0].index && (a->path[0].name == "time" || a->path[0].name == "pi");
+    const bool global = a->path.size() == 1 && !a->path[0].index &&
+                        (a->path[0].name == "time" || a->path[0].name == "pi");
     if (!global) {
       std::vector<NameSegment> path = prefix;
       for (NameSegment s : a->path) {
@@ -33,7 +34,8 @@ AstPtr InScope(const AstPtr& a, const std::vector<NameSegment>& prefix) {
 
 }  // namespace
 
-Scene AddSceneOutputs(ModelSpec* spec, const Library& library, const ParameterOverrides& overrides) {
+Scene AddSceneOutputs(ModelSpec* spec, const Library& library,
+                      const ParameterOverrides& overrides) {
   Scene scene;
   const FlatSystem flat = Flatten(*spec, library, overrides);
   std::set<std::string> listed;
@@ -90,19 +92,22 @@ size_t ResolveSceneColumns(const std::vector<std::string>& columns, Scene* scene
   // The scene's own columns: each added text as a scalar or as the elements of a vector.
   std::set<std::string> scene_only;
   for (const std::string& text : scene->added) {
-    for (const std::string& name : {text, text + "[1]", text + "[2]", "(" + text + ")[1]", "(" + text + ")[2]"}) {
+    for (const std::string& name :
+         {text, text + "[1]", text + "[2]", "(" + text + ")[1]", "(" + text + ")[2]"}) {
       scene_only.insert(name);
     }
   }
   scene->num_model_columns = 0;
-  while (scene->num_model_columns < columns.size() && !scene_only.count(columns[scene->num_model_columns])) {
+  while (scene->num_model_columns < columns.size() &&
+         !scene_only.count(columns[scene->num_model_columns])) {
     ++scene->num_model_columns;
   }
   auto kept = std::remove_if(scene->shapes.begin(), scene->shapes.end(), [&](SceneShape& shape) {
     for (SceneField& f : shape.fields) {
       // Scalars (one, or a point's two) are their own columns; a vector's elements are
       // `name[1]`, or `(expr)[1]` for an expression (core/arrays.cc).
-      if (std::all_of(f.columns.begin(), f.columns.end(), [&](const std::string& c) { return have.count(c) > 0; })) {
+      if (std::all_of(f.columns.begin(), f.columns.end(),
+                      [&](const std::string& c) { return have.count(c) > 0; })) {
         continue;
       }
       if (f.columns.size() != 1) return true;

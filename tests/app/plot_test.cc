@@ -3,13 +3,14 @@
 // decodes with libpng to the asked size and is not blank), from a CSV and from a MAT result; bad
 // column names and extensions are reported by their messages.
 
+#include "app/plot.h"
+
 #include <gtest/gtest.h>
 
 #include <cstdlib>
 #include <regex>
 #include <string>
 
-#include "app/plot.h"
 #include "tests/support/cli_runner.h"
 #include "tests/support/png_image.h"
 #include "tests/support/test_models.h"
@@ -23,16 +24,20 @@ using testing::RunMomenta;
 using testing::SourcePath;
 using testing::TempDir;
 
-bool Contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+bool Contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
 
 class PlotTest : public ::testing::Test {
  protected:
   void SetUp() override {
     if (std::system("command -v gnuplot >/dev/null 2>&1") != 0) {
-      GTEST_SKIP() << "gnuplot is not installed (Debian package gnuplot-nox; scripts/setup.sh installs it)";
+      GTEST_SKIP()
+          << "gnuplot is not installed (Debian package gnuplot-nox; scripts/setup.sh installs it)";
     }
     csv_ = dir_.File("carriers.csv");
-    CliResult r = RunMomenta({"simulate", SourcePath("models/carrier_collision.yaml"), "-o", csv_, "-q"}, dir_.path());
+    CliResult r = RunMomenta(
+        {"simulate", SourcePath("models/carrier_collision.yaml"), "-o", csv_, "-q"}, dir_.path());
     ASSERT_EQ(r.exit_code, 0) << r.err;
   }
   TempDir dir_;
@@ -47,9 +52,11 @@ TEST_F(PlotTest, SvgIsACompleteDocumentWithOneCurvePerSeries) {
   ASSERT_TRUE(Contains(text, "<svg")) << text.substr(0, 500);
   EXPECT_TRUE(Contains(text.substr(text.size() - 200), "</svg>"));
   // The key names each series; gnuplot draws each curve in a group of its own.
-  for (const char* name : {"B.v", "S.v", "A.v"}) EXPECT_TRUE(Contains(text, std::string("<text>") + name + "</text>")) << name;
+  for (const char* name : {"B.v", "S.v", "A.v"})
+    EXPECT_TRUE(Contains(text, std::string("<text>") + name + "</text>")) << name;
   const std::regex curve("<g id=\"gnuplot_plot_([0-9]+)\"");
-  size_t curves = std::distance(std::sregex_iterator(text.begin(), text.end(), curve), std::sregex_iterator());
+  size_t curves =
+      std::distance(std::sregex_iterator(text.begin(), text.end(), curve), std::sregex_iterator());
   EXPECT_EQ(curves, 3u);
   // The carriers collide at events: dashed lines mark them.
   EXPECT_TRUE(Contains(text, "stroke-dasharray")) << "no event line";
@@ -57,7 +64,8 @@ TEST_F(PlotTest, SvgIsACompleteDocumentWithOneCurvePerSeries) {
 
 TEST_F(PlotTest, PngDecodesToTheAskedSizeAndIsNotBlank) {
   const std::string png = dir_.File("v.png");
-  CliResult r = RunMomenta({"plot", csv_, "-y", "B.v,S.v", "-o", png, "--width", "720"}, dir_.path());
+  CliResult r =
+      RunMomenta({"plot", csv_, "-y", "B.v,S.v", "-o", png, "--width", "720"}, dir_.path());
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const testing::PngImage img = testing::ReadPng(png);
   ASSERT_TRUE(img.ok) << img.error;
@@ -70,7 +78,10 @@ TEST_F(PlotTest, PngDecodesToTheAskedSizeAndIsNotBlank) {
 
 TEST_F(PlotTest, MatResultPlotsTheSameSeries) {
   const std::string mat = dir_.File("carriers.mat"), svg = dir_.File("m.svg");
-  ASSERT_EQ(RunMomenta({"simulate", SourcePath("models/carrier_collision.yaml"), "-o", mat, "-q"}, dir_.path()).exit_code, 0);
+  ASSERT_EQ(RunMomenta({"simulate", SourcePath("models/carrier_collision.yaml"), "-o", mat, "-q"},
+                       dir_.path())
+                .exit_code,
+            0);
   CliResult r = RunMomenta({"plot", mat, "-y", "S.v", "-o", svg}, dir_.path());
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_TRUE(Contains(ReadText(svg), "<text>S.v</text>"));

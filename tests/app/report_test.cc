@@ -3,6 +3,8 @@
 // Debian's headless Chromium loads each report, the DOM says how many series and scene shapes the
 // page drew and over how many frames, and a screenshot decoded with libpng is not blank.
 
+#include "app/report.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -12,7 +14,6 @@
 #include <vector>
 
 #include "app/commands.h"
-#include "app/report.h"
 #include "app/result_reader.h"
 #include "tests/support/cli_runner.h"
 #include "tests/support/png_image.h"
@@ -27,7 +28,9 @@ using testing::RunMomenta;
 using testing::SourcePath;
 using testing::TempDir;
 
-bool Contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+bool Contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
 
 size_t Count(const std::string& text, const std::string& part) {
   size_t n = 0;
@@ -83,7 +86,9 @@ TEST(ReportSceneTest, RecordedCordKeepsItsLengthAndEndsAtTheBall) {
   // step): 1e-6 m leaves two orders of magnitude.
   TempDir dir;
   const std::string csv = dir.File("bp.csv");
-  CliResult r = RunMomenta({"simulate", SourcePath("models/ball_pendulum_impact.yaml"), "-o", csv, "--scene-columns", "-q"}, dir.path());
+  CliResult r = RunMomenta({"simulate", SourcePath("models/ball_pendulum_impact.yaml"), "-o", csv,
+                            "--scene-columns", "-q"},
+                           dir.path());
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const Scene s = SceneOf("models/ball_pendulum_impact.yaml");
   const ResultTable t = ReadResult(csv);
@@ -97,7 +102,8 @@ TEST(ReportSceneTest, RecordedCordKeepsItsLengthAndEndsAtTheBall) {
     const double x0 = t.values[t.Column(from[0])][i], y0 = t.values[t.Column(from[1])][i];
     const double x1 = t.values[t.Column(to[0])][i], y1 = t.values[t.Column(to[1])][i];
     worst_length = std::max(worst_length, std::fabs(std::hypot(x1 - x0, y1 - y0) - 3.5));
-    worst_end = std::max(worst_end, std::hypot(x1 - t.values[t.Column("B.r[1]")][i], y1 - t.values[t.Column("B.r[2]")][i]));
+    worst_end = std::max(worst_end, std::hypot(x1 - t.values[t.Column("B.r[1]")][i],
+                                               y1 - t.values[t.Column("B.r[2]")][i]));
     EXPECT_DOUBLE_EQ(x0, 0.0);
     EXPECT_DOUBLE_EQ(y0, 4.0);
   }
@@ -107,12 +113,14 @@ TEST(ReportSceneTest, RecordedCordKeepsItsLengthAndEndsAtTheBall) {
 
 TEST(ReportSceneTest, EveryMultibodySceneDrawsItsParts) {
   // Shapes per model: slider crank: the world (ground), 3 revolute joints (pins), 4 bars and the
-  // prismatic guide (lines), 3 bodies (circles); billiards: its 3 balls; double pendulum: the world,
-  // 2 joints, 2 bars, 2 bodies.
+  // prismatic guide (lines), 3 bodies (circles); billiards: its 3 balls; double pendulum: the
+  // world, 2 joints, 2 bars, 2 bodies.
   struct Case {
     const char* model;
     size_t shapes, circles;
-  } cases[] = {{"models/slider_crank.yaml", 12, 3}, {"models/billiards.yaml", 3, 3}, {"models/double_pendulum.yaml", 7, 2}};
+  } cases[] = {{"models/slider_crank.yaml", 12, 3},
+               {"models/billiards.yaml", 3, 3},
+               {"models/double_pendulum.yaml", 7, 2}};
   for (const auto& c : cases) {
     const Scene s = SceneOf(c.model);
     size_t circles = 0;
@@ -136,12 +144,17 @@ components:
   d: {type: Dot}
 )");
   };
-  EXPECT_TRUE(Contains(error("{shape: blob, at: [x, 0]}"), "unknown shape 'blob' in the animation of Dot (valid shapes: circle, ground, line, pin, spring, wall)"))
+  EXPECT_TRUE(Contains(error("{shape: blob, at: [x, 0]}"),
+                       "unknown shape 'blob' in the animation of Dot (valid shapes: circle, "
+                       "ground, line, pin, spring, wall)"))
       << error("{shape: blob, at: [x, 0]}");
-  EXPECT_TRUE(Contains(error("{shape: circle, at: [x, 0]}"), "circle in the animation of Dot needs 'radius'"));
-  EXPECT_TRUE(Contains(error("{shape: line, from: [x, 0], to: [0, 0], colour: red}"), "unknown key 'colour' in line in the animation of Dot"));
+  EXPECT_TRUE(Contains(error("{shape: circle, at: [x, 0]}"),
+                       "circle in the animation of Dot needs 'radius'"));
+  EXPECT_TRUE(Contains(error("{shape: line, from: [x, 0], to: [0, 0], colour: red}"),
+                       "unknown key 'colour' in line in the animation of Dot"));
   EXPECT_EQ(error("{shape: pin, at: [x, 0]}"), "");
-  EXPECT_TRUE(Contains(error("{shape: line, from: [x, 0], to: [0, 0], colour: red}"), "test.yaml:8:"));
+  EXPECT_TRUE(
+      Contains(error("{shape: line, from: [x, 0], to: [0, 0], colour: red}"), "test.yaml:8:"));
 }
 
 TEST(ReportPageTest, UserTextCannotEndTheDataScript) {
@@ -154,7 +167,9 @@ TEST(ReportPageTest, UserTextCannotEndTheDataScript) {
   const std::string html = ReportHtml(d);
   // The page's own three scripts end; the doc's text is written \u003c/script>.
   EXPECT_EQ(Count(html, "</script>"), 3u);
-  EXPECT_TRUE(Contains(html, "\"doc\":\"a doc with \\u003c/script>\\u003cb>bold\\u003c/b> and \\\"quotes\\\"\"")) << html.substr(html.find("\"doc\""), 120);
+  EXPECT_TRUE(Contains(
+      html, "\"doc\":\"a doc with \\u003c/script>\\u003cb>bold\\u003c/b> and \\\"quotes\\\"\""))
+      << html.substr(html.find("\"doc\""), 120);
 }
 
 TEST(ReportPageTest, LongRunsAreThinnedKeepingEveryEventRow) {
@@ -187,10 +202,11 @@ bool HaveChromium() { return std::system("command -v chromium >/dev/null 2>&1") 
 /// standard output (the DOM). Virtual time lets the page's scripts finish before the DOM is taken.
 std::string Chromium(const TempDir& dir, const std::string& html, const std::string& mode) {
   const std::string out = dir.File("chromium.out");
-  const std::string cmd = "cd '" + dir.path() + "' && timeout 120 chromium --headless --no-sandbox --disable-gpu " +
-                          "--user-data-dir='" + dir.File("profile") + "' --virtual-time-budget=5000 " +
-                          "--window-size=1000,1300 --hide-scrollbars " + mode + " 'file://" + html + "' >'" + out +
-                          "' 2>'" + dir.File("chromium.err") + "'";
+  const std::string cmd =
+      "cd '" + dir.path() + "' && timeout 120 chromium --headless --no-sandbox --disable-gpu " +
+      "--user-data-dir='" + dir.File("profile") + "' --virtual-time-budget=5000 " +
+      "--window-size=1000,1300 --hide-scrollbars " + mode + " 'file://" + html + "' >'" + out +
+      "' 2>'" + dir.File("chromium.err") + "'";
   const int rc = std::system(cmd.c_str());
   EXPECT_EQ(rc, 0) << cmd << "\n" << ReadText(dir.File("chromium.err"));
   return ReadText(out);
@@ -199,7 +215,8 @@ std::string Chromium(const TempDir& dir, const std::string& html, const std::str
 /// The value of `data-<name>` on the page's <body> as Chromium left it; -1 when absent.
 long DataAttribute(const std::string& dom, const std::string& name) {
   std::smatch m;
-  if (!std::regex_search(dom, m, std::regex("<body[^>]* data-" + name + "=\"([0-9]+)\""))) return -1;
+  if (!std::regex_search(dom, m, std::regex("<body[^>]* data-" + name + "=\"([0-9]+)\"")))
+    return -1;
   return std::stol(m[1]);
 }
 
@@ -214,7 +231,8 @@ struct Rendered {
 Rendered RenderReport(const TempDir& dir, const std::string& model) {
   Rendered r;
   const std::string html = dir.File("report.html"), csv = dir.File("run.csv");
-  CliResult sim = RunMomenta({"simulate", SourcePath(model), "-o", csv, "--report", html}, dir.path());
+  CliResult sim =
+      RunMomenta({"simulate", SourcePath(model), "-o", csv, "--report", html}, dir.path());
   EXPECT_EQ(sim.exit_code, 0) << sim.err;
   EXPECT_TRUE(Contains(sim.out, "report: " + html)) << sim.out;
   r.rows = ReadResult(csv).time.size();
@@ -236,8 +254,11 @@ void ExpectDrawn(const testing::PngImage& shot) {
 class ReportBrowserTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    if (!HaveChromium()) GTEST_SKIP() << "chromium is not installed (Debian package chromium; scripts/setup.sh installs it)";
-    if (!ReportHasPlots()) GTEST_SKIP() << "this build has no uPlot (run scripts/setup.sh, then configure again)";
+    if (!HaveChromium())
+      GTEST_SKIP()
+          << "chromium is not installed (Debian package chromium; scripts/setup.sh installs it)";
+    if (!ReportHasPlots())
+      GTEST_SKIP() << "this build has no uPlot (run scripts/setup.sh, then configure again)";
   }
   TempDir dir_;
 };
@@ -276,7 +297,8 @@ TEST(ReportCommandTest, ReportOfAResultWithSceneColumnsHasTheScene) {
   TempDir dir;
   const std::string csv = dir.File("bp.csv"), html = dir.File("bp.html");
   const std::string model = SourcePath("models/ball_pendulum_impact.yaml");
-  ASSERT_EQ(RunMomenta({"simulate", model, "-o", csv, "--scene-columns", "-q"}, dir.path()).exit_code, 0);
+  ASSERT_EQ(
+      RunMomenta({"simulate", model, "-o", csv, "--scene-columns", "-q"}, dir.path()).exit_code, 0);
   CliResult r = RunMomenta({"report", csv, "--model", model, "-o", html}, dir.path());
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::string page = ReadText(html);
@@ -295,7 +317,9 @@ TEST(ReportCommandTest, ReportOfAPlainResultSaysWhatTheSceneLacks) {
   const std::string page = ReadText(dir.File("bp.html"));
   // The outputs hold the balls' centres (A.r, B.r) but not their radii, nor the cord's ends: no
   // shape is complete, and the page says so.
-  EXPECT_TRUE(Contains(page, "the result holds the positions of 0 of the scene's 5 shapes (simulate with --scene-columns"))
+  EXPECT_TRUE(Contains(
+      page,
+      "the result holds the positions of 0 of the scene's 5 shapes (simulate with --scene-columns"))
       << page.substr(0, 3000);
   EXPECT_EQ(Count(page, "{\"kind\":"), 0u);
 }
@@ -313,7 +337,9 @@ TEST(ReportCommandTest, ErrorsNameTheFile) {
   const std::string broken = dir.Write("broken.csv", "time,x\n0,1\n0.1,abc\n");
   r = RunMomenta({"report", broken, "-m", model}, dir.path());
   EXPECT_TRUE(Contains(r.err, broken + ":3: 'abc' in column x is not a number")) << r.err;
-  r = RunMomenta({"simulate", model, "-o", dir.File("x.csv"), "--report", "/nonexistent/dir/r.html"}, dir.path());
+  r = RunMomenta(
+      {"simulate", model, "-o", dir.File("x.csv"), "--report", "/nonexistent/dir/r.html"},
+      dir.path());
   EXPECT_EQ(r.exit_code, 3);
   EXPECT_TRUE(Contains(r.err, "cannot write the report /nonexistent/dir/r.html")) << r.err;
 }
