@@ -194,6 +194,26 @@ TEST(ReportPageTest, LongRunsAreThinnedKeepingEveryEventRow) {
   EXPECT_TRUE(Contains(times, ",49999"));
 }
 
+TEST(ReportSceneTest, AFieldNamingWhatTheComponentLacksIsReportedAtTheField) {
+  // The names a field uses are resolved when a report is made (a plain simulate never reads them).
+  TempDir dir;
+  const std::string model = dir.Write("bad.yaml", R"(model: M
+define:
+  Dot:
+    variables: {x: {start: 0, fixed: true}}
+    equations: [der(x) = 1]
+    animation:
+      - {shape: pin, at: [x, nosuch]}
+components:
+  d: {type: Dot}
+experiment: {stop: 0.1}
+)");
+  CliResult r = RunMomenta({"simulate", model, "--report", dir.File("bad.html")}, dir.path());
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_TRUE(Contains(r.err, model + ":7:30: d (Dot) has no variable or parameter 'nosuch' (valid names: x)")) << r.err;
+  EXPECT_EQ(RunMomenta({"simulate", model, "-q", "-o", dir.File("bad.csv")}, dir.path()).exit_code, 0);
+}
+
 // ---- In a real browser ------------------------------------------------------------------------
 
 bool HaveChromium() { return std::system("command -v chromium >/dev/null 2>&1") == 0; }
