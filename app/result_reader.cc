@@ -3,6 +3,7 @@
 #include <matio.h>
 
 #include <cerrno>
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
@@ -124,9 +125,16 @@ ResultTable ReadMat(const std::string& path) {
   const std::vector<std::string> all = MatNames(names.get());
   std::vector<int32_t> di(4 * all.size());
   for (size_t k = 0; k < di.size(); ++k) {
-    di[k] = info->data_type == MAT_T_INT32
-                ? static_cast<const int32_t*>(info->data)[k]
-                : static_cast<int32_t>(static_cast<const double*>(info->data)[k]);
+    if (info->data_type == MAT_T_INT32) {
+      di[k] = static_cast<const int32_t*>(info->data)[k];
+      continue;
+    }
+    // A value no int32 holds (a damaged file) is refused before it is converted.
+    const double v = static_cast<const double*>(info->data)[k];
+    if (!(std::fabs(v) <= 2147483647.0)) {
+      throw std::runtime_error(path + ": dataInfo holds " + std::to_string(v) + ", not an index");
+    }
+    di[k] = static_cast<int32_t>(v);
   }
   const auto* d = static_cast<const double*>(data->data);
   const size_t per_row = data->dims[0], rows = data->dims[1];
