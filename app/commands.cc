@@ -11,6 +11,7 @@
 #include "app/csv_writer.h"
 #include "app/interrupt.h"
 #include "app/mat_writer.h"
+#include "app/report_command.h"
 #include "core/build.h"
 #include "core/model_state.h"
 #include "core/unit_check.h"
@@ -26,12 +27,7 @@ using Clock = std::chrono::steady_clock;
 
 double Since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
-std::string Ms(double seconds) {
-  std::ostringstream s;
-  s.precision(3);
-  s << seconds * 1e3 << " ms";
-  return s.str();
-}
+std::string Ms(double seconds) { return FormatMs(seconds); }
 
 std::string Stem(const std::string& path) {
   size_t slash = path.find_last_of('/');
@@ -64,6 +60,20 @@ std::optional<Quantity> QuantityOf(const std::string& name, const std::string& t
 }
 
 }  // namespace
+
+std::string FormatMs(double seconds) {
+  std::ostringstream s;
+  s.precision(3);
+  s << seconds * 1e3 << " ms";
+  return s.str();
+}
+
+std::string WithExtension(const std::string& path, const std::string& extension) {
+  const size_t slash = path.find_last_of('/');
+  const size_t dot = path.find_last_of('.');
+  const bool has = dot != std::string::npos && (slash == std::string::npos || dot > slash + 1);
+  return (has ? path.substr(0, dot) : path) + extension;
+}
 
 std::string UnitsPath(const std::string& csv_path) {
   const std::string ext = ".csv";
@@ -173,6 +183,9 @@ int LoadAndBuild(const std::string& path, const ParameterOverrides& overrides, L
     auto t0 = Clock::now();
     ModelSpec spec = LoadModelFile(path);
     out->load_s = Since(t0);
+    out->doc = spec.doc;
+    // The report's scene: outputs added for what the parts draw (flattens once more).
+    if (out->with_scene) out->scene = PrepareScene(&spec, BuiltinLibrary(), out->overrides);
     auto t1 = Clock::now();
     // Values given with units are converted to their parameters' declared units, which the
     // flattened model tells (flattened with the values in SI, in case one shapes the structure).
@@ -193,9 +206,23 @@ int LoadAndBuild(const std::string& path, const ParameterOverrides& overrides, L
 
 int RunSimulate(const SimulateArgs& args) {
   LoadedModel loaded;
+  loaded.with_scene = !args.report.empty() || args.scene_columns;
   if (int code = LoadAndBuild(args.model, args.params, &loaded); code != kExitOk) return code;
   const std::shared_ptr<const CompiledModel>& model = loaded.model;
   const BuildReport& report = loaded.report;
+  // The results file holds the model's outputs (and with --scene-columns the scene's too).
+  ResolveSceneColumns(model->output_names, &loaded.scene);
+  const size_t num_written = args.scene_columns || !loaded.with_scene ? model->output_names.size()
+                                                                      : loaded.scene.num_model_columns;
+  const std::vector<std::string> written_names(model->output_names.begin(), model->output_names.begin() + num_written);
+  std::unique_ptr<ReportData> report_data;
+  if (!args.report.empty()) {
+    report_data = std::make_unique<ReportData>(ReportFromModel(args.model, loaded));
+    report_data->columns = model->output_names;
+    report_data->units = OutputUnits(*model->flat, model->output_names);
+    report_data->num_plotted = loaded.scene.num_model_columns;
+    report_data->scene = loaded.scene;
+  }
   const double load_s = loaded.load_s, build_s = loaded.build_s;
   ModelState* state = loaded.state.get();
   SimulationOptions opt;
@@ -208,6 +235,10 @@ int RunSimulate(const SimulateArgs& args) {
   std::unique_ptr<ResultWriter> csv;
   try {
     if (IsMatPath(out_path)) {
+      csv = std::make_unique<MatWriter>(out_path, written_names, MatParameters(*model, *state), opt.start,
+                                        opt.stop);
+    } else {
+      csv = std::make_unique<CsvWriter>(out_path, written_names);
       csv = std::make_unique<MatWriter>(out_path, model->output_names, MatParameters(*model, *state), opt.start,
                                         opt.stop, OutputUnits(*model->flat, model->output_names));
     } else {
@@ -223,15 +254,21 @@ int RunSimulate(const SimulateArgs& args) {
     std::cerr << "momenta: " << e.what() << "\n";
     return kExitUsage;
   }
-  std::vector<double> last(model->output_names.size());
+  std::vector<double> last(num_written);
   double last_t = opt.start;
   SolverStats stats;
   int code = kExitOk;
   std::string failure, write_failure;
   try {
     Simulate(state, opt, [&](double t, const std::vector<double>& v) {
-      csv->Row(t, v);
-      last = v;
+      if (report_data) report_data->Row(t, v);
+      if (v.size() != num_written) {
+        std::copy(v.begin(), v.begin() + num_written, last.begin());
+        csv->Row(t, last);
+      } else {
+        csv->Row(t, v);
+        last = v;
+      }
       last_t = t;
     }, &stats);
   } catch (const SolverError& e) {
@@ -251,6 +288,15 @@ int RunSimulate(const SimulateArgs& args) {
     if (write_failure.empty()) write_failure = e.what();
   }
   csv.reset();
+
+  // The report, whatever became of the run: it shows the rows computed and why they end.
+  std::string report_line;
+  if (report_data) {
+    AddRunStats(opt, stats, report_data.get());
+    if (!failure.empty()) report_data->notes.push_back("the simulation failed " + failure);
+    if (stats.interrupted) report_data->notes.push_back("interrupted at t = " + FormatDouble(stats.interrupted_at));
+    if (int rc = SaveReport(args.report, *report_data, &report_line); rc != kExitOk) return rc;
+  }
 
   if (!write_failure.empty()) {
     std::cerr << "momenta: " << write_failure << "\n";
@@ -286,7 +332,7 @@ int RunSimulate(const SimulateArgs& args) {
     o << "  " << stats.events << " events (" << stats.time_events << " time events, " << stats.impacts
       << " impacts), " << stats.restarts << " restarts\n";
   }
-  o << "  results: " << out_path << " (" << rows << " rows)\n";
+  o << "  results: " << out_path << " (" << rows << " rows)\n" << report_line;
   if (!model->output_names.empty()) {
     o << "  final values at t = " << FormatDouble(last_t) << ":\n";
     for (size_t k = 0; k < last.size(); ++k) {

@@ -9,6 +9,7 @@
 #include <map>
 #include <memory>
 
+#include "app/report_scene.h"
 #include "app/simulate_options.h"
 #include "core/build.h"
 #include "core/flat_system.h"
@@ -25,6 +26,8 @@ struct SimulateArgs {
   SimulateOverrides options;        ///< --stop, --rtol, --atol, --interval, --linear-solver
   std::string out;  ///< empty: <model file stem>.csv
   bool quiet = false;
+  std::string report;          ///< --report: the HTML report to write (empty: none)
+  bool scene_columns = false;  ///< --scene-columns: the scene's quantities go into the results file too
 };
 
 struct CheckArgs {
@@ -36,6 +39,12 @@ struct CheckArgs {
 int RunSimulate(const SimulateArgs& args);
 int RunCheck(const CheckArgs& args);
 int RunList(const std::string& name);
+
+/// A duration in milliseconds, three significant digits ("3.38 ms"), as the summaries print it.
+std::string FormatMs(double seconds);
+
+/// `path` with its extension (if any, after the last '/') replaced by `extension` (".html").
+std::string WithExtension(const std::string& path, const std::string& extension);
 
 /// The companion file of a CSV result that gives every column's unit: "out.csv" ->
 /// "out.units.csv" (docs/FORMAT.md, "Units").
@@ -62,6 +71,11 @@ struct LoadedModel {
   BuildReport report;
   ParameterOverrides overrides;
   double load_s = 0, build_s = 0;
+  std::string doc;  ///< the model's doc
+  /// Set before LoadAndBuild: the model also outputs what its parts' animation draws (`scene`,
+  /// app/report_scene.h), after its own outputs.
+  bool with_scene = false;
+  Scene scene;
 };
 
 /// Loads and builds the model with `overrides` and sets its parameters; returns an exit code

@@ -6,6 +6,8 @@
 #include <iostream>
 
 #include "app/commands.h"
+#include "app/plot.h"
+#include "app/report_command.h"
 #include "app/sweep.h"
 #include "solver/sundials_support.h"
 
@@ -32,6 +34,24 @@ int main(int argc, char** argv) {
   simulate->add_option("--linear-solver", sim.options.linear_solver, "auto, dense or klu")
       ->check(CLI::IsMember({"auto", "dense", "klu"}));
   simulate->add_flag("-q,--quiet", sim.quiet, "print nothing on success");
+  simulate->add_option("--report", sim.report, "also write an HTML report (plots, statistics, the scene's animation)");
+  simulate->add_flag("--scene-columns", sim.scene_columns,
+                     "also write the quantities the scene is drawn from into the results file (for momenta report)");
+
+  ReportArgs rep;
+  auto* report = app.add_subcommand("report", "write the HTML report of a result file simulate wrote");
+  report->add_option("result", rep.result, "result file (CSV or MAT)")->required();
+  report->add_option("-m,--model", rep.model, "the model file the result was simulated from")->required();
+  report->add_option("-p,--param", rep.params, "the -p values it was simulated with (repeatable)");
+  report->add_option("-o,--out", rep.out, "the report (default: <result stem>.html)");
+
+  PlotArgs plt;
+  auto* plot = app.add_subcommand("plot", "plot columns of a result file as SVG or PNG (with gnuplot)");
+  plot->add_option("result", plt.result, "result file (CSV or MAT)")->required();
+  plot->add_option("-y", plt.columns, "columns to plot: A.v,B.v (repeatable)")->required();
+  plot->add_option("-o,--out", plt.out, "the image, .svg or .png (default: <result stem>.svg)");
+  plot->add_option("--title", plt.title, "title (default: the result's file name)");
+  plot->add_option("--width", plt.width, "width in pixels (height: 5/9 of it)")->check(CLI::Range(200, 8000));
 
   CheckArgs chk;
   auto* check = app.add_subcommand("check", "validate a model and show what each pass made of it");
@@ -69,8 +89,9 @@ int main(int argc, char** argv) {
   // An unknown command is named (CLI11 would only say that a subcommand is required).
   if (argc > 1 && argv[1][0] != '-') {
     std::string cmd = argv[1];
-    if (cmd != "simulate" && cmd != "check" && cmd != "list" && cmd != "sweep") {
-      std::cerr << "momenta: unknown command '" << cmd << "' (valid commands: simulate, sweep, check, list; see momenta --help)\n";
+    if (cmd != "simulate" && cmd != "check" && cmd != "list" && cmd != "sweep" && cmd != "report" && cmd != "plot") {
+      std::cerr << "momenta: unknown command '" << cmd
+                << "' (valid commands: simulate, sweep, report, plot, check, list; see momenta --help)\n";
       return kExitUsage;
     }
   }
@@ -83,6 +104,8 @@ int main(int argc, char** argv) {
   try {
     if (*simulate) return RunSimulate(sim);
     if (*sweep) return RunSweep(swp);
+    if (*report) return RunReport(rep);
+    if (*plot) return RunPlot(plt);
     if (*check) return RunCheck(chk);
     if (*list) return RunList(list_name);
   } catch (const std::exception& e) {

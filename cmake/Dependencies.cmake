@@ -9,8 +9,11 @@
 #   momenta_eigen     Eigen3::Eigen
 #   momenta_cli11     CLI11::CLI11
 #   momenta_matio     libmatio (MAT v4 result files; Debian's libmatio-dev)
-# and, when tests / benchmarks are enabled, finds GTest (GTest::gtest_main) and Google Benchmark
-# (benchmark::benchmark).
+# and, when tests / benchmarks are enabled, finds GTest (GTest::gtest_main), libpng (PNG::PNG:
+# the report and plot tests decode screenshots) and Google Benchmark (benchmark::benchmark).
+# Programs used at run time, not linked: gnuplot (`momenta plot`; Debian's gnuplot-nox) and, in
+# the tests only, chromium (headless, to render reports). uPlot, inlined into reports, is fetched
+# by scripts/setup.sh into third_party/uplot/ (app/CMakeLists.txt).
 #
 # Options / cache variables:
 #   MOMENTA_BUILD_TESTS          (ON)  find GTest, enable_testing()
@@ -167,6 +170,7 @@ find_package(Threads REQUIRED)
 # ---- Test and benchmark frameworks, only when those are built ------------------------------
 if(MOMENTA_BUILD_TESTS)
   find_package(GTest REQUIRED)   # GTest::gtest, GTest::gtest_main
+  find_package(PNG REQUIRED)     # PNG::PNG (Debian's libpng-dev)
   enable_testing()
 endif()
 if(MOMENTA_BUILD_BENCH)

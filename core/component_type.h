@@ -90,6 +90,22 @@ struct ImpactDecl {
   SourceLoc loc;
 };
 
+/// One value of a drawn shape: an expression in the component's scope, scalar or a 2-vector.
+struct ShapeField {
+  std::string key, text;
+  AstPtr expr;
+  SourceLoc loc;
+};
+
+/// `animation:` of a component type (docs/FORMAT.md, "Animation"): one shape drawn in the
+/// report's scene from quantities recorded during the run. Kinds and their fields: circle (at,
+/// radius, angle), line and spring (from, to), pin and ground (at), wall (at, normal, start, end).
+struct ShapeDecl {
+  std::string kind;
+  std::vector<ShapeField> fields;
+  SourceLoc loc;
+};
+
 struct ConnectorVariable {
   std::string name, unit, doc;
   Shape shape;  ///< declared `shape:`; empty for a scalar
@@ -158,6 +174,7 @@ struct ComponentType {
   std::vector<EquationDecl> initial_equations;
   std::vector<WhenDecl> whens;
   std::vector<ImpactDecl> impacts;
+  std::vector<ShapeDecl> animation;  ///< what the report's scene draws for an instance
   /// A composite type's parts: components of other types and the connections between them and
   /// to the type's own connectors (an own connector is named alone: [flange_a, mass.flange_a]).
   std::vector<ComponentSpec> components;

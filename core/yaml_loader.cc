@@ -353,6 +353,50 @@ class Reader {
     return d;
   }
 
+  /// `animation:`: a list of shapes, each a mapping with `shape:` and that kind's fields.
+  std::vector<ShapeDecl> Animation(const YAML::Node& n, const std::string& what) const {
+    static const std::map<std::string, std::pair<std::vector<std::string>, std::vector<std::string>>> kKinds = {
+        // kind -> (required fields, optional fields)
+        {"circle", {{"at", "radius"}, {"angle"}}},
+        {"line", {{"from", "to"}, {}}},
+        {"spring", {{"from", "to"}, {}}},
+        {"pin", {{"at"}, {}}},
+        {"ground", {{"at"}, {}}},
+        {"wall", {{"at", "normal"}, {"start", "end"}}},
+    };
+    if (!n.IsSequence()) Fail(n, "animation of " + what + " must be a list of shapes such as {shape: circle, at: [frame_a.x, frame_a.y], radius: r}");
+    std::vector<ShapeDecl> out;
+    for (const auto& item : n) {
+      ExpectMap(item, "a shape in the animation of " + what);
+      if (!item["shape"]) Fail(item, "a shape in the animation of " + what + " needs 'shape' (circle, ground, line, pin, spring or wall)");
+      ShapeDecl d;
+      d.loc = Loc(item);
+      d.kind = Scalar(item["shape"], "shape");
+      auto kind = kKinds.find(d.kind);
+      if (kind == kKinds.end()) {
+        Fail(item["shape"], "unknown shape '" + d.kind + "' in the animation of " + what + " (valid shapes: circle, ground, line, pin, spring, wall)");
+      }
+      std::vector<std::string> keys = {"shape"};
+      keys.insert(keys.end(), kind->second.first.begin(), kind->second.first.end());
+      keys.insert(keys.end(), kind->second.second.begin(), kind->second.second.end());
+      CheckKeys(item, d.kind + " in the animation of " + what, keys);
+      for (const auto& key : kind->second.first) {
+        if (!item[key]) Fail(item, d.kind + " in the animation of " + what + " needs '" + key + "'");
+      }
+      for (size_t k = 1; k < keys.size(); ++k) {
+        if (!item[keys[k]]) continue;
+        ShapeField f;
+        f.key = keys[k];
+        f.text = ValueText(item[keys[k]], d.kind + " " + f.key);
+        f.loc = TextLoc(item[keys[k]]);
+        f.expr = ParseExpression(f.text, f.loc);
+        d.fields.push_back(std::move(f));
+      }
+      out.push_back(std::move(d));
+    }
+    return out;
+  }
+
   ConnectorType Connector(const std::string& name, const YAML::Node& n) const {
     ConnectorType c;
     c.name = name;
@@ -404,7 +448,7 @@ class Reader {
     ExpectMap(n, "component type " + name);
     CheckKeys(n, "component type " + name,
               {"kind", "doc", "parameters", "connectors", "variables", "equations",
-               "initial_equations", "when", "impact", "components", "connections"});
+               "initial_equations", "when", "impact", "animation", "components", "connections"});
     if (n["doc"]) t.doc = Scalar(n["doc"], name + ".doc");
     if (n["parameters"] && !n["parameters"].IsNull()) {
       ExpectMap(n["parameters"], "parameters of " + name);
@@ -445,6 +489,7 @@ class Reader {
     }
     if (n["when"]) t.whens = Whens(n["when"], name);
     if (n["impact"]) t.impacts.push_back(Impact(n["impact"], name));
+    if (n["animation"]) t.animation = Animation(n["animation"], name);
     Parts(n, &t.components, &t.connections);
     return t;
   }

@@ -8,6 +8,10 @@
 #      ${MOMENTA_DEPS_DIR:-/opt/momenta-deps}/sundials-6.4.1, skipped when a stamp file says the
 #      install there is complete. Debian's libsundials is built without optimisation, and IDA
 #      runs 2-3x faster with an -O2 build.
+#   3. fetch uPlot (the report's plots) from the npm registry with `npm pack` at a pinned version,
+#      check its SHA-256 and unpack its dist files into third_party/uplot/ (git-ignored); the
+#      build inlines them into momenta's reports. Skipped when third_party/uplot/VERSION already
+#      names the pinned version; a failure is a warning (reports then have no plots).
 # If step 2 fails, a warning is printed and the build uses Debian's libsundials-dev instead
 # (cmake/Dependencies.cmake picks whichever is present); the script still exits 0.
 #
@@ -54,7 +58,11 @@ PACKAGES=(
   libmatio-dev
   dpkg-dev
   clang libclang-rt-14-dev
+  chromium gnuplot-nox libpng-dev
 )
+# The report's uPlot comes from the npm registry: npm (Debian's, unless an npm is already there,
+# as a Node.js distribution's own npm would conflict with Debian's package).
+command -v npm >/dev/null 2>&1 || PACKAGES+=(npm)
 
 is_installed() { dpkg-query -W -f='${Status}' "$1" 2>/dev/null | grep -q 'install ok installed'; }
 
@@ -195,5 +203,44 @@ else
     warn "Falling back to Debian's libsundials-dev (unoptimised, slower); the build still works."
   fi
 fi
+
+# ---------------------------------------------------------------------------------------------
+# 3. uPlot for the HTML report: npm pack at a pinned version, checked against its SHA-256.
+# ---------------------------------------------------------------------------------------------
+UPLOT_VERSION="1.6.32"
+UPLOT_SHA256="4b8a8191e425658e3ea8c8c1314b0fc679c861ee3a1af2b20c7b16ba50b5133d"
+REPO_DIR="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+UPLOT_DIR="${REPO_DIR}/third_party/uplot"
+
+vendor_uplot() {
+  local work tgz
+  work=$(mktemp -d /tmp/momenta-uplot.XXXXXX)
+  # shellcheck disable=SC2064
+  trap "rm -rf '$work'" EXIT
+  (cd "$work" && npm pack --silent "uplot@${UPLOT_VERSION}") >"$work/pack.log" 2>&1 ||
+    { tail -n 20 "$work/pack.log" >&2; return 1; }
+  tgz="$work/uplot-${UPLOT_VERSION}.tgz"
+  [[ -f "$tgz" ]] || { warn "npm pack made no $tgz"; return 1; }
+  echo "${UPLOT_SHA256}  ${tgz}" | sha256sum --check --quiet ||
+    { warn "uplot-${UPLOT_VERSION}.tgz does not have the pinned SHA-256"; return 1; }
+  tar -xzf "$tgz" -C "$work" package/dist/uPlot.iife.min.js package/dist/uPlot.min.css package/LICENSE ||
+    return 1
+  mkdir -p "$UPLOT_DIR"
+  cp "$work/package/dist/uPlot.iife.min.js" "$work/package/dist/uPlot.min.css" "$work/package/LICENSE" "$UPLOT_DIR/"
+  # VERSION last: its presence means the files are complete (the build reconfigures on it).
+  echo "uplot ${UPLOT_VERSION} sha256 ${UPLOT_SHA256}" >"$UPLOT_DIR/VERSION"
+}
+
+begin "uPlot ${UPLOT_VERSION} for the HTML report (npm pack)"
+if [[ -f "$UPLOT_DIR/VERSION" && "$(cat "$UPLOT_DIR/VERSION")" == "uplot ${UPLOT_VERSION} sha256 ${UPLOT_SHA256}" ]]; then
+  log "already in $UPLOT_DIR"
+elif ! command -v npm >/dev/null 2>&1; then
+  warn "npm is missing: reports will have no plots (install npm, then rerun scripts/setup.sh)"
+elif (vendor_uplot); then
+  log "uPlot ${UPLOT_VERSION} in $UPLOT_DIR"
+else
+  warn "fetching uPlot ${UPLOT_VERSION} FAILED: reports will have no plots until scripts/setup.sh is rerun"
+fi
+end
 
 log "setup finished in $(since "$SCRIPT_START")"

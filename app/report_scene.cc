@@ -1,0 +1,132 @@
+#include "app/report_scene.h"
+
+#include <algorithm>
+#include <set>
+
+#include "core/build.h"
+#include "core/parser.h"
+
+namespace momenta {
+
+namespace {
+
+/// A copy of `a` with every name read in the scope of the instance whose path segments are
+/// `prefix` (`r` in instance `A` is `A.r`); `time` and `pi` are the model's everywhere.
+AstPtr InScope(const AstPtr& a, const std::vector<NameSegment>& prefix) {
+  if (!a) return a;
+  auto out = std::make_shared<Ast>(*a);
+  if (a->kind == Ast::Kind::kName) {
+    const bool global = a->path.size() == 1 && !a->path[0].index &&
+                        (a->path[0].name == "time" || a->path[0].name == "pi");
+    if (!global) {
+      std::vector<NameSegment> path = prefix;
+      for (NameSegment s : a->path) {
+        s.index = InScope(s.index, prefix);
+        s.index2 = InScope(s.index2, prefix);
+        path.push_back(std::move(s));
+      }
+      out->path = std::move(path);
+    }
+  }
+  for (AstPtr& arg : out->args) arg = InScope(arg, prefix);
+  return out;
+}
+
+}  // namespace
+
+Scene AddSceneOutputs(ModelSpec* spec, const Library& library,
+                      const ParameterOverrides& overrides) {
+  Scene scene;
+  const FlatSystem flat = Flatten(*spec, library, overrides);
+  std::set<std::string> listed;
+  for (const auto& o : spec->outputs) listed.insert(o.text);
+  for (const FlatInstance& inst : flat.instances) {
+    if (!inst.type || inst.type->animation.empty()) continue;
+    // The instance's path as name segments (`R[3].body` -> R[3], body).
+    const AstPtr path = ParseName(inst.path, inst.loc);
+    for (const ShapeDecl& decl : inst.type->animation) {
+      SceneShape shape{decl.kind, inst.path, {}};
+      for (const ShapeField& f : decl.fields) {
+        // A point written as [x, y] is two scalar outputs (columns named after them); anything
+        // else is one output, a vector's elements named by the array expansion.
+        const AstPtr expr = InScope(f.expr, path->path);
+        std::vector<AstPtr> parts = {expr};
+        if (expr->kind == Ast::Kind::kArray && expr->args.size() == 2) parts = expr->args;
+        SceneField field{f.key, {}};
+        for (const AstPtr& part : parts) {
+          OutputSpec o;
+          o.expr = part;
+          o.text = AstToString(*part);
+          o.loc = f.loc;
+          if (listed.insert(o.text).second) {
+            spec->outputs.push_back(o);
+            scene.added.push_back(o.text);
+          }
+          field.columns.push_back(o.text);
+        }
+        shape.fields.push_back(std::move(field));
+      }
+      scene.shapes.push_back(std::move(shape));
+    }
+  }
+  return scene;
+}
+
+Scene PrepareScene(ModelSpec* spec, const Library& library, const ParameterOverrides& overrides) {
+  if (spec->outputs.empty()) {
+    BuildReport report;
+    const auto model = BuildModel(*spec, library, overrides, &report);
+    for (const std::string& name : model->output_names) {
+      OutputSpec o;
+      o.text = name;
+      o.loc = spec->loc;
+      o.expr = ParseName(name, spec->loc);
+      spec->outputs.push_back(std::move(o));
+    }
+  }
+  return AddSceneOutputs(spec, library, overrides);
+}
+
+size_t ResolveSceneColumns(const std::vector<std::string>& columns, Scene* scene) {
+  const std::set<std::string> have(columns.begin(), columns.end());
+  // The scene's own columns: each added text as a scalar or as the elements of a vector.
+  std::set<std::string> scene_only;
+  for (const std::string& text : scene->added) {
+    for (const std::string& name :
+         {text, text + "[1]", text + "[2]", "(" + text + ")[1]", "(" + text + ")[2]"}) {
+      scene_only.insert(name);
+    }
+  }
+  scene->num_model_columns = 0;
+  while (scene->num_model_columns < columns.size() &&
+         !scene_only.count(columns[scene->num_model_columns])) {
+    ++scene->num_model_columns;
+  }
+  auto kept = std::remove_if(scene->shapes.begin(), scene->shapes.end(), [&](SceneShape& shape) {
+    for (SceneField& f : shape.fields) {
+      // Scalars (one, or a point's two) are their own columns; a vector's elements are
+      // `name[1]`, or `(expr)[1]` for an expression (core/arrays.cc).
+      if (std::all_of(f.columns.begin(), f.columns.end(),
+                      [&](const std::string& c) { return have.count(c) > 0; })) {
+        continue;
+      }
+      if (f.columns.size() != 1) return true;
+      const std::string text = f.columns[0];
+      bool found = false;
+      for (const std::string& base : {text, "(" + text + ")"}) {
+        if (have.count(base + "[1]") && have.count(base + "[2]")) {
+          f.columns = {base + "[1]", base + "[2]"};
+          found = true;
+          break;
+        }
+      }
+      if (!found) return true;
+    }
+    return false;
+  });
+  const size_t dropped = scene->shapes.end() - kept;
+  scene->shapes.erase(kept, scene->shapes.end());
+  return dropped;
+}
+
+}  // namespace momenta

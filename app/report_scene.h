@@ -1,0 +1,51 @@
+#pragma once
+/// The report's scene: what the component types' `animation:` declarations (docs/FORMAT.md,
+/// "Animation") ask to draw for a model's instances, recorded as extra output columns.
+
+#include <string>
+#include <vector>
+
+#include "core/flat_system.h"
+#include "core/model_spec.h"
+
+namespace momenta {
+
+/// One value of a drawn shape, named by the output column(s) that hold it: one for a scalar
+/// (radius, angle), two for a point or a direction (x then y).
+struct SceneField {
+  std::string key;
+  std::vector<std::string> columns;
+};
+
+/// A shape drawn for one instance: its kind (circle, line, spring, pin, ground, wall) and fields.
+struct SceneShape {
+  std::string kind, owner;
+  std::vector<SceneField> fields;
+};
+
+struct Scene {
+  std::vector<SceneShape> shapes;
+  std::vector<std::string> added;  ///< output texts added for the scene alone
+  /// After ResolveSceneColumns: the leading columns that are the model's own outputs; the
+  /// columns after them are the scene's alone.
+  size_t num_model_columns = 0;
+  bool empty() const { return shapes.empty(); }
+};
+
+/// The scene of `spec`'s model: AddSceneOutputs, after giving a model that lists no outputs its
+/// states as outputs (what it would output without a scene; found by building it once).
+Scene PrepareScene(ModelSpec* spec, const Library& library, const ParameterOverrides& overrides);
+
+/// Flattens `spec`, finds every instance whose type declares an animation and appends to
+/// spec->outputs the expressions its shapes need, in the model's scope (`A.r`, `[cord.frame_a.x,
+/// cord.frame_a.y]`); an expression the model already outputs is not added again. Returns the
+/// scene with the output texts each field reads; ResolveSceneColumns turns them into column
+/// names once the model is built. Throws ModelError as Flatten does.
+Scene AddSceneOutputs(ModelSpec* spec, const Library& library, const ParameterOverrides& overrides);
+
+/// Replaces each field's output text by the built model's column names for it (a vector output
+/// `A.r` is the columns `A.r[1]`, `A.r[2]`); a field whose columns are missing from `columns`
+/// drops its shape; sets num_model_columns. Returns the number of shapes dropped.
+size_t ResolveSceneColumns(const std::vector<std::string>& columns, Scene* scene);
+
+}  // namespace momenta

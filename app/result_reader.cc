@@ -1,0 +1,177 @@
+#include "app/result_reader.h"
+
+#include <matio.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <memory>
+
+#include "app/mat_writer.h"
+#include "core/component_type.h"
+
+namespace momenta {
+
+namespace {
+
+/// The fields of one CSV line (RFC 4180 quoting, as CsvField writes it).
+std::vector<std::string> CsvFields(const std::string& line) {
+  std::vector<std::string> out(1);
+  bool quoted = false;
+  for (size_t i = 0; i < line.size(); ++i) {
+    const char c = line[i];
+    if (quoted) {
+      if (c == '"' && i + 1 < line.size() && line[i + 1] == '"') {
+        out.back() += '"';
+        ++i;
+      } else if (c == '"') {
+        quoted = false;
+      } else {
+        out.back() += c;
+      }
+    } else if (c == '"') {
+      quoted = true;
+    } else if (c == ',') {
+      out.emplace_back();
+    } else if (c != '\r') {
+      out.back() += c;
+    }
+  }
+  return out;
+}
+
+ResultTable ReadCsv(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error("cannot read the result " + path + ": " + std::strerror(errno));
+  ResultTable r;
+  std::string line;
+  if (!std::getline(in, line))
+    throw std::runtime_error(path + ": empty file; a result starts with the header time,<outputs>");
+  std::vector<std::string> header = CsvFields(line);
+  if (header.empty() || header[0] != "time") {
+    throw std::runtime_error(path + ":1: not a momenta result: the header starts with '" +
+                             header[0] + "', not 'time'");
+  }
+  r.names.assign(header.begin() + 1, header.end());
+  r.values.resize(r.names.size());
+  for (size_t lineno = 2; std::getline(in, line); ++lineno) {
+    if (line.empty()) continue;
+    std::vector<std::string> cells = CsvFields(line);
+    if (cells.size() != header.size()) {
+      throw std::runtime_error(path + ":" + std::to_string(lineno) + ": " +
+                               std::to_string(cells.size()) + " values where the header has " +
+                               std::to_string(header.size()));
+    }
+    for (size_t k = 0; k < cells.size(); ++k) {
+      char* end = nullptr;
+      const double v = std::strtod(cells[k].c_str(), &end);
+      if (cells[k].empty() || *end != '\0') {
+        throw std::runtime_error(path + ":" + std::to_string(lineno) + ": '" + cells[k] +
+                                 "' in column " + header[k] + " is not a number");
+      }
+      (k == 0 ? r.time : r.values[k - 1]).push_back(v);
+    }
+  }
+  return r;
+}
+
+struct MatCloser {
+  void operator()(mat_t* m) const { Mat_Close(m); }
+};
+struct VarFree {
+  void operator()(matvar_t* v) const { Mat_VarFree(v); }
+};
+using Var = std::unique_ptr<matvar_t, VarFree>;
+
+/// The "name" matrix's texts (binTrans: one per column, NUL- or blank-padded).
+std::vector<std::string> MatNames(const matvar_t* v) {
+  std::vector<std::string> out;
+  const size_t rows = v->dims[0], cols = v->dims[1];
+  const auto* bytes = static_cast<const unsigned char*>(v->data);
+  for (size_t j = 0; j < cols; ++j) {
+    std::string s;
+    for (size_t i = 0; i < rows; ++i) s += static_cast<char>(bytes[j * rows + i]);
+    while (!s.empty() && (s.back() == '\0' || s.back() == ' ')) s.pop_back();
+    out.push_back(s);
+  }
+  return out;
+}
+
+/// The variables stored in data_2 (dataInfo row 1 is 2, or time), in the file's order.
+ResultTable ReadMat(const std::string& path) {
+  std::unique_ptr<mat_t, MatCloser> mat(Mat_Open(path.c_str(), MAT_ACC_RDONLY));
+  if (!mat)
+    throw std::runtime_error("cannot read the result " + path +
+                             ": not a MAT file, or not readable");
+  auto read = [&](const char* name) {
+    Var v(Mat_VarRead(mat.get(), name));
+    if (!v)
+      throw std::runtime_error(path + ": no matrix '" + std::string(name) +
+                               "'; not a result file (Aclass, name, dataInfo, data_2)");
+    return v;
+  };
+  Var names = read("name"), info = read("dataInfo"), data = read("data_2");
+  // libmatio reads a MAT v4 file's numeric matrices as doubles (dataInfo is stored as int32).
+  const bool info_ok = (info->class_type == MAT_C_INT32 && info->data_type == MAT_T_INT32) ||
+                       (info->class_type == MAT_C_DOUBLE && info->data_type == MAT_T_DOUBLE);
+  if (names->class_type != MAT_C_CHAR || names->data_size != 1 || !info_ok ||
+      data->class_type != MAT_C_DOUBLE || data->data_type != MAT_T_DOUBLE || info->dims[0] != 4 ||
+      info->dims[1] != names->dims[1]) {
+    throw std::runtime_error(path +
+                             ": name, dataInfo and data_2 do not have the binTrans result layout");
+  }
+  const std::vector<std::string> all = MatNames(names.get());
+  std::vector<int32_t> di(4 * all.size());
+  for (size_t k = 0; k < di.size(); ++k) {
+    if (info->data_type == MAT_T_INT32) {
+      di[k] = static_cast<const int32_t*>(info->data)[k];
+      continue;
+    }
+    // A value no int32 holds (a damaged file) is refused before it is converted.
+    const double v = static_cast<const double*>(info->data)[k];
+    if (!(std::fabs(v) <= 2147483647.0)) {
+      throw std::runtime_error(path + ": dataInfo holds " + std::to_string(v) + ", not an index");
+    }
+    di[k] = static_cast<int32_t>(v);
+  }
+  const auto* d = static_cast<const double*>(data->data);
+  const size_t per_row = data->dims[0], rows = data->dims[1];
+  ResultTable r;
+  for (size_t j = 0; j < all.size(); ++j) {
+    const int32_t matrix = di[4 * j], index = di[4 * j + 1];
+    const bool time = j == 0;
+    if (!time && matrix != 2) continue;
+    const size_t row = static_cast<size_t>(std::abs(index)) - 1;
+    if (index == 0 || row >= per_row)
+      throw std::runtime_error(path + ": dataInfo of " + all[j] + " points outside data_2");
+    std::vector<double> col(rows);
+    for (size_t k = 0; k < rows; ++k) col[k] = (index < 0 ? -1 : 1) * d[k * per_row + row];
+    if (time) {
+      r.time = std::move(col);
+    } else {
+      r.names.push_back(all[j]);
+      r.values.push_back(std::move(col));
+    }
+  }
+  return r;
+}
+
+}  // namespace
+
+size_t ResultTable::Column(const std::string& name) const {
+  for (size_t k = 0; k < names.size(); ++k) {
+    if (names[k] == name) return k;
+  }
+  auto close = ClosestNames(name, names);
+  throw std::invalid_argument("the result has no column '" + name + "'" +
+                              (close.empty() ? "" : " (did you mean " + JoinNames(close) + "?)") +
+                              " (valid: " + JoinNames(names, 60) + ")");
+}
+
+ResultTable ReadResult(const std::string& path) {
+  return IsMatPath(path) ? ReadMat(path) : ReadCsv(path);
+}
+
+}  // namespace momenta
