@@ -10,6 +10,7 @@
 #include "app/csv_writer.h"
 #include "app/interrupt.h"
 #include "app/mat_writer.h"
+#include "app/progress.h"
 #include "core/build.h"
 #include "core/model_state.h"
 #include "solver/simulator.h"
@@ -148,23 +149,23 @@ int RunSimulate(const SimulateArgs& args) {
     } else {
       csv = std::make_unique<CsvWriter>(out_path, model->output_names);
     }
-  } catch (const CsvWriteError& e) {
+  } catch (const ResultWriteError& e) {
     std::cerr << "momenta: " << e.what() << "\n";
     return kExitSolver;
-  } catch (const std::exception& e) {
-    std::cerr << "momenta: " << e.what() << "\n";
-    return kExitUsage;
   }
   std::vector<double> last(model->output_names.size());
   double last_t = opt.start;
   SolverStats stats;
   int code = kExitOk;
   std::string failure, write_failure;
+  // On a terminal, after a second: how far the run has come, redrawn as rows arrive.
+  ProgressLine progress(!args.quiet);
   try {
     Simulate(state, opt, [&](double t, const std::vector<double>& v) {
       csv->Row(t, v);
       last = v;
       last_t = t;
+      if (progress.Due()) progress.Show(FormatSimulationProgress(t, opt.start, opt.stop, progress.elapsed()));
     }, &stats);
   } catch (const SolverError& e) {
     failure = e.what();
@@ -175,6 +176,7 @@ int RunSimulate(const SimulateArgs& args) {
     failure = e.what();
     code = kExitModel;
   }
+  progress.Clear();
   // Every row computed is written (or the write error reported).
   const size_t rows = csv->rows();
   try {

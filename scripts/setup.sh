@@ -52,6 +52,7 @@ PACKAGES=(
   libeigen3-dev libyaml-cpp-dev libcli11-dev
   libgtest-dev libbenchmark-dev
   libmatio-dev
+  libopenmpi-dev openmpi-bin
   dpkg-dev
   clang libclang-rt-14-dev
 )
