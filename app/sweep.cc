@@ -60,7 +60,7 @@ class Sweep {
   int OpenOutputs();
   SweepRunResult RunOne(size_t k) const;
   void WriteTrajectory(size_t k, SweepRunResult* r) const;
-  void Store(size_t k, SweepRunResult r);
+  void Store(size_t k, SweepRunResult r, int rank);
   void ServeAsks();
   int RunRankZero();
   void RunOtherRank();
@@ -91,6 +91,7 @@ class Sweep {
   std::mutex mutex_;
   std::condition_variable wake_;  ///< the main thread: a run finished or a thread left
   size_t finished_ = 0, failed_ = 0, written_ = 0;
+  std::vector<size_t> runs_by_rank_;  ///< finished runs by the rank that ran them
   unsigned active_ = 0;        ///< rank 0's threads still running
   int64_t remote_open_ = 0;    ///< other ranks' threads not yet told "no more runs"
   int remote_signal_ = 0;      ///< the signal that interrupted another rank
@@ -235,10 +236,11 @@ void Sweep::WriteTrajectory(size_t k, SweepRunResult* r) const {
   }
 }
 
-void Sweep::Store(size_t k, SweepRunResult r) {
+void Sweep::Store(size_t k, SweepRunResult r, int rank) {
   {
     std::lock_guard<std::mutex> lock(mutex_);
     if (r.status != kExitOk) ++failed_;
+    ++runs_by_rank_[rank];
     results_[k] = std::move(r);
     ++finished_;
   }
@@ -256,7 +258,7 @@ void Sweep::ServeAsks() {
       stop_ = true;
     } else if (run >= 0) {
       if (!r.trajectory.empty()) WriteTrajectory(static_cast<size_t>(run), &r);
-      Store(static_cast<size_t>(run), std::move(r));
+      Store(static_cast<size_t>(run), std::move(r), from);
     }
     // The next run from the queue rank 0's threads share, or none.
     int64_t next = -1;
@@ -339,6 +341,7 @@ void Sweep::RunOtherRank() {
 int Sweep::RunRankZero() {
   const std::atomic<bool>& interrupted = InterruptRequested();
   results_.assign(runs_, SweepRunResult{});
+  runs_by_rank_.assign(cluster_.size(), 0);
   for (SweepRunResult& r : results_) r.done = false;
   active_ = jobs_;
   const auto t0 = Clock::now();
@@ -351,7 +354,7 @@ int Sweep::RunRankZero() {
         SweepRunResult r = RunOne(k);
         if (!r.done) break;  // interrupted in the middle: not a finished run
         if (!r.trajectory.empty()) WriteTrajectory(k, &r);
-        Store(k, std::move(r));
+        Store(k, std::move(r), 0);
       }
       std::lock_guard<std::mutex> lock(mutex_);
       --active_;
@@ -465,6 +468,11 @@ int Sweep::Finish(double seconds) {
       << (jobs_ == 1 ? " thread" : " threads") << " in " << rate << ", built once in "
       << FormatDouble(std::round(loaded_.build_s * 1e4) / 10) << " ms\n";
     o << "  " << runs_ - bad << " succeeded, " << bad << " failed\n";
+    if (cluster_.size() > 1) {
+      o << "  runs by rank:";
+      for (size_t n : runs_by_rank_) o << " " << n;
+      o << "\n";
+    }
     o << "  summary: " << out_path_ << " (" << runs_ << " rows)\n";
     if (!args_.trajectories.empty()) o << "  trajectories: " << args_.trajectories << "/run-<k>.csv\n";
   }
