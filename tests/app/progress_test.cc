@@ -20,6 +20,7 @@
 #include "app/commands.h"
 #include "tests/app/cli_support.h"
 #include "tests/support/cli_runner.h"
+#include "tests/support/test_models.h"
 
 namespace momenta {
 namespace {
@@ -54,30 +55,14 @@ TEST(ProgressTest, SweepText) {
   EXPECT_EQ(FormatSweepProgress(0, 200, 0, 1.1), "sweep: 0/200 runs, 0 failed, 0 runs/s");
 }
 
-// A 1 kHz oscillator: some 80000 steps per simulated second, so --stop sets how long it runs.
-constexpr const char* kOscillator = R"(model: Oscillator
-define:
-  Osc:
-    parameters:
-      w: {value: 6283.2}
-    variables:
-      x: {start: 1, fixed: true}
-      v: {start: 0, fixed: true}
-    equations:
-      - der(x) = v
-      - der(v) = -w^2*x
-components:
-  o: {type: Osc}
-experiment: {stop: 1000, interval: 0.001}
-outputs: [o.x]
-)";
+/// A 1 kHz oscillator to t = 1000 s: a minute or more, stopped by SIGINT in these tests.
+std::string Oscillator() { return testing::SourcePath("tests/data/oscillator_1khz.yaml"); }
 
 TEST(ProgressTest, NothingOnAPipe) {
   testing::TempDir dir;
-  dir.Write("osc.yaml", kOscillator);
   // Longer than the second after which a terminal would see the line: stopped by SIGINT once the
   // rows show that 1.5 s have passed.
-  testing::MomentaProcess p({"simulate", "osc.yaml", "-o", "osc.csv"}, dir.path());
+  testing::MomentaProcess p({"simulate", Oscillator(), "-o", "osc.csv"}, dir.path());
   ASSERT_TRUE(p.started());
   std::this_thread::sleep_for(std::chrono::milliseconds(1500));
   p.Signal(SIGINT);
@@ -85,13 +70,12 @@ TEST(ProgressTest, NothingOnAPipe) {
   const std::string err = p.err();
   EXPECT_FALSE(Contains(err, "\r")) << err;
   EXPECT_FALSE(Contains(err, "elapsed")) << err;
-  EXPECT_TRUE(Contains(err, "osc.yaml: interrupted at t = ")) << err;
+  EXPECT_TRUE(Contains(err, "oscillator_1khz.yaml: interrupted at t = ")) << err;
 }
 
 TEST(ProgressTest, OnATerminalTheLineIsRedrawnAndErasedAndCtrlCStops) {
   testing::TempDir dir;
-  dir.Write("osc.yaml", kOscillator);
-  const std::string binary = MOMENTA_BINARY, model = dir.File("osc.yaml"), out = dir.File("osc.csv");
+  const std::string binary = MOMENTA_BINARY, model = Oscillator(), out = dir.File("osc.csv");
   int master = -1;
   const pid_t pid = forkpty(&master, nullptr, nullptr, nullptr);
   ASSERT_GE(pid, 0) << "forkpty failed";
@@ -130,7 +114,7 @@ TEST(ProgressTest, OnATerminalTheLineIsRedrawnAndErasedAndCtrlCStops) {
   const size_t erased = screen.rfind("\r\033[K");
   ASSERT_NE(erased, std::string::npos) << screen;
   const std::string after = screen.substr(erased + 4);
-  EXPECT_TRUE(Contains(after, "osc.yaml: interrupted at t = ")) << after;
+  EXPECT_TRUE(Contains(after, "oscillator_1khz.yaml: interrupted at t = ")) << after;
   EXPECT_FALSE(Contains(after, "\rt = ")) << after;
   // The rows so far are in the file, whole.
   std::vector<std::string> lines = testing::Lines(testing::ReadText(out));

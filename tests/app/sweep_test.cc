@@ -364,30 +364,11 @@ TEST_F(SweepMpiTest, TwoRanksWriteTheThreadedTableAndTrajectories) {
   }
 }
 
-constexpr const char* kOscillator = R"(model: Oscillator
-parameters:
-  w: {value: 6283.2, doc: angular frequency in rad/s (1 kHz)}
-define:
-  Osc:
-    parameters:
-      w: {value: 1}
-    variables:
-      x: {start: 1, fixed: true}
-      v: {start: 0, fixed: true}
-    equations:
-      - der(x) = v
-      - der(v) = -w^2*x
-components:
-  o: {type: Osc, w: w}
-experiment: {stop: 0.5, interval: 0.001}
-outputs: [o.x]
-)";
-
 TEST_F(SweepMpiTest, RunsAreSpreadOverTheRanks) {
   // Twelve runs of about 30 ms each (some 40000 steps of a 1 kHz oscillator): both ranks get work,
   // as the summary's "runs by rank" line says, and x(t) = cos(w t) at the end.
-  dir_.Write("osc.yaml", kOscillator);
-  CliResult r = MpiMomenta({"sweep", "osc.yaml", "-p", "w=6000:7000:12", "-j", "1", "-o", "osc.csv"});
+  const std::string model = testing::SourcePath("tests/data/oscillator_1khz.yaml");
+  CliResult r = MpiMomenta({"sweep", model, "-p", "w=6000:7000:12", "--stop", "0.5", "-j", "1", "-o", "osc.csv"});
   ASSERT_EQ(r.exit_code, kExitOk) << r.err;
   const size_t at = r.out.find("runs by rank: ");
   ASSERT_NE(at, std::string::npos) << r.out;
