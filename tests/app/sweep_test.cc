@@ -429,6 +429,32 @@ TEST_F(SweepMpiTest, AUsageErrorIsReportedOnceByRankZero) {
   EXPECT_FALSE(std::filesystem::exists(dir_.File("s.csv")));
 }
 
+TEST_F(SweepMpiTest, CtrlCKeepsTheFinishedRowsInRunOrder) {
+  // mpirun passes SIGINT on to the ranks; rank 0 writes the rows finished so far and says so.
+  testing::MomentaProcess p({"sweep", carrier_, "-p", "eC=0:1:200000", "-p", "eS=0,1", "-j", "1", "-o", "s.csv"},
+                            dir_.path(), mpirun_);
+  ASSERT_TRUE(p.started());
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (Lines(testing::ReadText(dir_.File("s.csv"))).size() < 4 && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  p.Signal(SIGINT);
+  const int code = p.Wait(60);
+  EXPECT_NE(code, 0) << p.err();  // mpirun's own status for an interrupted job
+  EXPECT_NE(code, -2) << "still running 60 s after SIGINT:\n" << p.err();
+  EXPECT_TRUE(Contains(p.err(), " of 400000 runs finished; their rows are kept in s.csv")) << p.err();
+  Summary s = ReadSummary(dir_.File("s.csv"));
+  ASSERT_GE(s.rows.size(), 3u);
+  EXPECT_LT(s.rows.size(), 400000u);
+  long previous = -1;
+  for (size_t k = 0; k < s.rows.size(); ++k) {
+    const long run = std::stol(s.rows[k]["run"]);
+    EXPECT_GT(run, previous);
+    previous = run;
+    EXPECT_EQ(s.rows[k]["status"], "0");
+  }
+}
+
 TEST_F(SweepTest, MpirunWithoutMpiIsAUsageError) {
   if (HaveMpi()) GTEST_SKIP() << "momenta was built with MPI; this checks the message of a build without it";
   // What mpirun puts in each rank's environment, as if this were one of 2 ranks.
