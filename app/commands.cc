@@ -1,5 +1,7 @@
 #include "app/commands.h"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -158,8 +160,9 @@ int RunSimulate(const SimulateArgs& args) {
   SolverStats stats;
   int code = kExitOk;
   std::string failure, write_failure;
-  // On a terminal, after a second: how far the run has come, redrawn as rows arrive.
-  ProgressLine progress(!args.quiet);
+  // On a terminal, after a second: how far the run has come, redrawn as rows arrive (not when the
+  // rows themselves go to the terminal).
+  ProgressLine progress(!args.quiet && !(out_path == "-" && isatty(STDOUT_FILENO)));
   try {
     Simulate(state, opt, [&](double t, const std::vector<double>& v) {
       csv->Row(t, v);

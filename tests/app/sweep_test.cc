@@ -104,6 +104,33 @@ class SweepTest : public ::testing::Test {
   CliResult Momenta(const std::vector<std::string>& args) {
     return testing::RunMomentaWithDeadline(args, dir_.path(), 300);
   }
+  /// Waits until `p` has written a few rows of s.csv, interrupts it with SIGINT and checks what
+  /// it kept: the note, and whole rows of finished runs in run order. Returns its exit status.
+  int InterruptAndCheckRows(testing::MomentaProcess& p, size_t runs) {
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+    while (Lines(testing::ReadText(dir_.File("s.csv"))).size() < 4 && std::chrono::steady_clock::now() < deadline) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    p.Signal(SIGINT);
+    const int code = p.Wait(60);
+    EXPECT_NE(code, -2) << "still running 60 s after SIGINT:\n" << p.err();
+    EXPECT_TRUE(Contains(p.err(), "sweep interrupted: ")) << p.err();
+    EXPECT_TRUE(Contains(p.err(), " of " + std::to_string(runs) + " runs finished; their rows are kept in s.csv"))
+        << p.err();
+    Summary s = ReadSummary(dir_.File("s.csv"));
+    EXPECT_GE(s.rows.size(), 3u);
+    EXPECT_LT(s.rows.size(), runs);
+    long previous = -1;
+    for (size_t k = 0; k < s.rows.size(); ++k) {
+      const long run = std::stol(s.rows[k]["run"]);
+      EXPECT_GT(run, previous);
+      previous = run;
+      EXPECT_EQ(s.rows[k]["status"], "0");
+      EXPECT_FALSE(s.rows[k]["B.v"].empty());
+    }
+    return code;
+  }
+
   std::string carrier_ = testing::SourcePath("models/carrier_collision.yaml");
   TempDir dir_;
 };
@@ -274,27 +301,7 @@ TEST_F(SweepTest, InterruptKeepsTheFinishedRows) {
   testing::MomentaProcess p({"sweep", carrier_, "-p", "eC=0:1:200000", "-p", "eS=0,1", "-j", "2", "-o", "s.csv"},
                             dir_.path());
   ASSERT_TRUE(p.started());
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
-  while (Lines(testing::ReadText(dir_.File("s.csv"))).size() < 4 && std::chrono::steady_clock::now() < deadline) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  }
-  p.Signal(SIGINT);
-  const int code = p.Wait(60);
-  EXPECT_EQ(code, 130) << p.err();
-  EXPECT_TRUE(Contains(p.err(), "sweep interrupted: ")) << p.err();
-  EXPECT_TRUE(Contains(p.err(), " of 400000 runs finished; their rows are kept in s.csv")) << p.err();
-  Summary s = ReadSummary(dir_.File("s.csv"));
-  ASSERT_GE(s.rows.size(), 3u);
-  EXPECT_LT(s.rows.size(), 400000u);
-  // Whole rows, in run order, each a finished run.
-  long previous = -1;
-  for (size_t k = 0; k < s.rows.size(); ++k) {
-    const long run = std::stol(s.rows[k]["run"]);
-    EXPECT_GT(run, previous);
-    previous = run;
-    EXPECT_EQ(s.rows[k]["status"], "0");
-    EXPECT_FALSE(s.rows[k]["B.v"].empty());
-  }
+  EXPECT_EQ(InterruptAndCheckRows(p, 400000), 130) << p.err();
 }
 
 // ---- Under mpirun ------------------------------------------------------------------------------
@@ -434,25 +441,8 @@ TEST_F(SweepMpiTest, CtrlCKeepsTheFinishedRowsInRunOrder) {
   testing::MomentaProcess p({"sweep", carrier_, "-p", "eC=0:1:200000", "-p", "eS=0,1", "-j", "1", "-o", "s.csv"},
                             dir_.path(), mpirun_);
   ASSERT_TRUE(p.started());
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
-  while (Lines(testing::ReadText(dir_.File("s.csv"))).size() < 4 && std::chrono::steady_clock::now() < deadline) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  }
-  p.Signal(SIGINT);
-  const int code = p.Wait(60);
+  const int code = InterruptAndCheckRows(p, 400000);
   EXPECT_NE(code, 0) << p.err();  // mpirun's own status for an interrupted job
-  EXPECT_NE(code, -2) << "still running 60 s after SIGINT:\n" << p.err();
-  EXPECT_TRUE(Contains(p.err(), " of 400000 runs finished; their rows are kept in s.csv")) << p.err();
-  Summary s = ReadSummary(dir_.File("s.csv"));
-  ASSERT_GE(s.rows.size(), 3u);
-  EXPECT_LT(s.rows.size(), 400000u);
-  long previous = -1;
-  for (size_t k = 0; k < s.rows.size(); ++k) {
-    const long run = std::stol(s.rows[k]["run"]);
-    EXPECT_GT(run, previous);
-    previous = run;
-    EXPECT_EQ(s.rows[k]["status"], "0");
-  }
 }
 
 TEST_F(SweepTest, MpirunWithoutMpiIsAUsageError) {
