@@ -1,5 +1,7 @@
 #include "app/commands.h"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -11,6 +13,7 @@
 #include "app/csv_writer.h"
 #include "app/interrupt.h"
 #include "app/mat_writer.h"
+#include "app/progress.h"
 #include "app/report_command.h"
 #include "core/build.h"
 #include "core/model_state.h"
@@ -247,18 +250,18 @@ int RunSimulate(const SimulateArgs& args) {
         WriteUnitsFile(UnitsPath(out_path), model->output_names, OutputUnits(*model->flat, model->output_names));
       }
     }
-  } catch (const CsvWriteError& e) {
+  } catch (const ResultWriteError& e) {
     std::cerr << "momenta: " << e.what() << "\n";
     return kExitSolver;
-  } catch (const std::exception& e) {
-    std::cerr << "momenta: " << e.what() << "\n";
-    return kExitUsage;
   }
   std::vector<double> last(num_written);
   double last_t = opt.start;
   SolverStats stats;
   int code = kExitOk;
   std::string failure, write_failure;
+  // On a terminal, after a second: how far the run has come, redrawn as rows arrive (not when the
+  // rows themselves go to the terminal).
+  ProgressLine progress(!args.quiet && !(out_path == "-" && isatty(STDOUT_FILENO)));
   try {
     Simulate(state, opt, [&](double t, const std::vector<double>& v) {
       if (report_data) report_data->Row(t, v);
@@ -270,6 +273,7 @@ int RunSimulate(const SimulateArgs& args) {
         last = v;
       }
       last_t = t;
+      if (progress.Due()) progress.Show(FormatSimulationProgress(t, opt.start, opt.stop, progress.elapsed()));
     }, &stats);
   } catch (const SolverError& e) {
     failure = e.what();
@@ -280,6 +284,7 @@ int RunSimulate(const SimulateArgs& args) {
     failure = e.what();
     code = kExitModel;
   }
+  progress.Clear();
   // Every row computed is written (or the write error reported).
   const size_t rows = csv->rows();
   try {

@@ -27,23 +27,39 @@ std::string CsvField(const std::string& text) {
   return q + "\"";
 }
 
+std::string CsvHeader(const std::vector<std::string>& names) {
+  std::string header = "time";
+  // A name with a comma or quote is quoted, as CSV requires.
+  for (const auto& n : names) {
+    header += ',';
+    header += CsvField(n);
+  }
+  return header + '\n';
+}
+
+void AppendCsvRow(double t, const std::vector<double>& values, std::string* out) {
+  char buf[32];
+  auto r = std::to_chars(buf, buf + sizeof buf, t);
+  out->append(buf, r.ptr);
+  for (double v : values) {
+    *out += ',';
+    r = std::to_chars(buf, buf + sizeof buf, v);
+    out->append(buf, r.ptr);
+  }
+  *out += '\n';
+}
+
 CsvWriter::CsvWriter(const std::string& path, const std::vector<std::string>& names) : path_(path) {
   if (path == "-") {
     file_ = stdout;
   } else {
     file_ = std::fopen(path.c_str(), "w");
     owned_ = true;
-    if (!file_) throw std::runtime_error("cannot write the results file " + path + ": " + std::strerror(errno));
+    if (!file_) throw ResultWriteError("cannot write the results file " + path + ": " + std::strerror(errno));
     // Unbuffered: each Flush() is one write of whole lines, not stdio's blocks.
     std::setvbuf(file_, nullptr, _IONBF, 0);
   }
-  buffer_ = "time";
-  // A name with a comma or quote is quoted, as CSV requires.
-  for (const auto& n : names) {
-    buffer_ += ',';
-    buffer_ += CsvField(n);
-  }
-  buffer_ += '\n';
+  buffer_ = CsvHeader(names);
   // The header at once: a file that cannot be written is found before the run.
   Flush();
 }
@@ -58,15 +74,7 @@ CsvWriter::~CsvWriter() {
 }
 
 void CsvWriter::Row(double t, const std::vector<double>& values) {
-  char buf[32];
-  auto r = std::to_chars(buf, buf + sizeof buf, t);
-  buffer_.append(buf, r.ptr);
-  for (double v : values) {
-    buffer_ += ',';
-    r = std::to_chars(buf, buf + sizeof buf, v);
-    buffer_.append(buf, r.ptr);
-  }
-  buffer_ += '\n';
+  AppendCsvRow(t, values, &buffer_);
   ++rows_;
   if (buffer_.size() >= kBufferBytes || std::chrono::steady_clock::now() - last_write_ >= kWriteEvery) Flush();
 }

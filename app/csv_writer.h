@@ -35,8 +35,8 @@ class ResultWriter {
 
 class CsvWriter : public ResultWriter {
  public:
-  /// Opens `path` ("-" for standard output) and writes the header. Throws std::runtime_error when
-  /// it cannot open it, CsvWriteError when it cannot write to it.
+  /// Opens `path` ("-" for standard output) and writes the header. Throws CsvWriteError naming the
+  /// file when it cannot open it or write to it.
   CsvWriter(const std::string& path, const std::vector<std::string>& names);
   /// Writes what is left (errors are not reported here: call Close()).
   ~CsvWriter() override;
@@ -63,6 +63,12 @@ class CsvWriter : public ResultWriter {
 
 /// The shortest decimal text that reads back as `v`.
 std::string FormatDouble(double v);
+
+/// The header line `time,<name>,…` (with its line end) that CsvWriter writes.
+std::string CsvHeader(const std::vector<std::string>& names);
+
+/// Appends one row `t,<value>,…` (with its line end) as CsvWriter writes it.
+void AppendCsvRow(double t, const std::vector<double>& values, std::string* out);
 
 /// `text` as one CSV field: as it is, or in double quotes (quotes doubled) when it holds a comma,
 /// a quote or a line end.

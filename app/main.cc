@@ -60,7 +60,7 @@ int main(int argc, char** argv) {
   check->add_flag("-v,--verbose", chk.verbose, "list every state and pruned variable");
 
   SweepArgs swp;
-  auto* sweep = app.add_subcommand("sweep", "simulate a model for many parameter values on several threads");
+  auto* sweep = app.add_subcommand("sweep", "simulate a model for many parameter values on several threads (and MPI ranks under mpirun)");
   sweep->add_option("model", swp.model, "model file (YAML)")->required();
   sweep->add_option("-p,--param", swp.params,
                     "NAME=SPEC: a value, a list a,b,c, a grid a:b:n or a:b:log:n, normal(mu,sigma) or "
@@ -74,7 +74,7 @@ int main(int argc, char** argv) {
   sweep_number("--interval", &swp.options.interval, "output interval [s]");
   sweep->add_option("--linear-solver", swp.options.linear_solver, "auto, dense or klu")
       ->check(CLI::IsMember({"auto", "dense", "klu"}));
-  sweep->add_option("-j,--jobs", swp.jobs, "threads (default: one per core)")->check(CLI::Range(1u, 4096u));
+  sweep->add_option("-j,--jobs", swp.jobs, "threads per process (default: one per core, shared by the MPI ranks on the machine)")->check(CLI::Range(1u, 4096u));
   sweep->add_option("-o,--out", swp.out, "summary CSV, one row per run ('-' for standard output)");
   sweep->add_option("--trajectories", swp.trajectories, "directory for each run's CSV (DIR/run-<k>.csv)");
   sweep->add_option("--seed", swp.seed, "seed of the Monte Carlo draws (std::mt19937_64; default 0)");

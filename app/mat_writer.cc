@@ -1,11 +1,14 @@
 #include "app/mat_writer.h"
 
 #include <matio.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <memory>
@@ -49,15 +52,14 @@ MatWriter::MatWriter(const std::string& path, const std::vector<std::string>& ou
       start_(start),
       stop_(stop) {
   errno = 0;
-  mat_ = Mat_CreateVer(path.c_str(), nullptr, MAT_FT_MAT4);
-  if (!mat_) {
-    throw ResultWriteError("cannot write the results file " + path + ": " +
-                           std::strerror(errno ? errno : EIO));
+  file_ = std::fopen(path.c_str(), "wb");
+  if (!file_) {
+    throw ResultWriteError("cannot write the results file " + path + ": " + std::strerror(errno ? errno : EIO));
   }
 }
 
 MatWriter::~MatWriter() {
-  if (mat_) Mat_Close(mat_);
+  if (file_) std::fclose(file_);
 }
 
 void MatWriter::Row(double t, const std::vector<double>& values) {
@@ -67,7 +69,7 @@ void MatWriter::Row(double t, const std::vector<double>& values) {
 }
 
 void MatWriter::Close() {
-  if (!mat_) return;
+  if (!file_) return;
   const size_t n_out = outputs_.size(), n_par = parameters_.size();
   const size_t n = 1 + n_out + n_par;
   std::vector<std::string> names, descriptions;
@@ -109,6 +111,19 @@ void MatWriter::Close() {
   data1[n1] = stop_;
   for (size_t p = 0; p < n_par; ++p) data1[1 + p] = data1[n1 + 1 + p] = parameters_[p].value;
 
+  // libmatio 1.5 does not report failed writes (a full disk, /dev/full): it writes a temporary
+  // regular file, whose size is checked, and that file's bytes are copied to the results file
+  // with every write checked.
+  std::string temp = (std::filesystem::temp_directory_path() / "momenta-XXXXXX.mat").string();
+  const int fd = mkstemps(temp.data(), 4);
+  if (fd < 0) Fail("cannot create a temporary file in " + std::filesystem::temp_directory_path().string(), errno);
+  close(fd);
+  struct TempRemover {
+    std::string path;
+    ~TempRemover() { std::remove(path.c_str()); }
+  } remover{temp};
+  mat_t* mat = Mat_CreateVer(temp.c_str(), nullptr, MAT_FT_MAT4);
+  if (!mat) Fail("cannot create the temporary file " + temp, errno);
   bool ok = true;
   uintmax_t expected_bytes = 0;  // MAT v4: per matrix a 20-byte header, the name with its NUL, the data
   auto write = [&](const char* var_name, matio_classes cls, matio_types type, size_t rows, size_t cols,
@@ -118,8 +133,7 @@ void MatWriter::Close() {
     if (!ok) return;
     size_t dims[2] = {rows, cols};
     std::unique_ptr<matvar_t, VarDeleter> v(Mat_VarCreate(var_name, cls, type, 2, dims, data, MAT_F_DONT_COPY_DATA));
-    errno = 0;
-    ok = v && Mat_VarWrite(mat_, v.get(), MAT_COMPRESSION_NONE) == 0;
+    ok = v && Mat_VarWrite(mat, v.get(), MAT_COMPRESSION_NONE) == 0;
   };
   write("Aclass", MAT_C_CHAR, MAT_T_UINT8, 4, 11, aclass.data());
   write("name", MAT_C_CHAR, MAT_T_UINT8, name_h, n, name.data());
@@ -127,26 +141,39 @@ void MatWriter::Close() {
   write("dataInfo", MAT_C_INT32, MAT_T_INT32, 4, n, info.data());
   write("data_1", MAT_C_DOUBLE, MAT_T_DOUBLE, n1, 2, data1.data());
   write("data_2", MAT_C_DOUBLE, MAT_T_DOUBLE, 1 + n_out, rows_, data_.data());
-  const int saved = errno;
-  mat_t* m = mat_;
-  mat_ = nullptr;
-  errno = 0;
-  const bool closed = Mat_Close(m) == 0;
-  if (!ok || !closed) {
-    const int e = !ok ? saved : errno;
-    throw ResultWriteError("cannot write the results file " + path_ + ": " + std::strerror(e ? e : EIO));
-  }
-  // libmatio 1.5 does not report failed writes (a full disk): a regular file must have every byte.
+  const bool closed = Mat_Close(mat) == 0;
   std::error_code ec;
-  if (std::filesystem::is_regular_file(path_, ec)) {
-    const uintmax_t size = std::filesystem::file_size(path_, ec);
-    if (ec || size != expected_bytes) {
-      throw ResultWriteError("cannot write the results file " + path_ + ": " +
-                             (ec ? ec.message()
-                                 : "only " + std::to_string(size) + " of " + std::to_string(expected_bytes) +
-                                       " bytes were written (is the disk full?)"));
-    }
+  const uintmax_t size = std::filesystem::file_size(temp, ec);
+  if (!ok || !closed || ec || size != expected_bytes) {
+    Fail("only " + std::to_string(ec ? 0 : size) + " of " + std::to_string(expected_bytes) +
+             " bytes were written to the temporary file " + temp + " (is the disk full?)",
+         0);
   }
+  // The bytes to the results file.
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> in(std::fopen(temp.c_str(), "rb"), &std::fclose);
+  if (!in) Fail("cannot read back the temporary file " + temp, errno);
+  std::vector<char> chunk(1 << 16);
+  std::FILE* out = file_;
+  file_ = nullptr;
+  errno = 0;
+  bool copied = true;
+  size_t got = 0;
+  while (copied && (got = std::fread(chunk.data(), 1, chunk.size(), in.get())) > 0) {
+    copied = std::fwrite(chunk.data(), 1, got, out) == got;
+  }
+  copied = copied && !std::ferror(in.get()) && std::fflush(out) == 0;
+  const int copy_errno = errno;
+  if (std::fclose(out) != 0 && copied) {
+    Fail("", errno);
+  }
+  if (!copied) Fail("", copy_errno);
+}
+
+void MatWriter::Fail(const std::string& what, int error) const {
+  std::string text = "cannot write the results file " + path_ + ": ";
+  if (!what.empty()) text += what + (error ? ": " : "");
+  if (error || what.empty()) text += std::strerror(error ? error : EIO);
+  throw ResultWriteError(text);
 }
 
 }  // namespace momenta

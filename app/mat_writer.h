@@ -19,14 +19,16 @@
 /// "binTrans" says every matrix after Aclass is stored transposed (one column per variable or per
 /// time point), which is what makes the file writable a row at a time; readers transpose it back.
 /// The rows are kept in memory and the matrices are written by Close() (so a run that fails or
-/// is interrupted still gets a complete file of the rows it computed).
+/// is interrupted still gets a complete file of the rows it computed). libmatio does not report
+/// failed writes, so Close() has it write a temporary file, checks that file's size, and copies its
+/// bytes to the results file with every write checked (a full disk or /dev/full is an error naming
+/// the file, whether the results file is a regular file or not).
 
+#include <cstdio>
 #include <string>
 #include <vector>
 
 #include "app/csv_writer.h"
-
-struct _mat_t;
 
 namespace momenta {
 
@@ -38,7 +40,7 @@ struct MatParameter {
 
 class MatWriter : public ResultWriter {
  public:
-  /// Creates `path` at once (throws ResultWriteError naming it when it cannot be created).
+  /// Opens `path` at once (throws ResultWriteError naming it when it cannot be created).
   /// `output_units` (optional, one per output, "" when unknown) go into each output's
   /// description as OpenModelica writes them: "[m/s]".
   MatWriter(const std::string& path, const std::vector<std::string>& output_names,
@@ -57,8 +59,11 @@ class MatWriter : public ResultWriter {
   std::string path_;
   std::vector<std::string> outputs_, output_units_;
   std::vector<MatParameter> parameters_;
+  /// Throws ResultWriteError "cannot write the results file <path>: <what>: <strerror(error)>".
+  [[noreturn]] void Fail(const std::string& what, int error) const;
+
   double start_, stop_;
-  _mat_t* mat_ = nullptr;
+  std::FILE* file_ = nullptr;  ///< the results file, open from construction to Close()
   std::vector<double> data_;  ///< data_2, column-major: 1 + outputs values per row
   size_t rows_ = 0;
 };

@@ -9,6 +9,9 @@
 #   momenta_eigen     Eigen3::Eigen
 #   momenta_cli11     CLI11::CLI11
 #   momenta_matio     libmatio (MAT v4 result files; Debian's libmatio-dev)
+#   momenta_mpi       MPI's C interface (OpenMPI: libopenmpi-dev) with MOMENTA_HAVE_MPI=1, or
+#                     nothing but MOMENTA_HAVE_MPI=0 when MPI is not found or MOMENTA_USE_MPI=OFF:
+#                     momenta then builds without it, and `mpirun … momenta sweep` says so
 # and, when tests / benchmarks are enabled, finds GTest (GTest::gtest_main), libpng (PNG::PNG:
 # the report and plot tests decode screenshots) and Google Benchmark (benchmark::benchmark).
 # Programs used at run time, not linked: gnuplot (`momenta plot`; Debian's gnuplot-nox) and, in
@@ -24,7 +27,9 @@
 #                                      sanitizers and adds libFuzzer's coverage instrumentation)
 #   MOMENTA_SUNDIALS_ROOT        optimised SUNDIALS prefix made by scripts/setup.sh
 #   MOMENTA_USE_SYSTEM_SUNDIALS  (OFF) ignore MOMENTA_SUNDIALS_ROOT, use the system SUNDIALS
-# Sets MOMENTA_SUNDIALS_OPTIMIZED (ON/OFF) and MOMENTA_SUNDIALS_VERSION in the including scope.
+#   MOMENTA_USE_MPI              (ON)  sweeps under mpirun when MPI is found
+# Sets MOMENTA_SUNDIALS_OPTIMIZED (ON/OFF) and MOMENTA_SUNDIALS_VERSION in the including scope,
+# and MOMENTA_MPIEXEC (mpirun's path, empty without MPI) for the tests.
 
 include_guard(GLOBAL)
 
@@ -33,6 +38,7 @@ option(MOMENTA_BUILD_BENCH "Build the benchmarks (needs Google Benchmark)" ON)
 option(MOMENTA_SANITIZE "Build with AddressSanitizer and UndefinedBehaviorSanitizer" OFF)
 option(MOMENTA_BUILD_FUZZ "Build the libFuzzer target in fuzz/ (needs clang; implies the sanitizers)" OFF)
 option(MOMENTA_USE_SYSTEM_SUNDIALS "Use the system SUNDIALS even if the optimised build exists" OFF)
+option(MOMENTA_USE_MPI "Run sweeps under mpirun when MPI is found" ON)
 
 # ---- Sanitizers: compile and link flags of every target defined after this point -------------
 # float-cast-overflow: a double converted to an integer type it does not fit (1e300 to int64_t).
@@ -166,6 +172,23 @@ message(STATUS "momenta: libmatio ${MOMENTA_MATIO_LIBRARY}")
 
 # ---- Threads (parameter sweeps) ------------------------------------------------------------
 find_package(Threads REQUIRED)
+
+# ---- MPI (sweeps across processes and machines; optional) ----------------------------------
+add_library(momenta_mpi INTERFACE)
+set(MOMENTA_MPIEXEC "")
+if(MOMENTA_USE_MPI)
+  find_package(MPI COMPONENTS C QUIET)
+endif()
+if(MOMENTA_USE_MPI AND MPI_C_FOUND)
+  target_link_libraries(momenta_mpi INTERFACE MPI::MPI_C)
+  target_compile_definitions(momenta_mpi INTERFACE MOMENTA_HAVE_MPI=1)
+  set(MOMENTA_MPIEXEC "${MPIEXEC_EXECUTABLE}")
+  message(STATUS "momenta: MPI ${MPI_C_VERSION} (${MPI_C_LIB_NAMES}); mpirun: ${MPIEXEC_EXECUTABLE}")
+else()
+  target_compile_definitions(momenta_mpi INTERFACE MOMENTA_HAVE_MPI=0)
+  message(STATUS "momenta: MPI not used (MOMENTA_USE_MPI=${MOMENTA_USE_MPI}; install libopenmpi-dev and "
+                 "openmpi-bin for sweeps under mpirun): sweeps run on threads only")
+endif()
 
 # ---- Test and benchmark frameworks, only when those are built ------------------------------
 if(MOMENTA_BUILD_TESTS)

@@ -56,6 +56,7 @@ PACKAGES=(
   libeigen3-dev libyaml-cpp-dev libcli11-dev
   libgtest-dev libbenchmark-dev
   libmatio-dev
+  libopenmpi-dev openmpi-bin
   dpkg-dev
   clang libclang-rt-14-dev
   chromium gnuplot-nox libpng-dev

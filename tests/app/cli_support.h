@@ -48,10 +48,13 @@ inline bool IsNumericRow(const std::string& line, size_t count) {
 
 class MomentaProcess {
  public:
-  /// Starts MOMENTA_BINARY with `args` in `workdir`.
-  MomentaProcess(const std::vector<std::string>& args, const std::string& workdir) {
+  /// Starts MOMENTA_BINARY with `args` in `workdir`, through `launcher` when given (its words
+  /// come first: `mpirun -n 2`, `sh -c '…; exec "$0" "$@"'`).
+  MomentaProcess(const std::vector<std::string>& args, const std::string& workdir,
+                 const std::vector<std::string>& launcher = {}) {
     const std::string out = capture_.File("stdout"), err = capture_.File("stderr");
-    std::vector<std::string> words = {MOMENTA_BINARY};
+    std::vector<std::string> words = launcher;
+    words.push_back(MOMENTA_BINARY);
     words.insert(words.end(), args.begin(), args.end());
     std::vector<char*> argv;
     for (auto& w : words) argv.push_back(w.data());
@@ -66,7 +69,7 @@ class MomentaProcess {
       dup2(in_fd, 0);
       dup2(out_fd, 1);
       dup2(err_fd, 2);
-      execv(argv[0], argv.data());
+      execvp(argv[0], argv.data());
       _exit(127);
     }
   }
@@ -116,8 +119,8 @@ class MomentaProcess {
 /// Runs `momenta args` in `workdir`; a run that has not ended after `seconds` is killed and
 /// reported as exit status -2.
 inline CliResult RunMomentaWithDeadline(const std::vector<std::string>& args, const std::string& workdir,
-                                        double seconds) {
-  MomentaProcess p(args, workdir);
+                                        double seconds, const std::vector<std::string>& launcher = {}) {
+  MomentaProcess p(args, workdir, launcher);
   CliResult r;
   r.exit_code = p.Wait(seconds);
   r.out = p.out();

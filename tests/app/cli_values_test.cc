@@ -170,6 +170,16 @@ TEST_F(CliValuesTest, ResultsFileThatCannotBeWrittenExitsWithThree) {
   EXPECT_FALSE(Contains(r.out, "simulated")) << "no success summary after a failed write:\n" << r.out;
 }
 
+TEST_F(CliValuesTest, ResultsFileThatCannotBeCreatedExitsWithThree) {
+  // The same exit code as a MAT file in a missing directory (mat_test.cc), and as a failed write.
+  const std::string rc = testing::SourcePath("models/rc_ladder.yaml");
+  CliResult r = testing::RunMomentaWithDeadline({"simulate", rc, "-o", "no-such-dir/x.csv"}, dir_.path(), 60);
+  EXPECT_EQ(r.exit_code, kExitSolver) << r.out << r.err;
+  EXPECT_TRUE(Contains(r.err, "momenta: cannot write the results file no-such-dir/x.csv: No such file or directory"))
+      << r.err;
+  EXPECT_EQ(r.out, "");
+}
+
 TEST_F(CliValuesTest, PendulumChainOfTwoHundredLinksInitialisesAndSimulates) {
   // The chain's kept body positions start at 0 while its joint angles add up to radians: Newton
   // fails from the start values, and initialisation starts over from the guesses the frame

@@ -234,6 +234,25 @@ TEST_F(MatTest, UnwritableMatFileExitsWithThree) {
   EXPECT_FALSE(std::filesystem::exists(dir_.File("no-such-dir")));
 }
 
+TEST_F(MatTest, AFailedMatWriteExitsWithThreeNamingTheFile) {
+  const std::string model = testing::SourcePath("models/carrier_collision.yaml");
+  // A .mat name that is /dev/full (every write fails with ENOSPC), which libmatio would not notice.
+  if (std::filesystem::exists("/dev/full")) {
+    std::filesystem::create_symlink("/dev/full", dir_.File("full.mat"));
+    CliResult r = Momenta({"simulate", model, "-o", "full.mat"});
+    EXPECT_EQ(r.exit_code, kExitSolver) << r.out << r.err;
+    EXPECT_TRUE(Contains(r.err, "momenta: cannot write the results file full.mat: No space left on device")) << r.err;
+    EXPECT_FALSE(Contains(r.out, "simulated")) << "no success summary after a failed write:\n" << r.out;
+  }
+  // A full disk, as a file size limit of a few KiB makes one (the file is 13 KB; SIGXFSZ ignored so
+  // that the write fails with EFBIG instead of killing the process).
+  CliResult r = testing::RunMomentaWithDeadline({"simulate", model, "-o", "big.mat"}, dir_.path(), 60,
+                                                {"/bin/sh", "-c", "trap '' XFSZ; ulimit -f 4; exec \"$0\" \"$@\""});
+  EXPECT_EQ(r.exit_code, kExitSolver) << r.out << r.err;
+  EXPECT_TRUE(Contains(r.err, "momenta: cannot write the results file big.mat: only ")) << r.err;
+  EXPECT_TRUE(Contains(r.err, "(is the disk full?)")) << r.err;
+}
+
 TEST_F(MatTest, FailedRunKeepsItsRowsInTheMatFile) {
   // x' = x^2 from 1 blows up at t = 1: the rows before it are kept, as in the CSV.
   dir_.Write("blowup.yaml", R"(model: Blowup

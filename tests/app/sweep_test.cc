@@ -1,7 +1,7 @@
-// `momenta sweep`: the SPEC parser and the run plan (grids, lists, distributions and their seed),
-// and the real binary on the carrier collision (closed-form velocities at every grid point, the
-// same table for any --jobs, Monte Carlo reproducible from its seed), failing runs recorded while
-// the others go on, usage errors, per-run trajectories and SIGINT.
+// `momenta sweep`, the real binary: on the carrier collision (closed-form velocities at every grid
+// point, the same table for any --jobs and under mpirun on 2 ranks, Monte Carlo reproducible from
+// its seed across jobs and ranks), failing runs recorded while the others go on, usage errors,
+// per-run trajectories and SIGINT. The SPEC parser and the plan: sweep_plan_test.cc.
 
 #include <gtest/gtest.h>
 
@@ -11,7 +11,6 @@
 #include <cmath>
 #include <filesystem>
 #include <map>
-#include <random>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -19,6 +18,7 @@
 
 #include "app/commands.h"
 #include "app/sweep.h"
+#include "app/sweep_cluster.h"
 #include "core/error.h"
 #include "tests/app/cli_support.h"
 #include "tests/support/cli_runner.h"
@@ -97,126 +97,6 @@ Closed CarrierClosedForm(double mA, double mB, double mS, double vA0, double eC,
   return {(mB - eS * mS) * vB1 / (mB + mS), mB * vB1 * (1 + eS) / (mB + mS)};
 }
 
-// ---- The SPEC parser and the plan -------------------------------------------------------------
-
-TEST(SweepSpecTest, ValuesListsAndGrids) {
-  EXPECT_EQ(ParseSweepAxis("eC=0.8").values, (std::vector<double>{0.8}));
-  EXPECT_FALSE(ParseSweepAxis("eC=0.8").swept());
-  EXPECT_EQ(ParseSweepAxis("eC=0.5,0.8,1").values, (std::vector<double>{0.5, 0.8, 1}));
-  EXPECT_TRUE(ParseSweepAxis("eC=0.5,0.8,1").swept());
-  EXPECT_EQ(ParseSweepAxis("eS=0:1:3").values, (std::vector<double>{0, 0.5, 1}));
-  EXPECT_EQ(ParseSweepAxis("x=-1:1:5").values, (std::vector<double>{-1, -0.5, 0, 0.5, 1}));
-  EXPECT_EQ(ParseSweepAxis("on=true,false").values, (std::vector<double>{1, 0}));
-  const std::vector<double> log = ParseSweepAxis("k=1e-2:1e2:log:5").values;
-  ASSERT_EQ(log.size(), 5u);
-  const double expected[] = {1e-2, 1e-1, 1, 10, 100};
-  for (size_t k = 0; k < 5; ++k) EXPECT_NEAR(log[k], expected[k], 1e-14 * expected[k]) << k;
-  EXPECT_EQ(log.front(), 1e-2);  // the ends exactly as given
-  EXPECT_EQ(log.back(), 1e2);
-  SweepAxis n = ParseSweepAxis("vA0=normal(5,0.5)");
-  EXPECT_EQ(n.kind, SweepAxis::Kind::kNormal);
-  EXPECT_EQ(n.a, 5);
-  EXPECT_EQ(n.b, 0.5);
-  SweepAxis u = ParseSweepAxis("eC=uniform(0.5, 1)");
-  EXPECT_EQ(u.kind, SweepAxis::Kind::kUniform);
-  EXPECT_EQ(u.a, 0.5);
-  EXPECT_EQ(u.b, 1);
-}
-
-TEST(SweepSpecTest, BadSpecsNameTheOptionAndTheProblem) {
-  const std::pair<const char*, const char*> cases[] = {
-      {"eC", "-p takes NAME=SPEC"},
-      {"eC=", "-p takes NAME=SPEC"},
-      {"eC=0.5,x", "-p eC=0.5,x: the value 'x' is not a finite number"},
-      {"eC=0.5,,1", "-p eC=0.5,,1: the value '' is not a finite number"},
-      {"eS=0:1:x", "-p eS=0:1:x: the number of grid points 'x' is not a whole number from 1 to 10000000"},
-      {"eS=0:1:2.5", "the number of grid points '2.5' is not a whole number"},
-      {"eS=0:1:0", "the number of grid points '0' is not a whole number"},
-      {"eS=0:1", "-p eS=0:1: a grid is a:b:n (linear) or a:b:log:n (logarithmic)"},
-      {"eS=0:1:lin:3", "a grid is a:b:n"},
-      {"k=0:1:log:3", "-p k=0:1:log:3: a logarithmic grid needs a positive start and end"},
-      {"eS=nan:1:3", "the grid's start 'nan' is not a finite number"},
-      {"eC=normal(1)", "-p eC=normal(1): normal(mu,sigma) takes two numbers"},
-      {"eC=normal(1,-1)", "the standard deviation must not be negative"},
-      {"eC=uniform(1,0)", "the upper bound is below the lower bound"},
-      {"eC=uniform(0,1", "uniform(a,b) must end with ')'"},
-  };
-  for (const auto& [text, message] : cases) {
-    try {
-      ParseSweepAxis(text);
-      ADD_FAILURE() << text << " was accepted";
-    } catch (const UsageError& e) {
-      EXPECT_TRUE(Contains(e.what(), message)) << text << ": " << e.what();
-    }
-  }
-}
-
-TEST(SweepPlanTest, CartesianProductFirstParameterSlowest) {
-  SweepPlan plan = MakeSweepPlan({ParseSweepAxis("eC=0.5,0.8,1"), ParseSweepAxis("mA=40"), ParseSweepAxis("eS=0:1:3")}, 0, 0);
-  EXPECT_EQ(plan.names, (std::vector<std::string>{"eC", "mA", "eS"}));
-  ASSERT_EQ(plan.values.size(), 9u);
-  for (size_t k = 0; k < 9; ++k) {
-    EXPECT_EQ(plan.values[k][0], (std::vector<double>{0.5, 0.8, 1})[k / 3]) << k;
-    EXPECT_EQ(plan.values[k][1], 40) << k;
-    EXPECT_EQ(plan.values[k][2], (std::vector<double>{0, 0.5, 1})[k % 3]) << k;
-  }
-}
-
-TEST(SweepPlanTest, DrawsAreReproducibleFromTheSeedAndShared) {
-  auto plan = [](uint64_t seed) {
-    return MakeSweepPlan({ParseSweepAxis("eS=0,1"), ParseSweepAxis("vA0=normal(5,0.5)"),
-                          ParseSweepAxis("eC=uniform(0.5,1)")}, 4, seed);
-  };
-  SweepPlan a = plan(42), b = plan(42), c = plan(43);
-  ASSERT_EQ(a.values.size(), 8u);  // 2 grid points x 4 draws, the draw fastest
-  EXPECT_EQ(a.values, b.values);
-  EXPECT_NE(a.values, c.values);
-  for (size_t k = 0; k < 8; ++k) {
-    EXPECT_EQ(a.values[k][0], k < 4 ? 0 : 1);
-    // Every grid point gets the same draws (common random numbers).
-    EXPECT_EQ(a.values[k][1], a.values[k % 4][1]);
-    EXPECT_EQ(a.values[k][2], a.values[k % 4][2]);
-    EXPECT_GE(a.values[k][2], 0.5);
-    EXPECT_LT(a.values[k][2], 1);
-  }
-  // The draws' first values are fixed by std::mt19937_64 (whose output the standard specifies) and
-  // our own transforms, so they are the same with every standard library: the engine's first
-  // output for seed 42 gives u1, its second u2.
-  std::mt19937_64 engine(42);
-  const double u1 = 1.0 - static_cast<double>(engine() >> 11) * 0x1.0p-53;
-  const double u2 = static_cast<double>(engine() >> 11) * 0x1.0p-53;
-  EXPECT_EQ(a.values[0][1], 5 + 0.5 * std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * M_PI * u2));
-  // The sample mean and spread of many draws.
-  SweepPlan many = MakeSweepPlan({ParseSweepAxis("x=normal(5,0.5)"), ParseSweepAxis("y=uniform(-1,3)")}, 20000, 7);
-  double sx = 0, sxx = 0, sy = 0;
-  for (const auto& v : many.values) {
-    sx += v[0];
-    sxx += v[0] * v[0];
-    sy += v[1];
-  }
-  const double n = many.values.size(), mean = sx / n;
-  EXPECT_NEAR(mean, 5, 0.02);                              // 4 standard errors (0.5/sqrt(20000))
-  EXPECT_NEAR(std::sqrt(sxx / n - mean * mean), 0.5, 0.02);
-  EXPECT_NEAR(sy / n, 1, 0.04);                            // uniform(-1,3): mean 1, sd 1.15
-}
-
-TEST(SweepPlanTest, PlanErrors) {
-  auto message = [](const std::vector<std::string>& specs, size_t samples) {
-    std::vector<SweepAxis> axes;
-    for (const auto& s : specs) axes.push_back(ParseSweepAxis(s));
-    try {
-      MakeSweepPlan(axes, samples, 0);
-    } catch (const UsageError& e) {
-      return std::string(e.what());
-    }
-    return std::string("(accepted)");
-  };
-  EXPECT_EQ(message({"eC=normal(0.8,0.1)"}, 0), "-p eC=normal(0.8,0.1) is a distribution: give the number of draws with --samples K");
-  EXPECT_EQ(message({"eC=0.5,0.8"}, 10), "--samples 10: no -p is a distribution (normal(mu,sigma) or uniform(a,b)) to draw from");
-  EXPECT_EQ(message({"eC=0.5", "eC=0.8"}, 0), "-p eC is given twice");
-  EXPECT_TRUE(Contains(message({"a=0:1:10000", "b=0:1:10000"}, 0), "more than 10000000 runs")) << message({"a=0:1:10000", "b=0:1:10000"}, 0);
-}
-
 // ---- The binary -------------------------------------------------------------------------------
 
 class SweepTest : public ::testing::Test {
@@ -224,6 +104,33 @@ class SweepTest : public ::testing::Test {
   CliResult Momenta(const std::vector<std::string>& args) {
     return testing::RunMomentaWithDeadline(args, dir_.path(), 300);
   }
+  /// Waits until `p` has written a few rows of s.csv, interrupts it with SIGINT and checks what
+  /// it kept: the note, and whole rows of finished runs in run order. Returns its exit status.
+  int InterruptAndCheckRows(testing::MomentaProcess& p, size_t runs) {
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+    while (Lines(testing::ReadText(dir_.File("s.csv"))).size() < 4 && std::chrono::steady_clock::now() < deadline) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    p.Signal(SIGINT);
+    const int code = p.Wait(60);
+    EXPECT_NE(code, -2) << "still running 60 s after SIGINT:\n" << p.err();
+    EXPECT_TRUE(Contains(p.err(), "sweep interrupted: ")) << p.err();
+    EXPECT_TRUE(Contains(p.err(), " of " + std::to_string(runs) + " runs finished; their rows are kept in s.csv"))
+        << p.err();
+    Summary s = ReadSummary(dir_.File("s.csv"));
+    EXPECT_GE(s.rows.size(), 3u);
+    EXPECT_LT(s.rows.size(), runs);
+    long previous = -1;
+    for (size_t k = 0; k < s.rows.size(); ++k) {
+      const long run = std::stol(s.rows[k]["run"]);
+      EXPECT_GT(run, previous);
+      previous = run;
+      EXPECT_EQ(s.rows[k]["status"], "0");
+      EXPECT_FALSE(s.rows[k]["B.v"].empty());
+    }
+    return code;
+  }
+
   std::string carrier_ = testing::SourcePath("models/carrier_collision.yaml");
   TempDir dir_;
 };
@@ -389,31 +296,163 @@ TEST_F(SweepTest, UnwritableSummaryExitsWithThree) {
 }
 
 TEST_F(SweepTest, InterruptKeepsTheFinishedRows) {
-  // 4000 runs take a minute or more on one thread; SIGINT once some rows are written.
-  testing::MomentaProcess p({"sweep", carrier_, "-p", "eC=0:1:2000", "-p", "eS=0,1", "-j", "2", "-o", "s.csv"},
+  // 400000 runs take a minute or more on two threads (about 0.3 ms each); SIGINT once some rows
+  // are written.
+  testing::MomentaProcess p({"sweep", carrier_, "-p", "eC=0:1:200000", "-p", "eS=0,1", "-j", "2", "-o", "s.csv"},
                             dir_.path());
   ASSERT_TRUE(p.started());
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
-  while (Lines(testing::ReadText(dir_.File("s.csv"))).size() < 4 && std::chrono::steady_clock::now() < deadline) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  EXPECT_EQ(InterruptAndCheckRows(p, 400000), 130) << p.err();
+}
+
+// ---- Under mpirun ------------------------------------------------------------------------------
+
+/// `mpirun -n <ranks>` as root on a machine with fewer cores than ranks, or empty when this build
+/// cannot run under MPI (the test then skips, saying why).
+std::vector<std::string> Mpirun(int ranks, std::string* why) {
+  const std::string mpirun = MOMENTA_MPIEXEC;
+  if (!HaveMpi()) {
+    *why = "momenta was built without MPI (install libopenmpi-dev and openmpi-bin, then reconfigure)";
+    return {};
   }
-  p.Signal(SIGINT);
-  const int code = p.Wait(60);
-  EXPECT_EQ(code, 130) << p.err();
-  EXPECT_TRUE(Contains(p.err(), "sweep interrupted: ")) << p.err();
-  EXPECT_TRUE(Contains(p.err(), " of 4000 runs finished; their rows are kept in s.csv")) << p.err();
-  Summary s = ReadSummary(dir_.File("s.csv"));
-  ASSERT_GE(s.rows.size(), 3u);
-  EXPECT_LT(s.rows.size(), 4000u);
-  // Whole rows, in run order, each a finished run.
-  long previous = -1;
-  for (size_t k = 0; k < s.rows.size(); ++k) {
-    const long run = std::stol(s.rows[k]["run"]);
-    EXPECT_GT(run, previous);
-    previous = run;
-    EXPECT_EQ(s.rows[k]["status"], "0");
-    EXPECT_FALSE(s.rows[k]["B.v"].empty());
+  if (mpirun.empty() || access(mpirun.c_str(), X_OK) != 0) {
+    *why = "no mpirun found when configuring (MPIEXEC_EXECUTABLE = '" + mpirun + "')";
+    return {};
   }
+  return {mpirun, "--allow-run-as-root", "--oversubscribe", "-n", std::to_string(ranks)};
+}
+
+class SweepMpiTest : public SweepTest {
+ protected:
+  void SetUp() override {
+    mpirun_ = Mpirun(2, &why_);
+    if (mpirun_.empty()) GTEST_SKIP() << why_;
+  }
+  CliResult MpiMomenta(const std::vector<std::string>& args) {
+    return testing::RunMomentaWithDeadline(args, dir_.path(), 300, mpirun_);
+  }
+  std::vector<std::string> mpirun_;
+  std::string why_;
+};
+
+TEST_F(SweepMpiTest, TwoRanksWriteTheThreadedTableAndTrajectories) {
+  const std::vector<std::string> sweep = {"sweep", carrier_, "-p", "eC=0.5,0.8,1", "-p", "eS=0:1:3"};
+  auto with = [&](std::vector<std::string> extra) {
+    std::vector<std::string> args = sweep;
+    args.insert(args.end(), extra.begin(), extra.end());
+    return args;
+  };
+  CliResult threads = Momenta(with({"-j", "2", "-o", "threads.csv", "--trajectories", "t"}));
+  ASSERT_EQ(threads.exit_code, kExitOk) << threads.err;
+  CliResult one = MpiMomenta(with({"-j", "1", "-o", "mpi1.csv", "--trajectories", "m1"}));
+  ASSERT_EQ(one.exit_code, kExitOk) << one.err;
+  EXPECT_TRUE(Contains(one.out, "9 runs on 2 MPI ranks x 1 thread")) << one.out;
+  // 2 ranks x 2 threads on this machine's cores: oversubscribed, the table the same.
+  CliResult two = MpiMomenta(with({"-j", "2", "-o", "mpi2.csv", "--trajectories", "m2"}));
+  ASSERT_EQ(two.exit_code, kExitOk) << two.err;
+  EXPECT_TRUE(Contains(two.out, "9 runs on 2 MPI ranks x 2 threads")) << two.out;
+  // Byte for byte: the summary, and every run's trajectory that rank 0 wrote.
+  const std::string table = testing::ReadText(dir_.File("threads.csv"));
+  EXPECT_EQ(testing::ReadText(dir_.File("mpi1.csv")), table);
+  EXPECT_EQ(testing::ReadText(dir_.File("mpi2.csv")), table);
+  for (int k = 0; k < 9; ++k) {
+    const std::string name = "/run-" + std::to_string(k) + ".csv";
+    const std::string trajectory = testing::ReadText(dir_.File("t" + name));
+    EXPECT_GT(Lines(trajectory).size(), 100u) << name;
+    EXPECT_EQ(testing::ReadText(dir_.File("m1" + name)), trajectory) << name;
+    EXPECT_EQ(testing::ReadText(dir_.File("m2" + name)), trajectory) << name;
+  }
+  // And the MPI table is the closed form at every grid point.
+  Summary s = ReadSummary(dir_.File("mpi2.csv"));
+  ASSERT_EQ(s.rows.size(), 9u);
+  for (size_t k = 0; k < 9; ++k) {
+    const Closed c = CarrierClosedForm(40, 40, 15, 5, s.Num(k, "eC"), s.Num(k, "eS"));
+    EXPECT_NEAR(s.Num(k, "B.v"), c.vB, 1e-12 * 5) << k;  // exact impacts: rounding only
+    EXPECT_NEAR(s.Num(k, "S.v"), c.vS, 1e-12 * 5) << k;
+  }
+}
+
+TEST_F(SweepMpiTest, RunsAreSpreadOverTheRanks) {
+  // Twelve runs of about 30 ms each (some 40000 steps of a 1 kHz oscillator): both ranks get work,
+  // as the summary's "runs by rank" line says, and x(t) = cos(w t) at the end.
+  const std::string model = testing::SourcePath("tests/data/oscillator_1khz.yaml");
+  CliResult r = MpiMomenta({"sweep", model, "-p", "w=6000:7000:12", "--stop", "0.5", "-j", "1", "-o", "osc.csv"});
+  ASSERT_EQ(r.exit_code, kExitOk) << r.err;
+  const size_t at = r.out.find("runs by rank: ");
+  ASSERT_NE(at, std::string::npos) << r.out;
+  std::istringstream counts(r.out.substr(at + 14));
+  size_t rank0 = 0, rank1 = 0;
+  counts >> rank0 >> rank1;
+  EXPECT_EQ(rank0 + rank1, 12u) << r.out;
+  EXPECT_GT(rank0, 0u) << r.out;
+  EXPECT_GT(rank1, 0u) << r.out;
+  Summary s = ReadSummary(dir_.File("osc.csv"));
+  ASSERT_EQ(s.rows.size(), 12u);
+  for (size_t k = 0; k < 12; ++k) {
+    // About 500 periods at rtol 1e-6: BDF's phase error grows with the periods (4e-3 in x at most
+    // on this grid, measured); 2e-2 leaves room and still fails on a wrong w or a swapped row.
+    EXPECT_NEAR(s.Num(k, "o.x"), std::cos(s.Num(k, "w") * 0.5), 2e-2) << k;
+  }
+}
+
+TEST_F(SweepMpiTest, MonteCarloIsTheSameOnRanksAsOnThreads) {
+  const std::vector<std::string> sweep = {"sweep", carrier_, "-p", "vA0=normal(5,0.5)", "-p", "eC=uniform(0.5,1)",
+                                          "--samples", "16", "--seed", "11", "-q"};
+  auto with = [&](std::vector<std::string> extra) {
+    std::vector<std::string> args = sweep;
+    args.insert(args.end(), extra.begin(), extra.end());
+    return args;
+  };
+  CliResult threads = Momenta(with({"-j", "1", "-o", "threads.csv"}));
+  ASSERT_EQ(threads.exit_code, kExitOk) << threads.err;
+  CliResult ranks = MpiMomenta(with({"-j", "2", "-o", "ranks.csv"}));
+  ASSERT_EQ(ranks.exit_code, kExitOk) << ranks.err;
+  EXPECT_EQ(testing::ReadText(dir_.File("ranks.csv")), testing::ReadText(dir_.File("threads.csv")));
+  CliResult other = MpiMomenta({"sweep", carrier_, "-p", "vA0=normal(5,0.5)", "-p", "eC=uniform(0.5,1)", "--samples",
+                                "16", "--seed", "12", "-q", "-o", "other.csv"});
+  ASSERT_EQ(other.exit_code, kExitOk) << other.err;
+  EXPECT_NE(testing::ReadText(dir_.File("other.csv")), testing::ReadText(dir_.File("threads.csv")));
+}
+
+TEST_F(SweepMpiTest, FailingRunsAreRecordedOnEveryRank) {
+  dir_.Write("riccati.yaml", kRiccati);
+  CliResult threads = Momenta({"sweep", "riccati.yaml", "-p", "k=0.25,1,0.4,3,0.3,1.5", "-j", "1", "-o", "t.csv"});
+  EXPECT_EQ(threads.exit_code, kExitSolver) << threads.err;
+  CliResult ranks = MpiMomenta({"sweep", "riccati.yaml", "-p", "k=0.25,1,0.4,3,0.3,1.5", "-j", "1", "-o", "m.csv"});
+  // mpirun exits with the first non-zero exit status of a rank: rank 0's.
+  EXPECT_EQ(ranks.exit_code, kExitSolver) << ranks.err;
+  EXPECT_TRUE(Contains(ranks.err, "riccati.yaml: run 1 (k = 1) failed with status 3: simulation failed at t = "))
+      << ranks.err;
+  EXPECT_TRUE(Contains(ranks.out, "3 succeeded, 3 failed")) << ranks.out;
+  EXPECT_EQ(testing::ReadText(dir_.File("m.csv")), testing::ReadText(dir_.File("t.csv")));
+}
+
+TEST_F(SweepMpiTest, AUsageErrorIsReportedOnceByRankZero) {
+  CliResult r = MpiMomenta({"sweep", carrier_, "-p", "eX=0.5,0.8", "-o", "s.csv"});
+  EXPECT_EQ(r.exit_code, kExitUsage) << r.err;
+  const std::string message = "-p eX: no parameter of that name in CarrierCollision (did you mean eC";
+  const size_t first = r.err.find(message);
+  ASSERT_NE(first, std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find(message, first + 1), std::string::npos) << "printed by more than one rank:\n" << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir_.File("s.csv")));
+}
+
+TEST_F(SweepMpiTest, CtrlCKeepsTheFinishedRowsInRunOrder) {
+  // mpirun passes SIGINT on to the ranks; rank 0 writes the rows finished so far and says so.
+  testing::MomentaProcess p({"sweep", carrier_, "-p", "eC=0:1:200000", "-p", "eS=0,1", "-j", "1", "-o", "s.csv"},
+                            dir_.path(), mpirun_);
+  ASSERT_TRUE(p.started());
+  const int code = InterruptAndCheckRows(p, 400000);
+  EXPECT_NE(code, 0) << p.err();  // mpirun's own status for an interrupted job
+}
+
+TEST_F(SweepTest, MpirunWithoutMpiIsAUsageError) {
+  if (HaveMpi()) GTEST_SKIP() << "momenta was built with MPI; this checks the message of a build without it";
+  // What mpirun puts in each rank's environment, as if this were one of 2 ranks.
+  setenv("OMPI_COMM_WORLD_SIZE", "2", 1);
+  CliResult r = Momenta({"sweep", carrier_, "-p", "eC=0.5,0.8", "-o", "s.csv"});
+  unsetenv("OMPI_COMM_WORLD_SIZE");
+  EXPECT_EQ(r.exit_code, kExitUsage) << r.err;
+  EXPECT_TRUE(Contains(r.err, "momenta: started by mpirun on 2 ranks, but this momenta was built without MPI")) << r.err;
 }
 
 }  // namespace
