@@ -239,15 +239,11 @@ int RunSimulate(const SimulateArgs& args) {
   try {
     if (IsMatPath(out_path)) {
       csv = std::make_unique<MatWriter>(out_path, written_names, MatParameters(*model, *state), opt.start,
-                                        opt.stop);
+                                        opt.stop, OutputUnits(*model->flat, written_names));
     } else {
       csv = std::make_unique<CsvWriter>(out_path, written_names);
-      csv = std::make_unique<MatWriter>(out_path, model->output_names, MatParameters(*model, *state), opt.start,
-                                        opt.stop, OutputUnits(*model->flat, model->output_names));
-    } else {
-      csv = std::make_unique<CsvWriter>(out_path, model->output_names);
       if (out_path != "-") {
-        WriteUnitsFile(UnitsPath(out_path), model->output_names, OutputUnits(*model->flat, model->output_names));
+        WriteUnitsFile(UnitsPath(out_path), written_names, OutputUnits(*model->flat, written_names));
       }
     }
   } catch (const ResultWriteError& e) {

@@ -802,9 +802,12 @@ class EventIntegrator {
       // where a friction element that starts to slide reports startForward at the breakaway and
       // mode = Forward an instant later. A relation that was passing through zero still follows
       // its rate, so a sliding mode (each side's motion drives the relation back) is reported
-      // as chattering here rather than crept through event by event.
+      // as chattering here rather than crept through event by event. At the initial event
+      // (no restart) nothing has crossed yet: relations take their values, and one at zero that
+      // moves away switches at its crossing an instant later (a brake whose normal force starts
+      // at 0 and rises is free at t = 0).
       bool changed = SetConditions(t, y_.data(), yp_.data(),
-                                   iter == 0 || !restart ? kRightLimit : kHoldAtZero);
+                                   !restart ? kAtValue : iter == 0 ? kRightLimit : kHoldAtZero);
       changed = UpdateDiscrete(t) || changed;
       changed = Releases(t) || changed;
       bool fired = FireWhens(t);

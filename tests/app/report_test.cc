@@ -285,9 +285,10 @@ class ReportBrowserTest : public ::testing::Test {
 
 TEST_F(ReportBrowserTest, CarrierCollisionPlotsEveryOutput) {
   const Rendered r = RenderReport(dir_, "models/carrier_collision.yaml");
-  // Ten outputs without units: two charts of at most eight series; no scene (1-D parts only).
+  // Ten outputs, one chart per unit: the velocities (m/s), the positions (m) and the Collision
+  // blocks' velocities, which declare no unit; no scene (1-D parts only).
   EXPECT_EQ(DataAttribute(r.dom, "series"), 10) << r.dom.substr(0, 2000);
-  EXPECT_EQ(DataAttribute(r.dom, "plots"), 2);
+  EXPECT_EQ(DataAttribute(r.dom, "plots"), 3);
   EXPECT_EQ(DataAttribute(r.dom, "scene-shapes"), -1);
   EXPECT_TRUE(Contains(r.dom, "CarrierCollision"));
   ExpectDrawn(r.shot);

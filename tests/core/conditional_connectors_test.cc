@@ -167,7 +167,7 @@ outputs: [cell.mass.v]
   const std::string joined = "      - [spring.heatPort, heat.port]\n";
   std::string yaml = cell(", useHeatPort: true", heat, joined);
   yaml.replace(yaml.find("outputs: [cell.mass.v]"), 23,
-               "outputs: [\"0.5 - (0.5*cell.mass.v^2 + 50*cell.spring.s_rel^2) - 10*(cell.heat.T - 300)\"]");
+               "outputs: [\"0.5 - (0.5*cell.mass.m*cell.mass.v^2 + 0.5*cell.spring.c*cell.spring.s_rel^2) - cell.heat.C*(cell.heat.T - 300)\"]");
   Trajectory tr = testing::RunDefault(testing::BuildYaml(yaml));
   for (size_t k = 0; k < tr.t.size(); ++k) EXPECT_NEAR(tr.values[k][0], 0, 3e-6) << "t = " << tr.t[k];
   std::string msg = BuildError(cell("", heat, joined));

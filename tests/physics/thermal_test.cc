@@ -172,10 +172,10 @@ connections:
   - [gap.heatPort, h4.port]
 experiment: {stop: 5, tolerance: 1e-10, interval: 1e-3}
 outputs:
-  - "0.5 - (0.5*m1.v^2 + 50*sd.s_rel^2) - C*(h1.T - T0)"
-  - "0.5 - (0.5*m2.v^2 + 50*spring.s_rel^2) - C*(h2.T - T0)"
-  - "0.5 - (0.5*j3.w^2 + 50*rsd.phi_rel^2) - C*(h3.T - T0)"
-  - "0.5 - (0.5*m4.v^2 + 5e3*max(-gap.s_rel, 0)^2) - C*(h4.T - T0)"
+  - "0.5 - (0.5*m1.m*m1.v^2 + 0.5*sd.c*sd.s_rel^2) - h1.C*(h1.T - T0)"
+  - "0.5 - (0.5*m2.m*m2.v^2 + 0.5*spring.c*spring.s_rel^2) - h2.C*(h2.T - T0)"
+  - "0.5 - (0.5*j3.J*j3.w^2 + 0.5*rsd.c*rsd.phi_rel^2) - h3.C*(h3.T - T0)"
+  - "0.5 - (0.5*m4.m*m4.v^2 + 0.5*gap.c*max(-gap.s_rel, 0)^2) - h4.C*(h4.T - T0)"
   - h1.T
   - h4.T
   - m4.v
@@ -192,10 +192,10 @@ outputs:
   // per step, i.e. C*3e-8 = 3e-7 J, and the mechanical energy (0.5 J) to rtol of it. We allow
   // ten times the local bound, 3e-6 J (6e-6 of the 0.5 J at stake); observed 1.8e-9 J for the
   // three smooth oscillators and 3.1e-7 J for the ElastoGap (stiff contact, c = 1e4, events).
-  for (const char* balance : {"0.5 - (0.5*m1.v^2 + 50*sd.s_rel^2) - C*(h1.T - T0)",
-                              "0.5 - (0.5*m2.v^2 + 50*spring.s_rel^2) - C*(h2.T - T0)",
-                              "0.5 - (0.5*j3.w^2 + 50*rsd.phi_rel^2) - C*(h3.T - T0)",
-                              "0.5 - (0.5*m4.v^2 + 5e3*max(-gap.s_rel, 0)^2) - C*(h4.T - T0)"}) {
+  for (const char* balance : {"0.5 - (0.5*m1.m*m1.v^2 + 0.5*sd.c*sd.s_rel^2) - h1.C*(h1.T - T0)",
+                              "0.5 - (0.5*m2.m*m2.v^2 + 0.5*spring.c*spring.s_rel^2) - h2.C*(h2.T - T0)",
+                              "0.5 - (0.5*j3.J*j3.w^2 + 0.5*rsd.c*rsd.phi_rel^2) - h3.C*(h3.T - T0)",
+                              "0.5 - (0.5*m4.m*m4.v^2 + 0.5*gap.c*max(-gap.s_rel, 0)^2) - h4.C*(h4.T - T0)"}) {
     const double err = MaxError(tr, balance, [](double) { return 0.0; });
     RecordProperty(balance, std::to_string(err));
     std::printf("[   INFO   ] energy balance error %.3g J: %s\n", err, balance);
