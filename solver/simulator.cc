@@ -809,6 +809,7 @@ class EventIntegrator {
       bool changed = SetConditions(t, y_.data(), yp_.data(),
                                    !restart ? kAtValue : iter == 0 ? kRightLimit : kHoldAtZero);
       changed = UpdateDiscrete(t) || changed;
+      if (changed && restart) SettleMixedSystem(t);
       changed = Releases(t) || changed;
       bool fired = FireWhens(t);
       if (!changed && !fired) break;
@@ -820,6 +821,20 @@ class EventIntegrator {
       }
     }
     return any;
+  }
+
+  /// With the pre-values fixed, solves the continuous unknowns for the new discrete values and
+  /// evaluates the discrete equations again until the two agree: Modelica's mixed
+  /// continuous/discrete systems. A friction element that stops decides whether it stays stuck
+  /// from the force that holds it (sa while locked), not from the force of the sliding mode it
+  /// just left. Gives up after 20 rounds; the event iteration goes on from there.
+  void SettleMixedSystem(double t) {
+    for (int round = 0; round < 20; ++round) {
+      Restart(t);
+      bool again = SetConditions(t, y_.data(), yp_.data(), kHoldAtZero);
+      again = UpdateDiscrete(t) || again;
+      if (!again) return;
+    }
   }
 
   /// Consistent y, y' for the current discrete values and states (IDACalcIC), and IDA restarted.
