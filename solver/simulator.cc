@@ -600,6 +600,11 @@ class EventIntegrator {
   void TakeSample(double t, Sample* s) {
     s->t = t;
     s->z.assign(z_.begin(), z_.end());
+    // A relation set by its rate at the last event is an ordinary one again once its function
+    // has left the band around zero.
+    for (size_t i = 0; i < moving_at_zero_.size(); ++i) {
+      if (moving_at_zero_[i] && std::fabs(z_[i]) > 4 * Band(i)) moving_at_zero_[i] = false;
+    }
     s->dz.resize(nc_);
     state_->ZeroCrossingRates(t, y_.data(), yp_.data(), s->dz.data());
     if (m_.impacts.empty()) return;
@@ -667,7 +672,10 @@ class EventIntegrator {
       for (size_t i = 0; i < nc_; ++i) {
         if (Scheduled(i)) continue;  // scheduled exactly
         bool now = RelationHolds(m_.conditions[i].op, z_[i]);
-        if (now != (c[i] != 0) && std::fabs(z_[i]) > Band(i)) return true;
+        // A relation the last event set by its rate (at zero, within the band the event
+        // iteration counts as zero) stays set while its function creeps across zero there.
+        const bool set_by_rate = i < moving_at_zero_.size() && moving_at_zero_[i];
+        if (now != (c[i] != 0) && std::fabs(z_[i]) > (set_by_rate ? 4 : 1) * Band(i)) return true;
       }
     }
     return ContactCloses(t);
