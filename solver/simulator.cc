@@ -718,8 +718,6 @@ class EventIntegrator {
   /// The rounding band of condition i's zero-crossing function: 1e-12 of the largest magnitude
   /// it has had, and at least 1e-15 (a function that has only ever been rounding noise).
   double Band(size_t i) const { return 1e-12 * std::max(zscale_[i], 1e-3); }
-  /// Per condition: at zero with a nonzero rate in the first round of the current event.
-  std::vector<bool> moving_at_zero_;
 
   /// Illinois (regula falsi) on "crossed or not", shrinking [lo, hi] until it is below the time
   /// resolution; the event is placed at hi, where the switch has happened.
@@ -1037,11 +1035,12 @@ class EventIntegrator {
     d[im.contact] = mode;
     Eigen::VectorXd b = Eigen::VectorXd::Zero(static_cast<int>(n_));
     b[im.mode_row] = dvel;
-    Eigen::VectorXd x;
-    if (!SolveMixed(dfdy, dfdyp, b, &x)) {
+    MixedLu lu;
+    if (!FactorMixed(dfdy, dfdyp, &lu)) {
       throw SolverError("at t = " + Num(t) + ": the impact of " + im.name +
                         " has no unique solution (the integrated equations are singular: is a body without mass in the impulse's path?)");
     }
+    const Eigen::VectorXd x = lu.solve(b);
     for (size_t c = 0; c < n_; ++c) {
       if (m_.is_state[c]) y_[c] += x[static_cast<int>(c)];
     }
@@ -1061,29 +1060,38 @@ class EventIntegrator {
   /// the values as they are where the system is singular.
   void PolishConsistentValues(double t) {
     if (n_ == 0) return;
-    std::vector<double> f(n_), dfdy, dfdyp;
-    Eigen::VectorXd b(static_cast<int>(n_)), x;
-    for (int it = 0; it < 2; ++it) {
-      state_->Residual(t, y_.data(), yp_.data(), f.data());
-      if (std::all_of(f.begin(), f.end(), [](double r) { return r == 0; })) break;
-      JacobianParts(t, &dfdy, &dfdyp);
+    const bool all_states = std::all_of(m_.is_state.begin(), m_.is_state.end(), [](bool s) { return s; });
+    std::vector<double> f(n_);
+    state_->Residual(t, y_.data(), yp_.data(), f.data());
+    const auto consistent = [&f] { return std::all_of(f.begin(), f.end(), [](double r) { return r == 0; }); };
+    if (all_states && consistent()) return;
+    // One factorisation serves the Newton steps (a simplified Newton: the values move by about
+    // the tolerance) and the rates.
+    std::vector<double> dfdy, dfdyp;
+    JacobianParts(t, &dfdy, &dfdyp);
+    MixedLu lu;
+    if (!FactorMixed(dfdy, dfdyp, &lu)) return;
+    Eigen::VectorXd b(static_cast<int>(n_));
+    for (int it = 0; it < 2 && !consistent(); ++it) {
       for (size_t r = 0; r < n_; ++r) b[static_cast<int>(r)] = -f[r];
-      if (!SolveMixed(dfdy, dfdyp, b, &x) || !x.allFinite()) return;
+      const Eigen::VectorXd x = lu.solve(b);
+      if (!x.allFinite()) return;
       for (size_t c = 0; c < n_; ++c) (m_.is_state[c] ? yp_[c] : y_[c]) += x[static_cast<int>(c)];
+      state_->Residual(t, y_.data(), yp_.data(), f.data());
     }
-    if (std::all_of(m_.is_state.begin(), m_.is_state.end(), [](bool s) { return s; })) return;
+    if (all_states) return;
     const double h = 1e-6 * std::max(1.0, std::fabs(t));
     std::vector<double> ahead(n_), behind(n_);
     state_->Residual(t + h, y_.data(), yp_.data(), ahead.data());
     state_->Residual(t - h, y_.data(), yp_.data(), behind.data());
-    JacobianParts(t, &dfdy, &dfdyp);
     for (size_t r = 0; r < n_; ++r) b[static_cast<int>(r)] = -(ahead[r] - behind[r]) / (2 * h);
     const SparsePattern& pat = m_.jacobian_pattern;
     for (int32_t c = 0; c < pat.cols; ++c) {
       if (!m_.is_state[c]) continue;
       for (int32_t k = pat.col_start[c]; k < pat.col_start[c + 1]; ++k) b[pat.row_index[k]] -= dfdy[k] * yp_[c];
     }
-    if (!SolveMixed(dfdy, dfdyp, b, &x) || !x.allFinite()) return;
+    const Eigen::VectorXd x = lu.solve(b);
+    if (!x.allFinite()) return;
     for (size_t c = 0; c < n_; ++c) {
       if (!m_.is_state[c]) yp_[c] = x[static_cast<int>(c)];
     }
@@ -1095,10 +1103,11 @@ class EventIntegrator {
     state_->JacobianParts(t, y_.data(), yp_.data(), dfdy->data(), dfdyp->data());
   }
 
-  /// Solves [dF/dy' over the states | dF/dy over the algebraic unknowns] x = b (the matrix of
+  using MixedLu = Eigen::SparseLU<Eigen::SparseMatrix<double>>;
+
+  /// Factors [dF/dy' over the states | dF/dy over the algebraic unknowns] (the matrix of
   /// IDACalcIC's YA_YDP_INIT step); false when it is singular.
-  bool SolveMixed(const std::vector<double>& dfdy, const std::vector<double>& dfdyp,
-                  const Eigen::VectorXd& b, Eigen::VectorXd* x) {
+  bool FactorMixed(const std::vector<double>& dfdy, const std::vector<double>& dfdyp, MixedLu* lu) {
     const SparsePattern& pat = m_.jacobian_pattern;
     std::vector<Eigen::Triplet<double>> triplets;
     for (int32_t c = 0; c < pat.cols; ++c) {
@@ -1110,11 +1119,8 @@ class EventIntegrator {
     Eigen::SparseMatrix<double> A(static_cast<int>(n_), static_cast<int>(n_));
     A.setFromTriplets(triplets.begin(), triplets.end());
     A.makeCompressed();
-    Eigen::SparseLU<Eigen::SparseMatrix<double>> lu;
-    lu.compute(A);
-    if (lu.info() != Eigen::Success) return false;
-    *x = lu.solve(b);
-    return true;
+    lu->compute(A);
+    return lu->info() == Eigen::Success;
   }
 
   // -------------------------------------------------------------------------------------------
@@ -1167,6 +1173,8 @@ class EventIntegrator {
   bool sample_valid_ = false;
   int refinements_left_ = 0;
   std::vector<double> y_, yp_, z_, zscale_, outputs_, impact_values_;
+  /// Per condition: at zero with a nonzero rate in the first round of the last event.
+  std::vector<bool> moving_at_zero_;
   /// (y index of an algebraic unknown, y index of the dummy derivative that is its rate).
   std::vector<std::pair<uint32_t, uint32_t>> rate_of_algebraic_;
   std::vector<bool> when_state_, affine_;
