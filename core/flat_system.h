@@ -16,9 +16,9 @@
 
 namespace momenta {
 
-/// FlatVariable::state_priority of stateSelect never, default and always (MSL's StateSelect;
-/// avoid is -1, prefer 1).
-constexpr int kStateNever = -2, kStateDefault = 0, kStateAlways = 2;
+/// FlatVariable::state_priority of stateSelect never, default, prefer and always (MSL's
+/// StateSelect; avoid is -1).
+constexpr int kStateNever = -2, kStateDefault = 0, kStatePrefer = 1, kStateAlways = 2;
 
 struct FlatVariable {
   std::string name;  ///< full path, e.g. "A.flange_a.s"

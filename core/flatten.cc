@@ -2040,6 +2040,8 @@ class Flattener {
         fp.name = path + "." + ElementName(d.name, shape, e);
         fp.unit = d.unit;
         fp.doc = d.doc;
+        fp.min = d.min;  // every element: a table of friction forces has min: 0
+        fp.max = d.max;
         fp.instance = inst;
         if (m) {
           fp.binding = ModelExpr(*given[e], m->value_text, m->loc, index, false);

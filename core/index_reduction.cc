@@ -57,19 +57,8 @@ void DerivativeAliases(EquationSystem* sys, IndexStats* stats, bool to_states = 
 void ConstrainedStates(EquationSystem* sys, IndexStats* stats) {
   ExprPool& p = *sys->pool;
   const FlatSystem& flat = *sys->flat;
-  std::vector<bool> diff = DifferentiatedVariables(*sys);
   Substitution& s = *sys->eliminated;
-  // How many constraints each state occurs in. Eliminating a variable that occurs in one
-  // constraint keeps every substitution local; eliminating one shared by two (a mass between two
-  // spring-dampers) would make each mass position a sum over the chain: dense expressions.
-  std::vector<uint32_t> constraint_count(sys->role.size(), 0);
-  for (const SystemEquation& eq : sys->equations) {
-    const uint8_t m = p.mask(eq.residual);
-    if ((m & (kHasDer | kHasPre | kHasInitial)) || !(m & kHasVar)) continue;
-    std::vector<ExprId> vars = CollectLeaves(p, eq.residual, kHasVar);
-    if (!std::all_of(vars.begin(), vars.end(), [&](ExprId v) { return diff[p.node(v).a]; })) continue;
-    for (ExprId v : vars) ++constraint_count[p.node(v).a];
-  }
+  std::vector<bool> diff = DifferentiatedVariables(*sys);
   // Equations that define a variable as the derivative of another, u = c*der(x) + offset (a
   // body's v = der(r)), by the der(x) leaf: a constrained x with such a u can stay an unknown.
   std::unordered_map<uint32_t, uint32_t> derivative_definition;  // der(x) node -> equation
@@ -85,7 +74,26 @@ void ConstrainedStates(EquationSystem* sys, IndexStats* stats) {
       const bool d1 = p.op(t1.first) == Op::kDer && p.DerOrder(t1.first) == 1 && p.op(t0.first) == Op::kVar;
       if (d0 == d1) continue;
       derivative_definition.emplace((d0 ? t0 : t1).first.value(), k);
+      // A velocity that should be a state (MSL's v_rel = der(s_rel) with stateSelect prefer)
+      // takes part in constraints among states as if it were differentiated: a constraint
+      // v_b = v_a + v_rel then eliminates the mass's v_b (default) and der(v_b) becomes
+      // der(v_a) + der(v_rel), so v_rel is a state, as Dymola chooses. Without this, v_rel
+      // stays algebraic and a reinit of v_a (a hard stop) would make v_rel jump where MSL's
+      // reference keeps it.
+      const uint32_t u = p.node((d0 ? t1 : t0).first).a;
+      if (flat.variables[u].state_priority >= kStatePrefer) diff[u] = true;
     }
+  }
+  // How many constraints each state occurs in. Eliminating a variable that occurs in one
+  // constraint keeps every substitution local; eliminating one shared by two (a mass between two
+  // spring-dampers) would make each mass position a sum over the chain: dense expressions.
+  std::vector<uint32_t> constraint_count(sys->role.size(), 0);
+  for (const SystemEquation& eq : sys->equations) {
+    const uint8_t m = p.mask(eq.residual);
+    if ((m & (kHasDer | kHasPre | kHasInitial)) || !(m & kHasVar)) continue;
+    std::vector<ExprId> vars = CollectLeaves(p, eq.residual, kHasVar);
+    if (!std::all_of(vars.begin(), vars.end(), [&](ExprId v) { return diff[p.node(v).a]; })) continue;
+    for (ExprId v : vars) ++constraint_count[p.node(v).a];
   }
   std::vector<bool> drop(sys->equations.size(), false);
   // Variables replaced by the solution of a constraint they share with another: a second such

@@ -453,6 +453,7 @@ class EventIntegrator {
     void* mem = ida_.get();
     double* yv = N_VGetArrayPointer(y_vec_.get());
     double* ypv = N_VGetArrayPointer(yp_vec_.get());
+    if (TimeRelationSwitchesAtStart()) DoEvent(t_, true);
     while (t_ < opt_.stop && !Interrupted(t_)) {
       double t_event = NextTimeEvent();
       double tstop = std::min(opt_.stop, t_event);
@@ -486,6 +487,7 @@ class EventIntegrator {
     t_ = opt_.start;
     next_grid_ = 1;
     const double h = interval_ / 8;
+    if (TimeRelationSwitchesAtStart()) DoEvent(t_, true);
     while (t_ < opt_.stop && !Interrupted(t_)) {
       double t_event = NextTimeEvent();
       double t_next = std::min({opt_.stop, t_event, t_ + h});
@@ -748,6 +750,25 @@ class EventIntegrator {
     return next_time_event_;
   }
 
+  /// A relation of time alone that is at zero at the start (`time > 0` from t = 0) took its
+  /// value there; time only moves on, so it switches at once if its slope says so: an event at
+  /// the start time, after the initial one (scheduling looks only past the current time).
+  bool TimeRelationSwitchesAtStart() {
+    if (nc_ == 0) return false;
+    NextTimeEvent();  // which conditions are affine in time
+    std::vector<double> z0(nc_), z1(nc_);
+    state_->ZeroCrossings(t_, nullptr, nullptr, z0.data());
+    state_->ZeroCrossings(t_ + 1.0, nullptr, nullptr, z1.data());
+    const double* c = state_->conditions();
+    for (size_t i = 0; i < nc_; ++i) {
+      if (!Scheduled(i) || m_.conditions[i].op == Op::kEq || m_.conditions[i].op == Op::kNe) continue;
+      const double slope = z1[i] - z0[i];
+      if (slope == 0 || std::fabs(z0[i]) > 1e-15 * std::fabs(slope) * std::max(1.0, std::fabs(t_))) continue;
+      if (RelationHolds(m_.conditions[i].op, slope) != (c[i] != 0)) return true;
+    }
+    return false;
+  }
+
   double ComputeNextTimeEvent() {
     if (affine_.size() != nc_) affine_.assign(nc_, false);
     double best = HUGE_VAL;
@@ -912,14 +933,24 @@ class EventIntegrator {
       const double near = 4 * Band(i) + std::fabs(rate[i]) * 1e-12 * std::max(1.0, std::fabs(t));
       const bool ordered = m_.conditions[i].op != Op::kEq && m_.conditions[i].op != Op::kNe;
       if (std::fabs(zi) <= near && ordered) {
-        if (side == kRightLimit) moving_at_zero_[i] = rate[i] != 0;
+        // A rate that would not carry z out of its band in a second is rounding, not motion:
+        // a mass resting at its stop (s reinitialised to smax - L/2, v = -1e-26 m/s left by
+        // the solve) is not sliding back off it.
+        const double moving = std::fabs(rate[i]) * std::max(1.0, std::fabs(t)) > Band(i) ? rate[i] : 0.0;
+        if (side == kRightLimit) moving_at_zero_[i] = moving != 0;
         if (side == kHoldAtZero && !moving_at_zero_[i]) continue;
         // At zero up to the location error or rounding: at the start (a velocity of 1e-17 m/s
-        // left by the initial Newton solve) zero itself, at an event the side the rate leads to.
+        // left by the initial Newton solve) zero itself, at an event the side the rate leads to,
+        // and zero itself where nothing moves (a brake engaging on a shaft at rest, whose
+        // sliding velocity is -2e-43 m/s, is stuck, not sliding backward).
+        // (Only within the band a crossing is measured against: beyond it, where a step's
+        // crossing test already sees the relation switched, z is taken as it is.)
         if (side == kAtValue) {
           zi = 0;
-        } else if (rate[i] != 0) {
-          zi = rate[i];
+        } else if (moving != 0) {
+          zi = moving;
+        } else if (std::fabs(zi) <= Band(i)) {
+          zi = 0;
         }
       }
       double v = RelationHolds(m_.conditions[i].op, zi) ? 1.0 : 0.0;

@@ -51,6 +51,27 @@ outputs: [step.y, integrator.y]
   EXPECT_NEAR(tr.Column("integrator.y", tr.t.size() - 1), 0.3 + 2 * (0.3 - 0.123), 1e-10);
 }
 
+TEST(EventTest, TimeRelationAtZeroAtTheStartSwitchesThere) {
+  // `time > 0` from t = 0 is false at the start and true at every later time: an event at the
+  // start time switches it (it cannot be scheduled later), so the integral is exactly t.
+  Built b = testing::BuildYaml(R"yaml(
+model: StartSwitch
+variables:
+  x: {start: 0, fixed: true}
+  u: {}
+equations:
+  - u = if time > 0 then 1 else 0
+  - der(x) = u
+experiment: {stop: 1, tolerance: 1e-10, interval: 0.25}
+outputs: [u, x]
+)yaml");
+  Trajectory tr = testing::RunDefault(b);
+  EXPECT_EQ(tr.Column("u", 0), 0.0);  // at the start: time > 0 is false
+  EXPECT_EQ(tr.Column("u", tr.t.size() - 1), 1.0);
+  EXPECT_NEAR(tr.Column("x", tr.t.size() - 1), 1.0, 1e-10);
+  EXPECT_EQ(tr.stats.time_events, 1);
+}
+
 TEST(EventTest, StateEventIsLocatedOnTheInterpolant) {
   // x = t^2 crosses 0.5 at t = sqrt(0.5); a when-clause records the time it happened.
   Built b = testing::BuildYaml(R"yaml(
