@@ -11,19 +11,21 @@ given by --sizes), each size's runs before the next:
     so far (at least linear), would exceed --per-size seconds (150 s), or when the model's whole
     time so far exceeds --budget seconds (240 s), or the last run failed or ran out of time.
 
-Figures per run: momenta's own `build` (load through compilation, wall clock, as `simulate`
-prints it; the per-pass times are in the raw output), `integrate` (initialisation + IDA), the
-steps and residual evaluations it reports, the process's CPU time (user + system) and its maximum
-resident set size, both from /usr/bin/time. Build and integrate are wall clock inside momenta,
-CPU time is the whole process: on a shared machine the CPU time is the steadier of the two.
+Figures per run: `momenta check -p N=n` under /usr/bin/time gives the build's CPU time (load
+through compilation, plus reading the built-in component library, about 0.1 s) and its maximum
+resident set size; `momenta simulate` gives its printed per-pass times (wall clock; the raw
+output has them all), `integrate` (initialisation + IDA, wall clock), the steps, and under
+/usr/bin/time the whole run's CPU time (build + simulation + writing the CSV) and maximum RSS. On
+a shared machine the CPU times are the steady figures; wall clock includes waiting for a core.
 
-The table gives, per model and size: states, runs, build (as printed: it includes reading the
-built-in component library, about 0.1 s), load + passes (the per-pass times summed: the part that
-grows with N), the slowest pass, integrate, CPU, steps, max RSS (MB), kB of RSS per state, and
-scaling exponents d log(time) / d log(n) between consecutive sizes for load + passes and CPU time. A benchmark, not a test: it asserts nothing beyond each run succeeding.
+The table gives, per model and size: states, runs, build CPU, build wall (load + the passes, as
+printed), the slowest pass, the build's max RSS, simulate CPU (the whole `simulate` process),
+integrate wall, steps, the simulate process's max RSS and that per state, and scaling exponents
+d log(CPU) / d log(n) between consecutive sizes for the build and the whole simulate run. A benchmark, not a test: it asserts nothing beyond each run succeeding.
 
 Usage: bench/scalable.py [--momenta build/app/momenta] [--models A,B] [--sizes 10,100,...]
-       [--repeat 3] [--budget 240] [--per-size 150] [--single 10] [--raw DIR]
+       [--repeat 3] [--budget 240] [--per-size 150] [--single 10] [--timeout 300]
+       [--limit MODEL=N,...] [--raw FILE]
 """
 import argparse, math, os, re, signal, statistics, subprocess, sys, tempfile, time
 
@@ -80,6 +82,24 @@ def run_once(momenta, model, n, tmp, timeout):
     return r
 
 
+def build_cpu(momenta, model, n, tmp, timeout):
+    """`momenta check` under /usr/bin/time: the build alone (load through compilation, plus the
+    built-in library), its CPU seconds and maximum RSS (bytes)."""
+    usage = os.path.join(tmp, "usage")
+    cmd = ["/usr/bin/time", "-f", "%U %S %M", "-o", usage, momenta, "check", model, "-p", "N=%d" % n]
+    p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
+    try:
+        stdout, stderr = p.communicate(timeout=timeout)
+    except subprocess.TimeoutExpired:
+        os.killpg(p.pid, signal.SIGKILL)
+        p.communicate()
+        return {"error": "check: no result within %d s" % timeout}
+    if p.returncode != 0:
+        return {"error": "check: exit %d: %s" % (p.returncode, " ".join((stderr or stdout).strip().splitlines()[-1:]))}
+    user, system, rss_kb = open(usage).read().split()[-3:]
+    return {"build_cpu": float(user) + float(system), "build_rss": int(rss_kb) * 1024}
+
+
 def exponent(n0, t0, n1, t1):
     if t0 <= 0 or t1 <= 0:
         return float("nan")
@@ -110,6 +130,9 @@ def bench_model(a, name, tmp, raw):
     model = os.path.join(REPO, "models", "scalable", name + ".yaml")
     rows, spent, note = [], 0.0, ""
     for n in a.sizes:
+        if n > a.limit.get(name, n):
+            note = "n = %s not run here (--limit %s=%d)" % (fmt_n(n), name, a.limit[name])
+            break
         if rows:
             last = rows[-1]
             if len(rows) >= 2:
@@ -126,6 +149,8 @@ def bench_model(a, name, tmp, raw):
         runs = []
         while True:
             r = run_once(a.momenta, model, n, tmp, a.timeout)
+            if "error" not in r:
+                r.update(build_cpu(a.momenta, model, n, tmp, a.timeout))
             if "error" in r:
                 note = "n = %s: %s" % (fmt_n(n), r["error"])
                 break
@@ -139,37 +164,37 @@ def bench_model(a, name, tmp, raw):
             break
         row = {"n": n, "runs": len(runs), "states": runs[0]["states"], "unknowns": runs[0]["unknowns"],
                "solver": runs[0]["linear_solver"], "steps": runs[0]["steps"], "residuals": runs[0]["residuals"]}
-        for key in ("build", "passes_total", "integrate", "initialise", "cpu", "rss", "wall"):
+        for key in ("build", "passes_total", "integrate", "initialise", "cpu", "rss", "wall", "build_cpu", "build_rss"):
             row[key] = median_of(runs, key)
         passes = {}
         for p in runs[0]["passes"]:
             passes[p] = statistics.median(r["passes"].get(p, 0) for r in runs)
         row["slowest_pass"] = max(passes.items(), key=lambda kv: kv[1]) if passes else ("", 0)
         rows.append(row)
-        print("  %s N=%s: build %s s, integrate %s s, cpu %s s, %d steps, %.0f MB" % (
-            name, fmt_n(n), fmt_s(row["build"]), fmt_s(row["integrate"]), fmt_s(row["cpu"]), row["steps"],
-            row["rss"] / 2**20), file=sys.stderr)
+        print("  %s N=%s: build %s s (CPU %s s), integrate %s s, cpu %s s, %d steps, %.0f MB" % (
+            name, fmt_n(n), fmt_s(row["build"]), fmt_s(row["build_cpu"]), fmt_s(row["integrate"]), fmt_s(row["cpu"]),
+            row["steps"], row["rss"] / 2**20), file=sys.stderr)
         if note:
             break
     return rows, note
 
 
 def table(name, rows, note):
-    lines = ["### %s" % name, "",
-             "| N | states | runs | build (s) | load + passes (s) | slowest pass (s) | integrate (s) | CPU (s) | steps | max RSS (MB) "
-             "| kB per state | passes exp. | CPU exp. |",
-             "|---:|---:|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|"]
+    lines = ["#### %s" % name, "",
+             "| N | states | runs | build CPU (s) | build wall (s) | slowest pass (s) | build MB | simulate CPU (s) "
+             "| integrate wall (s) | steps | max RSS (MB) | kB per state | build exp. | simulate exp. |",
+             "|---:|---:|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
     prev = None
     for r in rows:
         be = ce = float("nan")
         if prev:
-            be = exponent(prev["n"], prev["passes_total"], r["n"], r["passes_total"])
+            be = exponent(prev["n"], prev["build_cpu"], r["n"], r["build_cpu"])
             ce = exponent(prev["n"], prev["cpu"], r["n"], r["cpu"])
-        lines.append("| %s | %s | %d | %s | %s | %s %s | %s | %s | %d | %.0f | %.2f | %s | %s |" % (
-            fmt_n(r["n"]), fmt_n(r["states"]), r["runs"], fmt_s(r["build"]), fmt_s(r["passes_total"]), r["slowest_pass"][0],
-            fmt_s(r["slowest_pass"][1]), fmt_s(r["integrate"]), fmt_s(r["cpu"]), r["steps"], r["rss"] / 2**20,
-            r["rss"] / 1024 / max(1, r["states"]), "—" if math.isnan(be) else "%.2f" % be,
-            "—" if math.isnan(ce) else "%.2f" % ce))
+        lines.append("| %s | %s | %d | %s | %s | %s %s | %.0f | %s | %s | %d | %.0f | %s | %s | %s |" % (
+            fmt_n(r["n"]), fmt_n(r["states"]), r["runs"], fmt_s(r["build_cpu"]), fmt_s(r["passes_total"]),
+            r["slowest_pass"][0], fmt_s(r["slowest_pass"][1]), r["build_rss"] / 2**20, fmt_s(r["cpu"]),
+            fmt_s(r["integrate"]), r["steps"], r["rss"] / 2**20, fmt_s(r["rss"] / 1024 / max(1, r["states"])),
+            "—" if math.isnan(be) else "%.2f" % be, "—" if math.isnan(ce) else "%.2f" % ce))
         prev = r
     if note:
         lines += ["", note + "."]
@@ -186,9 +211,11 @@ def main():
     ap.add_argument("--budget", type=float, default=240.0, help="seconds per model, after which no larger size starts")
     ap.add_argument("--per-size", type=float, default=150.0, help="predicted CPU seconds above which a size is skipped")
     ap.add_argument("--timeout", type=int, default=300, help="seconds allowed for one run")
+    ap.add_argument("--limit", default="", help="MODEL=N,...: the largest size to run for a model")
     ap.add_argument("--raw", default=None, help="file for momenta's raw output (default: a temporary file)")
     a = ap.parse_args()
     a.sizes = [int(s) for s in a.sizes.split(",")]
+    a.limit = dict((k, int(v)) for k, v in (item.split("=") for item in a.limit.split(",") if item))
     raw_path = a.raw or tempfile.mkstemp(prefix="momenta-scalable-", suffix=".txt")[1]
     out = []
     with tempfile.TemporaryDirectory() as tmp, open(raw_path, "w") as raw:
