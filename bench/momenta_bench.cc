@@ -249,7 +249,7 @@ int main(int argc, char** argv) {
         // Native code (compiled now or from the cache) as --codegen says.
         NativeCodeReport code;
         auto t4 = Clock::now();
-        model = AttachNativeCode(model, opt.codegen, &code);
+        model = AttachNativeCode(std::move(model), opt.codegen, &code);
         r.fields.emplace_back("code_s", Since(t4));
         r.fields.emplace_back("code_native", code.native ? 1 : 0);
         r.fields.emplace_back("code_cache_hit", code.cache_hit ? 1 : 0);

@@ -188,8 +188,11 @@ class ProgramEmitter {
 
   /// A register as a C operand: a local for a temporary, the register file otherwise.
   std::string Ref(uint32_t reg) const {
-    if (IsTemp(reg)) return "t" + std::to_string(reg - layout_.temp_base);
-    return "r[" + std::to_string(reg) + "]";
+    // Appended piece by piece: `"t" + std::to_string(…)` trips gcc 12's false -Wrestrict.
+    std::string ref(IsTemp(reg) ? "t" : "r[");
+    ref += std::to_string(IsTemp(reg) ? reg - layout_.temp_base : reg);
+    if (!IsTemp(reg)) ref += ']';
+    return ref;
   }
 
   void Statement(const Program& program, const Instruction& in) {
@@ -294,7 +297,7 @@ std::string EmitC(const std::vector<CodegenProgram>& programs, const RegisterLay
                   const CodegenOptions& options) {
   Writer w;
   w << "/* momenta model code: " << SanitizeComment(options.comment) << " */\n" << kPrelude;
-  w << "const char momenta_key[] = \"" << SanitizeComment(options.key) << "\";\n\n";
+  if (!options.key.empty()) w << "const char momenta_key[] = \"" << SanitizeComment(options.key) << "\";\n\n";
   ProgramEmitter emitter(layout, &w);
   for (const CodegenProgram& p : programs) {
     CodegenProgram q = p;

@@ -43,7 +43,8 @@ struct CodegenOptions {
   /// Instructions per generated function at most (the compile-time measurement in
   /// bench/RESULTS.md chose it).
   uint32_t max_function_len = 2000;
-  /// Becomes `const char momenta_key[]` in the code: the cache key the loader checks.
+  /// Becomes `const char momenta_key[]` in the code: the cache key the loader checks (none when
+  /// empty: the other translation units of one object).
   std::string key;
   /// Text for the file's header comment (sanitised).
   std::string comment;

@@ -8,6 +8,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstdio>
@@ -16,6 +17,7 @@
 #include <fstream>
 #include <random>
 #include <sstream>
+#include <thread>
 #include <vector>
 
 #include "core/codegen.h"
@@ -67,6 +69,11 @@ constexpr double kCompilePerInstruction = 2.3e-4;   // s
 constexpr double kCacheHit = 5e-4;                  // s
 constexpr double kSavedPerEvaluation = 1.1e-9;      // s per residual instruction
 constexpr double kEvaluationsPerRun = 3000;
+/// Straight-line code stops paying beyond this many residual instructions: its machine code no
+/// longer fits the caches and is fetched from memory at every evaluation (the RC ladder at
+/// n = 100 000, 600 000 residual instructions, ran its residual 1.9× slower native than
+/// interpreted; the chain at n = 10 000, 150 000, still 2.3× faster).
+constexpr size_t kMaxStraightLine = 300000;
 
 /// The C compiler: $MOMENTA_CC (a path, or a name looked up on the PATH), else cc on the PATH.
 /// Empty when there is none; `identity` then says what was looked for.
@@ -106,9 +113,13 @@ Compiler FindCompiler() {
 /// Two independent 64-bit hashes of a sequence of words (128 bits: collisions are not a concern).
 class KeyHash {
  public:
+  /// One multiply per lane and word (the key of a large model hashes millions of words); Hex()
+  /// mixes thoroughly at the end.
   void Add(uint64_t v) {
-    h1_ = Mix(h1_ ^ v) * 0x9e3779b97f4a7c15ull;
-    h2_ = Mix(h2_ + v * 0xc2b2ae3d27d4eb4full) ^ (h2_ >> 29);
+    h1_ = (h1_ ^ v) * 0x9e3779b97f4a7c15ull;
+    h1_ ^= h1_ >> 29;
+    h2_ = (h2_ + v) * 0xc2b2ae3d27d4eb4full;
+    h2_ = (h2_ << 31) | (h2_ >> 33);
   }
   void Add(const std::string& s) {
     Add(s.size());
@@ -225,33 +236,61 @@ std::shared_ptr<const NativeCode> Open(const std::string& path, const std::strin
   return std::make_shared<NativeCode>(handle, functions);
 }
 
-/// Runs the compiler on `source` into `object`; "" on success, else the first line it printed.
-std::string RunCompiler(const Compiler& compiler, const std::string& source, const std::string& object,
-                        const std::string& log) {
-  std::vector<std::string> args = {compiler.path};
-  const std::vector<std::string> flags = CompileFlags();
-  args.insert(args.end(), flags.begin(), flags.end());
-  args.insert(args.end(), {"-o", object, source, "-lm"});
+/// A compiler process running, and the file its messages go to.
+struct CompilerJob {
+  pid_t pid = -1;
+  std::string log;
+};
+
+/// Starts the compiler with `args` (after its path), its output into `log`; pid -1 when it cannot
+/// be started.
+CompilerJob StartCompiler(const Compiler& compiler, const std::vector<std::string>& args, const std::string& log) {
+  std::vector<std::string> words = {compiler.path};
+  words.insert(words.end(), args.begin(), args.end());
   std::vector<char*> argv;
-  for (std::string& a : args) argv.push_back(a.data());
+  for (std::string& w : words) argv.push_back(w.data());
   argv.push_back(nullptr);
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
   posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
   posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
-  pid_t pid = 0;
-  const int rc = ::posix_spawn(&pid, compiler.path.c_str(), &actions, nullptr, argv.data(), environ);
+  CompilerJob job{-1, log};
+  if (::posix_spawn(&job.pid, compiler.path.c_str(), &actions, nullptr, argv.data(), environ) != 0) job.pid = -1;
   posix_spawn_file_actions_destroy(&actions);
-  if (rc != 0) return compiler.path + " could not be started";
-  g_compilations.fetch_add(1);
+  return job;
+}
+
+/// Waits for `job`: "" when it succeeded, else the first line it printed.
+std::string FinishCompiler(const Compiler& compiler, const CompilerJob& job) {
+  if (job.pid < 0) return compiler.path + " could not be started";
   int status = 0;
-  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  while (::waitpid(job.pid, &status, 0) < 0 && errno == EINTR) {
   }
-  if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return "";
-  std::ifstream in(log);
-  std::string line;
-  std::getline(in, line);
-  return compiler.path + " failed" + (line.empty() ? "" : ": " + line);
+  std::string failure;
+  if (!(WIFEXITED(status) && WEXITSTATUS(status) == 0)) {
+    std::ifstream in(job.log);
+    std::string line;
+    std::getline(in, line);
+    failure = compiler.path + " failed" + (line.empty() ? "" : ": " + line);
+  }
+  std::remove(job.log.c_str());
+  return failure;
+}
+
+/// The programs in `parts` groups of about equal instruction counts (largest first into the
+/// lightest group), one translation unit each, so that the compiler runs on every core.
+std::vector<std::vector<CodegenProgram>> Partition(std::vector<CodegenProgram> programs, size_t parts) {
+  std::sort(programs.begin(), programs.end(),
+            [](const CodegenProgram& x, const CodegenProgram& y) { return x.program->size() > y.program->size(); });
+  std::vector<std::vector<CodegenProgram>> groups(parts);
+  std::vector<size_t> load(parts, 0);
+  for (CodegenProgram& p : programs) {
+    const size_t g = static_cast<size_t>(std::min_element(load.begin(), load.end()) - load.begin());
+    load[g] += p.program->size() + 1;
+    groups[g].push_back(std::move(p));
+  }
+  while (groups.size() > 1 && groups.back().empty()) groups.pop_back();
+  return groups;
 }
 
 /// A name no other process or thread picks for its temporary files in `dir`.
@@ -263,43 +302,79 @@ std::string TemporaryStem(const std::string& dir, const std::string& key) {
   return s.str();
 }
 
-/// Emits, compiles and renames into `object`; "" on success, else why not.
+/// Emits, compiles and renames into `object`; "" on success, else why not. A large model's
+/// programs are split over several translation units compiled at once (one per core, each of at
+/// least kInstructionsPerUnit), then linked.
+constexpr size_t kInstructionsPerUnit = 10000;
+
 std::string Build(const CompiledModel& model, const NativeCodeOptions& options, const Compiler& compiler,
                   const std::string& key, const std::string& object, NativeCodeReport* report) {
-  // The C file.
+  // The C files.
   auto t0 = Clock::now();
   std::vector<CodegenProgram> programs;
+  size_t instructions = 0;
   for (size_t k = 0; k < kNumModelPrograms; ++k) {
     if (!IsNativeProgram(static_cast<ModelProgram>(k))) continue;
     programs.push_back({Symbol(k), &ProgramOf(model, static_cast<ModelProgram>(k)), {}});
+    instructions += programs.back().program->size();
   }
-  CodegenOptions copt;
-  copt.max_function_len = options.max_function_len;
-  copt.key = key;
-  copt.comment = model.flat ? model.flat->model_name : std::string();
-  const std::string code = EmitC(programs, model.layout, copt);
+  const size_t cores = std::max(1u, std::thread::hardware_concurrency());
+  const auto units = Partition(std::move(programs), std::min(cores, 1 + instructions / kInstructionsPerUnit));
   const std::string stem = TemporaryStem(object.substr(0, object.find_last_of('/')), key);
-  const std::string source = stem + ".c", temp_object = stem + ".so", log = stem + ".log";
-  {
-    std::ofstream f(source, std::ios::binary);
-    f << code;
+  const std::string temp_object = stem + ".so";
+  std::vector<std::string> sources;
+  std::string failure;
+  for (size_t u = 0; u < units.size() && failure.empty(); ++u) {
+    CodegenOptions copt;
+    copt.max_function_len = options.max_function_len;
+    copt.key = u == 0 ? key : "";
+    copt.comment = (model.flat ? model.flat->model_name : std::string()) + ", part " + std::to_string(u + 1);
+    sources.push_back(stem + "-" + std::to_string(u) + ".c");
+    std::ofstream f(sources.back(), std::ios::binary);
+    f << EmitC(units[u], model.layout, copt);
     f.close();
-    if (!f) {
-      std::remove(source.c_str());
-      return "cannot write " + source;
-    }
+    if (!f) failure = "cannot write " + sources.back();
   }
   report->codegen_seconds += Since(t0);
-  // Compile, then move the object into place in one step.
+  // Compile (the units at once, then link them), then move the object into place in one step.
   auto t1 = Clock::now();
-  std::string failure = RunCompiler(compiler, source, temp_object, log);
+  const std::vector<std::string> flags = CompileFlags();
+  std::vector<std::string> objects;
+  if (failure.empty() && sources.size() == 1) {
+    std::vector<std::string> args = flags;
+    args.insert(args.end(), {"-o", temp_object, sources[0], "-lm"});
+    g_compilations.fetch_add(1);
+    failure = FinishCompiler(compiler, StartCompiler(compiler, args, stem + ".log"));
+  } else if (failure.empty()) {
+    g_compilations.fetch_add(1);
+    std::vector<CompilerJob> jobs;
+    for (size_t u = 0; u < sources.size(); ++u) {
+      objects.push_back(stem + "-" + std::to_string(u) + ".o");
+      std::vector<std::string> args = flags;
+      args.insert(args.end(), {"-c", "-o", objects.back(), sources[u]});
+      jobs.push_back(StartCompiler(compiler, args, stem + "-" + std::to_string(u) + ".log"));
+    }
+    for (const CompilerJob& job : jobs) {
+      std::string f = FinishCompiler(compiler, job);
+      if (failure.empty()) failure = f;
+    }
+    if (failure.empty()) {
+      std::vector<std::string> args = flags;
+      args.insert(args.end(), {"-o", temp_object});
+      args.insert(args.end(), objects.begin(), objects.end());
+      args.push_back("-lm");
+      failure = FinishCompiler(compiler, StartCompiler(compiler, args, stem + ".log"));
+    }
+  }
   report->compile_seconds = Since(t1);
   // MOMENTA_KEEP_C=1 keeps the C next to the object (to read it, or to time compilers on it).
-  if (Env("MOMENTA_KEEP_C") == "1") {
-    std::rename(source.c_str(), (object.substr(0, object.size() - 3) + ".c").c_str());
+  for (size_t u = 0; u < sources.size(); ++u) {
+    if (Env("MOMENTA_KEEP_C") == "1") {
+      std::rename(sources[u].c_str(), (object.substr(0, object.size() - 3) + "-" + std::to_string(u) + ".c").c_str());
+    }
+    std::remove(sources[u].c_str());
   }
-  std::remove(source.c_str());
-  std::remove(log.c_str());
+  for (const std::string& o : objects) std::remove(o.c_str());
   if (failure.empty() && std::rename(temp_object.c_str(), object.c_str()) != 0) {
     failure = "cannot move the compiled code to " + object;
   }
@@ -311,6 +386,11 @@ std::string Build(const CompiledModel& model, const NativeCodeOptions& options, 
 /// `options.expected_runs` runs; `why` says what was weighed.
 bool NativePays(const CompiledModel& model, size_t instructions, bool cached, const NativeCodeOptions& options,
                 std::string* why) {
+  if (model.residual.size() > kMaxStraightLine) {
+    *why = "auto: a residual of " + std::to_string(model.residual.size()) +
+           " instructions runs slower as straight-line native code than interpreted (the instruction cache)";
+    return false;
+  }
   const double saved = options.expected_runs * kEvaluationsPerRun * kSavedPerEvaluation *
                        static_cast<double>(model.residual.size());
   const double cost = cached ? kCacheHit : kCompileFixed + kCompilePerInstruction * static_cast<double>(instructions);

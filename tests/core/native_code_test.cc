@@ -148,6 +148,22 @@ TEST_F(NativeCodeTest, AutoUsesCachedCodeWhereItPays) {
   EXPECT_TRUE(r.cache_hit);
 }
 
+/// A model of over 10 000 instructions is compiled as several translation units at once (on a
+/// machine with more than one core) and linked: the same rows.
+TEST_F(NativeCodeTest, LargeModelCompiledInPartsGivesTheSameRows) {
+  testing::Built b = testing::BuildFile(kChain, {{"n", 500}});
+  NativeCodeReport r;
+  testing::Built nb{AttachNativeCode(b.model, native_, &r), b.report};
+  ASSERT_TRUE(nb.model->native) << r.note;
+  EXPECT_GT(r.instructions, 10000u);
+  SimulationOptions options = OptionsFromExperiment(b.model->experiment);
+  options.stop = 0.2;
+  testing::Trajectory interp = testing::Run(b, options);
+  testing::Trajectory compiled = testing::Run(nb, options);
+  EXPECT_EQ(interp.values, compiled.values);
+  EXPECT_EQ(interp.stats.steps, compiled.stats.steps);
+}
+
 TEST(NativeCodeModeTest, ParsesTheThreeChoices) {
   CodegenMode mode = CodegenMode::kInterp;
   EXPECT_TRUE(ParseCodegenMode("auto", &mode));
