@@ -195,6 +195,9 @@ int LoadAndBuild(const std::string& path, const ParameterOverrides& overrides, L
     if (!units.empty()) ApplyOverrideUnits(Flatten(spec, BuiltinLibrary(), out->overrides), units, &out->overrides);
     out->model = BuildModel(spec, BuiltinLibrary(), out->overrides, &out->report);
     out->build_s = Since(t1);
+    // Native code for the programs (from the cache, or compiled now) where it pays.
+    out->model = AttachNativeCode(std::move(out->model), out->codegen, &out->codegen_report);
+    if (!out->codegen_report.note.empty()) std::cerr << path << ": note: " << out->codegen_report.note << "\n";
     out->state = std::make_unique<ModelState>(out->model);
     out->state->SetParameters(out->overrides);
   } catch (const UsageError& e) {
@@ -210,6 +213,12 @@ int LoadAndBuild(const std::string& path, const ParameterOverrides& overrides, L
 int RunSimulate(const SimulateArgs& args) {
   LoadedModel loaded;
   loaded.with_scene = !args.report.empty() || args.scene_columns;
+  try {
+    loaded.codegen.mode = ResolveCodegenMode(args.options);
+  } catch (const UsageError& e) {
+    std::cerr << "momenta: " << e.what() << "\n";
+    return kExitUsage;
+  }
   if (int code = LoadAndBuild(args.model, args.params, &loaded); code != kExitOk) return code;
   const std::shared_ptr<const CompiledModel>& model = loaded.model;
   const BuildReport& report = loaded.report;
@@ -324,6 +333,7 @@ int RunSimulate(const SimulateArgs& args) {
   o << "  build " << Ms(load_s + build_s) << " (load " << Ms(load_s);
   for (const auto& p : report.passes) o << ", " << p.name << " " << Ms(p.seconds);
   o << "); initialise " << Ms(stats.init_seconds) << "; integrate " << Ms(stats.integrate_seconds) << "\n";
+  o << "  code: " << loaded.codegen_report.Summary() << "\n";
   o << "  " << model->num_unknowns() << " unknowns (" << model->num_states() << " states), IDA with "
     << stats.linear_solver << " LU" << (SundialsOptimized() ? "" : " (unoptimised SUNDIALS)") << ": "
     << stats.steps << " steps, " << stats.residual_evals << " residual evaluations, "
@@ -367,6 +377,7 @@ int RunCheck(const CheckArgs& args) {
     total += p.seconds;
   }
   o << "  total " << Ms(total) << "\n";
+  o << "code: " << loaded.codegen_report.Summary() << "\n";
   auto list = [&](const std::string& title, const std::vector<std::string>& names) {
     o << title << " (" << names.size() << ")";
     size_t limit = args.verbose ? names.size() : 20;

@@ -12,6 +12,7 @@
 #include "app/report_scene.h"
 #include "app/simulate_options.h"
 #include "core/build.h"
+#include "core/native_code.h"
 #include "core/flat_system.h"
 #include "core/model_state.h"
 #include "core/units.h"
@@ -76,6 +77,10 @@ struct LoadedModel {
   /// app/report_scene.h), after its own outputs.
   bool with_scene = false;
   Scene scene;
+  /// Set before LoadAndBuild: how the model's programs run (--codegen); the report says what
+  /// was chosen and what it cost.
+  NativeCodeOptions codegen;
+  NativeCodeReport codegen_report;
 };
 
 /// Loads and builds the model with `overrides` and sets its parameters; returns an exit code

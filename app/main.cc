@@ -33,6 +33,9 @@ int main(int argc, char** argv) {
   simulate->add_option("-o,--out", sim.out, "results file (CSV; '-' for standard output)");
   simulate->add_option("--linear-solver", sim.options.linear_solver, "auto, dense or klu")
       ->check(CLI::IsMember({"auto", "dense", "klu"}));
+  simulate->add_option("--codegen", sim.options.codegen,
+                       "auto (native code where it pays), native (compile the model to native code) or interp")
+      ->check(CLI::IsMember({"auto", "native", "interp"}));
   simulate->add_flag("-q,--quiet", sim.quiet, "print nothing on success");
   simulate->add_option("--report", sim.report, "also write an HTML report (plots, statistics, the scene's animation)");
   simulate->add_flag("--scene-columns", sim.scene_columns,
@@ -74,6 +77,9 @@ int main(int argc, char** argv) {
   sweep_number("--interval", &swp.options.interval, "output interval [s]");
   sweep->add_option("--linear-solver", swp.options.linear_solver, "auto, dense or klu")
       ->check(CLI::IsMember({"auto", "dense", "klu"}));
+  sweep->add_option("--codegen", swp.options.codegen,
+                    "auto (native code where it pays), native (compile the model to native code) or interp")
+      ->check(CLI::IsMember({"auto", "native", "interp"}));
   sweep->add_option("-j,--jobs", swp.jobs, "threads per process (default: one per core, shared by the MPI ranks on the machine)")->check(CLI::Range(1u, 4096u));
   sweep->add_option("-o,--out", swp.out, "summary CSV, one row per run ('-' for standard output)");
   sweep->add_option("--trajectories", swp.trajectories, "directory for each run's CSV (DIR/run-<k>.csv)");

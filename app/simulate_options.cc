@@ -15,6 +15,14 @@ namespace {
 
 }  // namespace
 
+CodegenMode ResolveCodegenMode(const SimulateOverrides& overrides) {
+  CodegenMode mode = CodegenMode::kAuto;
+  if (!overrides.codegen.empty() && !ParseCodegenMode(overrides.codegen, &mode)) {
+    throw UsageError("--codegen " + overrides.codegen + ": the choices are auto, native and interp");
+  }
+  return mode;
+}
+
 SimulationOptions ResolveSimulationOptions(const ExperimentSpec& experiment, const SimulateOverrides& overrides) {
   SimulationOptions opt = OptionsFromExperiment(experiment);
   // Each value on its own.

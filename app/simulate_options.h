@@ -5,6 +5,7 @@
 #include <optional>
 
 #include "core/model_spec.h"
+#include "core/native_code.h"
 #include "solver/simulator.h"
 
 namespace momenta {
@@ -13,7 +14,12 @@ namespace momenta {
 struct SimulateOverrides {
   std::optional<double> stop, rtol, atol, interval;
   std::string linear_solver;  ///< empty: the experiment's
+  /// --codegen: auto, native or interp (empty: auto); see core/native_code.h.
+  std::string codegen;
 };
+
+/// The --codegen value as a mode; throws UsageError for anything but auto, native or interp.
+CodegenMode ResolveCodegenMode(const SimulateOverrides& overrides);
 
 /// The experiment's options with `overrides` over them. Throws UsageError ("--stop inf: …")
 /// naming the option and its value when a value is out of range: a stop time that is not a

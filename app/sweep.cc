@@ -110,6 +110,13 @@ int Sweep::Prepare() {
   for (const auto& a : axes_) {
     if (!a.swept()) fixed_[a.name] = a.values[0];
   }
+  try {
+    loaded_.codegen.mode = ResolveCodegenMode(args_.options);
+    loaded_.codegen.expected_runs = static_cast<double>(plan_.values.size());
+  } catch (const UsageError& e) {
+    std::cerr << "momenta: " << e.what() << "\n";
+    return kExitUsage;
+  }
   if (int code = LoadAndBuild(args_.model, fixed_, &loaded_); code != kExitOk) return code;
   model_ = loaded_.model;
   if (int code = CheckSweptNames(); code != kExitOk) return code;

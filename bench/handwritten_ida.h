@@ -274,6 +274,24 @@ double median_of(const std::vector<T>& runs, F field) {
   return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
 }
 
+// The residual's cost per evaluation [ns]: the median of 5 timings of enough calls at the initial
+// values to take about 20 ms each (momenta_bench's res_eval_ns measures momenta's the same way).
+inline double residual_eval_ns(Problem& p) {
+  Context ctx;
+  const sunindextype N = p.size();
+  Vector y = make_vector(N, ctx), yp = make_vector(N, ctx), rr = make_vector(N, ctx);
+  p.initial_values(0.0, N_VGetArrayPointer(y.get()), N_VGetArrayPointer(yp.get()));
+  const IDAResFn res = p.residual();
+  const long calls = std::max<long>(10, static_cast<long>(2e6 / static_cast<double>(N)));
+  std::vector<double> ns;
+  for (int k = 0; k < 5; ++k) {
+    const double c0 = cpu_seconds();
+    for (long i = 0; i < calls; ++i) res(1e-3 * static_cast<double>(i % 7), y.get(), yp.get(), rr.get(), &p);
+    ns.push_back((cpu_seconds() - c0) * 1e9 / static_cast<double>(calls));
+  }
+  return median_of(ns, [](double v) { return v; });
+}
+
 // Runs opt.repeat integrations, prints one line per run and a line of medians.
 // Output lines are "key=value" pairs so that scripts can compare them with other programs.
 inline int run_benchmark(const Options& opt, Problem& p) {
@@ -294,6 +312,7 @@ inline int run_benchmark(const Options& opt, Problem& p) {
     std::fflush(stdout);
     runs.push_back(r);
   }
+  std::printf("res_eval_ns=%.1f\n", residual_eval_ns(p));
   std::printf(
       "median setup_s=%.6f solve_s=%.6f setup_cpu_s=%.6f solve_cpu_s=%.6f steps=%.0f res_evals=%.0f jac_evals=%.0f "
       "%s=%.12g %s=%.12g\n",

@@ -21,6 +21,11 @@
 // usage: momenta_bench --model FILE [-p NAME=VALUE]... [--stop T] [--rtol R] [--atol A]
 //                      [--interval DT] [--linear-solver auto|dense|klu] [--repeat K]
 //                      [--build-only] [--unit-nominals] [--build-repeat B]
+//                      [--codegen auto|native|interp] [--function-len L]
+//   --codegen        how the programs run (default interp, as before native code existed): the
+//                    code_* fields say what it cost (code_compile_s: the C compiler; code_load_s:
+//                    dlopen; code_cache_hit); res_eval_ns is the residual per evaluation
+//   --function-len   instructions per generated C function at most (default 2000)
 //   --unit-nominals  set every unknown's nominal to 1 after building, so that the absolute
 //                    tolerance is the same scalar atol for every variable, as in the hand-written
 //                    programs (IDASStolerances). Without it momenta uses atol*nominal.
@@ -39,6 +44,7 @@
 #include "core/error.h"
 #include "core/model_spec.h"
 #include "core/model_state.h"
+#include "core/native_code.h"
 #include "solver/simulator.h"
 #include "solver/sundials_support.h"
 
@@ -57,6 +63,23 @@ double CpuSeconds() {
   return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
 }
 
+/// The residual's cost per evaluation [ns], measured as handwritten_ida.h's residual_eval_ns does:
+/// the median of 5 CPU timings of enough calls to take about 20 ms each, at the start values.
+double ResidualEvalNs(momenta::ModelState* state) {
+  const size_t n = state->model().num_unknowns();
+  std::vector<double> y(n), yp(n), out(n);
+  state->StartValues(y.data());
+  const long calls = std::max<long>(10, static_cast<long>(2e6 / static_cast<double>(std::max<size_t>(n, 1))));
+  std::vector<double> ns;
+  for (int k = 0; k < 5; ++k) {
+    const double c0 = CpuSeconds();
+    for (long i = 0; i < calls; ++i) state->Residual(1e-3 * static_cast<double>(i % 7), y.data(), yp.data(), out.data());
+    ns.push_back((CpuSeconds() - c0) * 1e9 / static_cast<double>(calls));
+  }
+  std::sort(ns.begin(), ns.end());
+  return ns[2];
+}
+
 struct Options {
   std::string model;
   momenta::ParameterOverrides overrides;
@@ -66,13 +89,14 @@ struct Options {
   int build_repeat = -1;  // < 0: every run loads and builds
   bool build_only = false;
   bool unit_nominals = false;
+  momenta::NativeCodeOptions codegen{momenta::CodegenMode::kInterp};  // --codegen, --function-len
 };
 
 void Usage(const char* prog) {
   std::fprintf(stderr,
                "usage: %s --model FILE [-p NAME=VALUE]... [--stop T] [--rtol R] [--atol A]\n"
                "          [--interval DT] [--linear-solver auto|dense|klu] [--repeat K] [--build-only]\n"
-               "          [--unit-nominals] [--build-repeat B]\n"
+               "          [--unit-nominals] [--build-repeat B] [--codegen auto|native|interp] [--function-len L]\n"
                "defaults: the model's experiment section; --repeat 5; every run loads and builds\n"
                "  --build-repeat B  only the first B runs load and build (B >= 1); later runs simulate\n"
                "                    the last compiled model again (for models that are slow to build)\n",
@@ -125,6 +149,11 @@ Options Parse(int argc, char** argv) {
       size_t e = value.find('=');
       if (e == std::string::npos || e == 0 || e + 1 == value.size()) fail("-p takes NAME=VALUE, found '" + value + "'");
       o.overrides[value.substr(0, e)] = number("-p " + value.substr(0, e), value.substr(e + 1));
+    } else if (key == "--codegen") {
+      if (!momenta::ParseCodegenMode(value, &o.codegen.mode)) fail("--codegen must be auto, native or interp");
+    } else if (key == "--function-len") {
+      o.codegen.max_function_len = static_cast<uint32_t>(number(key, value));
+      if (o.codegen.max_function_len < 1) fail("--function-len must be >= 1");
     } else if (key == "--stop") {
       o.stop = number(key, value);
     } else if (key == "--rtol") {
@@ -217,6 +246,18 @@ int main(int argc, char** argv) {
         r.fields.emplace_back("build_cpu_s", c2 - c1);
         r.fields.emplace_back("load_build_cpu_s", c2 - c0);
         for (const auto& p : report.passes) r.fields.emplace_back("pass_" + Key(p.name) + "_s", p.seconds);
+        // Native code (compiled now or from the cache) as --codegen says.
+        NativeCodeReport code;
+        auto t4 = Clock::now();
+        model = AttachNativeCode(std::move(model), opt.codegen, &code);
+        r.fields.emplace_back("code_s", Since(t4));
+        r.fields.emplace_back("code_native", code.native ? 1 : 0);
+        r.fields.emplace_back("code_cache_hit", code.cache_hit ? 1 : 0);
+        r.fields.emplace_back("code_compile_s", code.compile_seconds);
+        r.fields.emplace_back("code_emit_s", code.codegen_seconds);
+        r.fields.emplace_back("code_load_s", code.load_seconds);
+        r.fields.emplace_back("code_instr", static_cast<double>(code.instructions));
+        if (!code.note.empty()) std::printf("# code: %s\n", code.note.c_str());
       }
 
       SimulationOptions so = OptionsFromExperiment(model->experiment);
@@ -310,6 +351,7 @@ int main(int argc, char** argv) {
         r.fields.emplace_back("t", stats.final_time);
         for (size_t j = 0; j < last.size(); ++j) r.finals.emplace_back(model->output_names[j], last[j]);
         if (k == 0) std::printf("# linear solver used: %s\n", stats.linear_solver.c_str());
+        r.fields.emplace_back("res_eval_ns", ResidualEvalNs(&state));
       }
 
       std::printf("run=%d", k + 1);

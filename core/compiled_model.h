@@ -14,6 +14,8 @@
 
 namespace momenta {
 
+class NativeCode;
+
 /// A sparse matrix pattern in compressed-column form (what KLU takes).
 struct SparsePattern {
   int32_t rows = 0, cols = 0;
@@ -115,6 +117,10 @@ struct CompiledModel {
   Program guard_values;  ///< out: the divisors
 
   ExperimentSpec experiment;
+
+  /// The programs above as native code (core/native_code.h), or null: the interpreter runs them.
+  /// Shared by every ModelState and thread; it unloads with its last owner.
+  std::shared_ptr<const NativeCode> native;
 };
 
 }  // namespace momenta

@@ -17,6 +17,9 @@ void CopyDoubles(double* dst, const double* src, size_t n) {
 ModelState::ModelState(std::shared_ptr<const CompiledModel> model) : model_(std::move(model)) {
   regs_.assign(model_->layout.size, 0.0);
   for (const auto& [reg, value] : model_->constants) regs_[reg] = value;
+  if (model_->native) {
+    for (size_t k = 0; k < kNumModelPrograms; ++k) native_[k] = model_->native->function(static_cast<ModelProgram>(k));
+  }
 }
 
 void ModelState::SetParameters(const ParameterOverrides& overrides) {
@@ -25,11 +28,11 @@ void ModelState::SetParameters(const ParameterOverrides& overrides) {
   if (!params_.empty()) {
     CopyDoubles(regs_.data() + m.layout.param_base, params_.data(), params_.size());
   }
-  m.parameters.Run(regs_.data(), nullptr);
+  Run(ModelProgram::kParameters, nullptr);
   // Divisors of eliminated variables' formulas must not vanish.
   if (!m.guards.empty()) {
     std::vector<double> values(m.guards.size());
-    m.guard_values.Run(regs_.data(), values.data());
+    Run(ModelProgram::kGuardValues, values.data());
     for (size_t k = 0; k < values.size(); ++k) {
       if (values[k] == 0.0 || !std::isfinite(values[k])) {
         const DivisorGuard& g = m.guards[k];
@@ -45,9 +48,9 @@ void ModelState::SetParameters(const ParameterOverrides& overrides) {
   }
 }
 
-void ModelState::RunAt(const Program& program, double t, const double* y, const double* yp, double* out) {
+void ModelState::RunAt(ModelProgram which, double t, const double* y, const double* yp, double* out) {
   Load(t, y, yp);
-  program.Run(regs_.data(), out);
+  Run(which, out);
 }
 
 void ModelState::Load(double t, const double* y, const double* yp) {
@@ -59,17 +62,17 @@ void ModelState::Load(double t, const double* y, const double* yp) {
 }
 
 void ModelState::Residual(double t, const double* y, const double* yp, double* out) {
-  RunAt(model_->residual, t, y, yp, out);
+  RunAt(ModelProgram::kResidual, t, y, yp, out);
 }
 
 void ModelState::Jacobian(double t, double cj, const double* y, const double* yp, double* values) {
   Load(t, y, yp);
   regs_[RegisterLayout::kCj] = cj;
-  model_->jacobian.Run(regs_.data(), values);
+  Run(ModelProgram::kJacobian, values);
 }
 
 void ModelState::Outputs(double t, const double* y, const double* yp, double* out) {
-  RunAt(model_->outputs, t, y, yp, out);
+  RunAt(ModelProgram::kOutputs, t, y, yp, out);
 }
 
 void ModelState::StartDiscrete() {
@@ -77,7 +80,7 @@ void ModelState::StartDiscrete() {
   const size_t nd = m.discrete_vars.size();
   if (nd == 0) return;
   std::vector<double> values(nd);
-  m.discrete_starts.Run(regs_.data(), values.data());
+  Run(ModelProgram::kDiscreteStarts, values.data());
   std::copy(values.begin(), values.end(), mutable_discrete());
   std::copy(values.begin(), values.end(), regs_.begin() + m.layout.pre_base + m.layout.num_unknowns);
 }
@@ -89,28 +92,28 @@ void ModelState::SavePre(const double* y) {
 }
 
 void ModelState::ZeroCrossings(double t, const double* y, const double* yp, double* out) {
-  RunAt(model_->zero_crossings, t, y, yp, out);
+  RunAt(ModelProgram::kZeroCrossings, t, y, yp, out);
 }
 
 void ModelState::ZeroCrossingRates(double t, const double* y, const double* yp, double* out) {
-  RunAt(model_->zero_crossing_rates, t, y, yp, out);
+  RunAt(ModelProgram::kZeroCrossingRates, t, y, yp, out);
 }
 
 void ModelState::UpdateDiscrete(double t, const double* y, const double* yp) {
   Load(t, y, yp);
-  model_->discrete_update.Run(regs_.data(), nullptr);
+  Run(ModelProgram::kDiscreteUpdate, nullptr);
 }
 
 void ModelState::WhenConditions(double t, const double* y, const double* yp, double* out) {
-  RunAt(model_->when_conditions, t, y, yp, out);
+  RunAt(ModelProgram::kWhenConditions, t, y, yp, out);
 }
 
 void ModelState::WhenValues(double t, const double* y, const double* yp, double* out) {
-  RunAt(model_->when_values, t, y, yp, out);
+  RunAt(ModelProgram::kWhenValues, t, y, yp, out);
 }
 
 void ModelState::ImpactValues(double t, const double* y, const double* yp, double* out) {
-  RunAt(model_->impact_values, t, y, yp, out);
+  RunAt(ModelProgram::kImpactValues, t, y, yp, out);
 }
 
 void ModelState::JacobianParts(double t, const double* y, const double* yp, double* dfdy,
@@ -121,8 +124,8 @@ void ModelState::JacobianParts(double t, const double* y, const double* yp, doub
   for (size_t k = 0; k < nnz; ++k) dfdyp[k] -= dfdy[k];
 }
 
-void ModelState::StartValues(double* y) { model_->start_values.Run(regs_.data(), y); }
-void ModelState::StartGuesses(double* y) { model_->start_guesses.Run(regs_.data(), y); }
+void ModelState::StartValues(double* y) { Run(ModelProgram::kStartValues, y); }
+void ModelState::StartGuesses(double* y) { Run(ModelProgram::kStartGuesses, y); }
 
 void ModelState::LoadZ(double t, const double* z) {
   const RegisterLayout& L = model_->layout;
@@ -136,19 +139,19 @@ void ModelState::LoadZ(double t, const double* z) {
 
 void ModelState::InitResidual(double t, const double* z, double* out) {
   LoadZ(t, z);
-  model_->init_residual.Run(regs_.data(), out);
+  Run(ModelProgram::kInitResidual, out);
   regs_[RegisterLayout::kInitial] = 0.0;
 }
 
 void ModelState::InitJacobian(double t, const double* z, double* values) {
   LoadZ(t, z);
-  model_->init_jacobian.Run(regs_.data(), values);
+  Run(ModelProgram::kInitJacobian, values);
   regs_[RegisterLayout::kInitial] = 0.0;
 }
 
 void ModelState::RedundantResidual(double t, const double* z, double* out) {
   LoadZ(t, z);
-  model_->redundant_residual.Run(regs_.data(), out);
+  Run(ModelProgram::kRedundantResidual, out);
   regs_[RegisterLayout::kInitial] = 0.0;
 }
 

@@ -7,6 +7,7 @@
 
 #include "core/compiled_model.h"
 #include "core/flat_system.h"
+#include "core/native_code.h"
 
 namespace momenta {
 
@@ -58,13 +59,23 @@ class ModelState {
 
  private:
   void Load(double t, const double* y, const double* yp);
-  /// Loads (t, y, y') and runs `program` into `out`.
-  void RunAt(const Program& program, double t, const double* y, const double* yp, double* out);
+  /// Runs a program on the registers into `out`: its native function when the model has native
+  /// code, else the interpreter.
+  void Run(ModelProgram which, double* out) {
+    if (NativeCode::Function f = native_[static_cast<size_t>(which)]) {
+      f(regs_.data(), out);
+    } else {
+      ProgramOf(*model_, which).Run(regs_.data(), out);
+    }
+  }
+  /// Loads (t, y, y') and runs `which` into `out`.
+  void RunAt(ModelProgram which, double t, const double* y, const double* yp, double* out);
   void LoadZ(double t, const double* z);
 
   std::shared_ptr<const CompiledModel> model_;
   std::vector<double> regs_;
   std::vector<double> params_;
+  std::array<NativeCode::Function, kNumModelPrograms> native_{};  ///< null: interpreted
 };
 
 }  // namespace momenta

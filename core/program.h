@@ -37,6 +37,8 @@ class Program {
   size_t size() const { return code_.size(); }
   std::vector<Instruction>& code() { return code_; }
   const std::vector<Instruction>& code() const { return code_; }
+  /// The table shapes interpolation instructions index by their c.
+  const std::vector<TableShape>& tables() const { return tables_; }
 
  private:
   std::vector<Instruction> code_;

@@ -1,0 +1,165 @@
+// The C the code generator emits: every program of every model, compiled, gives the interpreter's
+// results to the bit on the same registers; names that are not C identifiers stay in comments.
+#include "core/codegen.h"
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <filesystem>
+#include <random>
+
+#include "core/native_code.h"
+#include "tests/support/test_models.h"
+
+namespace momenta {
+namespace {
+
+/// A temporary cache directory for the test's compiled code, removed afterwards.
+class CodegenTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = std::filesystem::temp_directory_path() /
+           ("momenta-codegen-test-" + std::to_string(::getpid()) + "-" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    std::filesystem::remove_all(dir_);
+    ::setenv("MOMENTA_CACHE_DIR", dir_.c_str(), 1);
+  }
+  void TearDown() override {
+    ::unsetenv("MOMENTA_CACHE_DIR");
+    std::filesystem::remove_all(dir_);
+  }
+  std::filesystem::path dir_;
+};
+
+/// How many values a program writes to `out`.
+size_t OutSize(const Program& p) {
+  size_t n = 0;
+  for (const Instruction& in : p.code()) {
+    if (in.op == kStore) n = std::max<size_t>(n, in.dst + 1);
+  }
+  return n;
+}
+
+bool SameBits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0 || (std::isnan(a) && std::isnan(b)); }
+
+/// Runs every program of `model` interpreted and native on the same random register file and
+/// compares the outputs and every register that is not a temporary.
+void ExpectProgramsBitEqual(const CompiledModel& model, const NativeCode& native, const std::string& what) {
+  std::mt19937_64 rng(42);
+  std::uniform_real_distribution<double> value(-3.0, 3.0);
+  const RegisterLayout& L = model.layout;
+  for (size_t k = 0; k < kNumModelPrograms; ++k) {
+    if (!IsNativeProgram(static_cast<ModelProgram>(k))) {
+      EXPECT_FALSE(native.function(static_cast<ModelProgram>(k)));
+      continue;
+    }
+    const Program& p = ProgramOf(model, static_cast<ModelProgram>(k));
+    std::vector<double> regs(L.size);
+    for (double& r : regs) r = value(rng);
+    for (const auto& [reg, v] : model.constants) regs[reg] = v;
+    // Tables must have increasing abscissas: the parameters keep the model's order of values
+    // only if they are sorted, so give the parameters an increasing sequence.
+    for (uint32_t j = 0; j < L.num_params; ++j) regs[L.param_base + j] = 0.25 * j - 1.0;
+    std::vector<double> regs_native = regs;
+    const size_t n = OutSize(p);
+    std::vector<double> out(n + 1, -7.0), out_native(n + 1, -7.0);
+    p.Run(regs.data(), out.data());
+    native.function(static_cast<ModelProgram>(k))(regs_native.data(), out_native.data());
+    for (size_t j = 0; j < n; ++j) {
+      ASSERT_TRUE(SameBits(out[j], out_native[j]))
+          << what << " program " << k << " out[" << j << "]: " << out[j] << " vs " << out_native[j];
+    }
+    for (uint32_t r = 0; r < L.temp_base; ++r) {
+      ASSERT_TRUE(SameBits(regs[r], regs_native[r])) << what << " program " << k << " register " << r;
+    }
+  }
+}
+
+std::vector<std::string> AllModelFiles() {
+  std::vector<std::string> files;
+  for (const char* dir : {"models", "models/msl"}) {
+    for (const auto& entry : std::filesystem::directory_iterator(testing::SourcePath(dir))) {
+      if (entry.path().extension() == ".yaml") files.push_back(std::string(dir) + "/" + entry.path().filename().string());
+    }
+  }
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+TEST_F(CodegenTest, EveryProgramOfEveryModelIsBitIdenticalNative) {
+  NativeCodeOptions native;
+  native.mode = CodegenMode::kNative;
+  // Small functions too (on every third model, to keep the test short), so that temporaries
+  // cross function boundaries.
+  const std::vector<std::string> files = AllModelFiles();
+  for (uint32_t max_len : {2000u, 7u}) {
+    native.max_function_len = max_len;
+    for (size_t f = 0; f < files.size(); f += max_len == 7 ? 3 : 1) {
+      const std::string& file = files[f];
+      SCOPED_TRACE(file);
+      testing::Built b = testing::BuildFile(file);
+      NativeCodeReport report;
+      std::shared_ptr<const NativeCode> code = LoadNativeCode(*b.model, native, &report);
+      ASSERT_TRUE(code) << report.note;
+      ExpectProgramsBitEqual(*b.model, *code, file);
+    }
+  }
+}
+
+TEST(CodegenEmitTest, SplitsLongProgramsIntoBoundedFunctions) {
+  Program p;
+  for (uint32_t k = 0; k < 10; ++k) p.code().push_back({static_cast<uint8_t>(Op::kAdd), 100 + k % 3, 3, 4, 0});
+  std::vector<CodeSegment> segments = StraightSegments(p, 4);
+  ASSERT_EQ(segments.size(), 3u);
+  EXPECT_EQ(segments[2].begin, 8u);
+  EXPECT_EQ(segments[2].len, 2u);
+  RegisterLayout layout;
+  layout.temp_base = 100;
+  layout.size = 104;
+  CodegenOptions options;
+  options.max_function_len = 4;
+  const std::string c = EmitC({{"f", &p, {}}}, layout, options);
+  EXPECT_NE(c.find("static __attribute__((noinline)) void f_2("), std::string::npos);
+  EXPECT_EQ(c.find("f_3("), std::string::npos);
+}
+
+TEST(CodegenEmitTest, CommentsHoldNoCommentDelimitersOrNonAscii) {
+  EXPECT_EQ(SanitizeComment("a */ b /* c"), "a *| b |* c");
+  EXPECT_EQ(SanitizeComment("R\xc3\xa9sistance\n"), "R??sistance?");
+  RegisterLayout layout;
+  CodegenOptions options;
+  options.comment = "evil */ #include <stdio.h> /*";
+  const std::string c = EmitC({}, layout, options);
+  EXPECT_EQ(c.find("*/ #include"), std::string::npos);
+}
+
+// Component names are ASCII identifiers (the loader's rule), so unicode reaches the code only
+// through the model's name; array elements and dotted paths through every variable.
+TEST_F(CodegenTest, ModelWithUnicodeAndDottedNamesCompilesAndMatches) {
+  testing::Built b = testing::BuildYaml(R"(
+model: "Résumé */ of a chain /*"
+doc: "ünïcödé */ everywhere"
+components:
+  masse: {type: Mass, count: 2, m: 2, s: {start: 1, fixed: true}, v: {start: 0, fixed: true}}
+  ressort: {type: Spring, c: 50}
+  fixed: {type: Fixed}
+connections:
+  - [fixed.flange, "ressort.flange_a"]
+  - ["ressort.flange_b", "masse[1].flange_a"]
+  - ["masse[1].flange_b", "masse[2].flange_a"]
+outputs: ["masse[2].s", "masse[1].flange_b.f"]
+experiment: {stop: 1, interval: 0.1}
+)");
+  NativeCodeOptions native;
+  native.mode = CodegenMode::kNative;
+  NativeCodeReport report;
+  std::shared_ptr<const CompiledModel> nm = AttachNativeCode(b.model, native, &report);
+  ASSERT_TRUE(nm->native) << report.note;
+  testing::Trajectory interp = testing::RunDefault(b);
+  testing::Trajectory compiled = testing::RunDefault({nm, b.report});
+  ASSERT_EQ(interp.values.size(), compiled.values.size());
+  for (size_t row = 0; row < interp.values.size(); ++row) EXPECT_EQ(interp.values[row], compiled.values[row]);
+}
+
+}  // namespace
+}  // namespace momenta
