@@ -10,7 +10,12 @@
 namespace momenta {
 
 void Program::Run(double* r, double* out) const {
-  for (const Instruction& in : code_) {
+  RunInstructions(code_.data(), code_.size(), tables_.data(), r, out);
+}
+
+void RunInstructions(const Instruction* code, size_t n, const TableShape* tables, double* r, double* out) {
+  for (const Instruction* end = code + n; code != end; ++code) {
+    const Instruction& in = *code;
     double v;
     switch (static_cast<Op>(in.op)) {
       case Op::kAdd: v = r[in.a] + r[in.b]; break;
@@ -27,7 +32,7 @@ void Program::Run(double* r, double* out) const {
       case Op::kInterp:
       case Op::kInterpSlope: {
         // b is the register of the table's element [1,1]: the parameters as they are now.
-        const TableShape& t = tables_[in.c];
+        const TableShape& t = tables[in.c];
         v = InterpolateTable(r + in.b, t.rows, t.cols, t.column, r[in.a], in.op == static_cast<uint8_t>(Op::kInterpSlope));
         break;
       }
@@ -207,7 +212,7 @@ Program ProgramCompiler::Compile(const std::vector<ExprId>& roots, const std::ve
     return !IsLeaf(n.op) && n.op != Op::kConst && !pool_.IsParamOnly(ExprId(id));
   };
   // 1. The nodes this program computes, children first, and how often each is read; after each
-  //    root, a marker (its index with kTempFlag) for the register-store mode.
+  //    root, a marker (its index with kTempFlag): the root is stored in its turn.
   std::vector<uint32_t> order;
   {
     std::vector<uint32_t> stack;
@@ -259,7 +264,7 @@ Program ProgramCompiler::Compile(const std::vector<ExprId>& roots, const std::ve
     if (computed(child) && --uses_[child] == 0) free_regs.push_back(reg_[child]);
   };
   std::unordered_map<uint32_t, std::vector<uint32_t>> root_slots;
-  for (size_t k = 0; k < roots.size(); ++k) {
+  for (size_t k = 0; registers && k < roots.size(); ++k) {
     if (computed(roots[k].value())) root_slots[roots[k].value()].push_back(static_cast<uint32_t>(k));
   }
   auto store = [&](uint32_t k, uint32_t src) {
@@ -271,9 +276,17 @@ Program ProgramCompiler::Compile(const std::vector<ExprId>& roots, const std::ve
   };
   for (uint32_t id : order) {
     if (id & kTempFlag) {
-      // A root's turn is over: a leaf or parameter-only root is stored here.
+      // A root's turn is over: a leaf or parameter-only root is stored here, and so is a root
+      // computed for an earlier one (into out: each value stored in its own turn keeps the code of
+      // like components alike, for loop rerolling, core/reroll.h).
       uint32_t k = id & ~kTempFlag;
-      if (!computed(roots[k].value())) store(k, operand(roots[k].value()));
+      const uint32_t root = roots[k].value();
+      if (!computed(root)) {
+        store(k, operand(root));
+      } else if (!registers) {
+        store(k, kTempFlag | reg_[root]);
+        release(root);
+      }
       continue;
     }
     const Node& n = pool_.node(ExprId(id));
@@ -296,7 +309,8 @@ Program ProgramCompiler::Compile(const std::vector<ExprId>& roots, const std::ve
     reg_[id] = dst;
     in.dst = kTempFlag | dst;
     prog.code().push_back(in);
-    auto slots = root_slots.find(id);
+    // Into registers, every root of this value is stored at once (later roots read them).
+    auto slots = registers ? root_slots.find(id) : root_slots.end();
     if (slots != root_slots.end()) {
       for (uint32_t k : slots->second) {
         store(k, kTempFlag | dst);

@@ -29,6 +29,10 @@ struct TableShape {
   uint32_t rows, cols, column;
 };
 
+/// Runs `n` instructions from `code` on the registers (what Program::Run does for its code):
+/// for evaluators that hold instructions elsewhere (rerolled loops, core/reroll.h).
+void RunInstructions(const Instruction* code, size_t n, const TableShape* tables, double* regs, double* out);
+
 class Program {
  public:
   void Run(double* regs, double* out) const;
@@ -37,6 +41,8 @@ class Program {
   size_t size() const { return code_.size(); }
   std::vector<Instruction>& code() { return code_; }
   const std::vector<Instruction>& code() const { return code_; }
+  /// The table shapes that kInterp/kInterpSlope instructions' c indexes.
+  const std::vector<TableShape>& tables() const { return tables_; }
 
  private:
   std::vector<Instruction> code_;
