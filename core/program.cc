@@ -252,6 +252,7 @@ Program ProgramCompiler::Compile(const std::vector<ExprId>& roots, const std::ve
   }
   // 2. Emit, reusing a temporary as soon as its last reader has run; roots are stored as soon as
   //    they are computed.
+  // Free temporaries, lowest first (a min-heap).
   std::vector<uint32_t> free_regs;
   uint32_t num_temps = 0;
   auto operand = [&](uint32_t child) -> uint32_t {
@@ -260,8 +261,16 @@ Program ProgramCompiler::Compile(const std::vector<ExprId>& roots, const std::ve
     if (n.op != Op::kConst && IsLeaf(n.op)) return LeafRegister(ExprId(child));
     return ParamOnlyRegister(ExprId(child));
   };
+  // Per temporary: the instruction that wrote its value (the value a live register holds).
+  std::vector<uint32_t> written_at;
+  auto OperandOrder = [&](uint32_t child, uint32_t reg) -> uint64_t {
+    return computed(child) ? (uint64_t{1} << 32) | written_at[reg_[child]] : reg;
+  };
   auto release = [&](uint32_t child) {
-    if (computed(child) && --uses_[child] == 0) free_regs.push_back(reg_[child]);
+    if (computed(child) && --uses_[child] == 0) {
+      free_regs.push_back(reg_[child]);
+      std::push_heap(free_regs.begin(), free_regs.end(), std::greater<uint32_t>());
+    }
   };
   std::unordered_map<uint32_t, std::vector<uint32_t>> root_slots;
   for (size_t k = 0; registers && k < roots.size(); ++k) {
@@ -294,6 +303,13 @@ Program ProgramCompiler::Compile(const std::vector<ExprId>& roots, const std::ve
     Instruction in{static_cast<uint8_t>(n.op), 0, 0, 0, 0};
     if (arity >= 1) in.a = operand(n.a);
     if (arity >= 2) in.b = operand(n.b);
+    // Operands of + and * in an order that does not depend on node ids (which follow the order
+    // the expressions were made in): inputs first by register, then computed values oldest
+    // first, so that like components give like code (loop rerolling, core/reroll.h). Both are
+    // commutative in IEEE arithmetic: the value is the same bit for bit.
+    if ((n.op == Op::kAdd || n.op == Op::kMul) && OperandOrder(n.b, in.b) < OperandOrder(n.a, in.a)) {
+      std::swap(in.a, in.b);
+    }
     if (arity >= 3) in.c = operand(n.c);
     if (n.op == Op::kInterp || n.op == Op::kInterpSlope) in.c = prog.AddTable(pool_.node(ExprId(n.b)));
     if (arity >= 1) release(n.a);
@@ -301,12 +317,15 @@ Program ProgramCompiler::Compile(const std::vector<ExprId>& roots, const std::ve
     if (arity >= 3) release(n.c);
     uint32_t dst;
     if (!free_regs.empty()) {
+      std::pop_heap(free_regs.begin(), free_regs.end(), std::greater<uint32_t>());
       dst = free_regs.back();
       free_regs.pop_back();
     } else {
       dst = num_temps++;
     }
     reg_[id] = dst;
+    if (written_at.size() <= dst) written_at.resize(dst + 1);
+    written_at[dst] = static_cast<uint32_t>(prog.code().size());
     in.dst = kTempFlag | dst;
     prog.code().push_back(in);
     // Into registers, every root of this value is stored at once (later roots read them).
