@@ -5,10 +5,12 @@
 // usage: reroll_bench --model FILE [-p NAME=VALUE]... [--evals K] [--dump PROGRAM]
 //   prints one line per compiled program: instructions, share inside loops (count >= 4),
 //   segments, loops, rolled size (instructions kept), detection time; then per evaluation
-//   times (median of 5 batches of K evaluations, CPU time) of Program::Run and RolledProgram::Run
-//   for the residual and the Jacobian, after checking that both give bitwise the same values.
+//   times (CPU time; medians over 9 alternating pairs of batches of K evaluations) of
+//   Program::Run and RolledProgram::Run for the residual and the Jacobian, and the median ratio,
+//   after checking that both give bitwise the same values.
 //   --dump PROGRAM prints that program's instructions and its segments (to see irregularities).
 #include <algorithm>
+#include <array>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -71,17 +73,24 @@ void Dump(const momenta::CompiledModel& m, const momenta::Program& p) {
   }
 }
 
-/// CPU seconds per evaluation: median of 5 batches of `evals`.
-template <typename F>
-double PerEval(F run, int evals) {
-  std::vector<double> batches;
-  for (int b = 0; b < 5; ++b) {
+/// CPU seconds per evaluation of `a` and of `b`, and the ratio b/a: medians over 9 pairs of
+/// batches of `evals` evaluations, a's and b's batches alternating so that both see the same
+/// machine (it is shared).
+template <typename A, typename B>
+std::array<double, 3> PerEvalPaired(A a, B b, int evals) {
+  std::vector<double> ta, tb, ratio;
+  for (int k = 0; k < 9; ++k) {
     const double t0 = CpuSeconds();
-    for (int k = 0; k < evals; ++k) run();
-    batches.push_back((CpuSeconds() - t0) / evals);
+    for (int e = 0; e < evals; ++e) a();
+    const double t1 = CpuSeconds();
+    for (int e = 0; e < evals; ++e) b();
+    const double t2 = CpuSeconds();
+    ta.push_back((t1 - t0) / evals);
+    tb.push_back((t2 - t1) / evals);
+    ratio.push_back((t2 - t1) / (t1 - t0));
   }
-  std::sort(batches.begin(), batches.end());
-  return batches[2];
+  for (auto* v : {&ta, &tb, &ratio}) std::sort(v->begin(), v->end());
+  return {ta[4], tb[4], ratio[4]};
 }
 
 }  // namespace
@@ -154,10 +163,10 @@ int main(int argc, char** argv) {
       rolled.Run(regs2.data(), out2.data());
       const bool same = std::memcmp(out1.data(), out2.data(), outs * sizeof(double)) == 0 &&
                         std::memcmp(regs1.data(), regs2.data(), regs.size() * sizeof(double)) == 0;
-      const double straight = PerEval([&] { p.program->Run(regs1.data(), out1.data()); }, evals);
-      const double loops = PerEval([&] { rolled.Run(regs2.data(), out2.data()); }, evals);
+      const auto t = PerEvalPaired([&] { p.program->Run(regs1.data(), out1.data()); },
+                                   [&] { rolled.Run(regs2.data(), out2.data()); }, evals);
       std::printf("eval %-10s straight_ns=%.0f rolled_ns=%.0f ratio=%.2f identical=%d evals=%d\n", p.name,
-                  straight * 1e9, loops * 1e9, loops / straight, same ? 1 : 0, evals);
+                  t[0] * 1e9, t[1] * 1e9, t[2], same ? 1 : 0, evals);
     }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "%s\n", e.what());

@@ -250,10 +250,10 @@ Program ProgramCompiler::Compile(const std::vector<ExprId>& roots, const std::ve
       order.push_back(kTempFlag | static_cast<uint32_t>(k));
     }
   }
-  // 2. Emit, reusing a temporary as soon as its last reader has run; roots are stored as soon as
-  //    they are computed.
-  // Free temporaries, lowest first (a min-heap).
-  std::vector<uint32_t> free_regs;
+  // 2. Emit, reusing a temporary as soon as its last reader has run, the lowest free one first
+  //    (last-freed first would rotate the registers of values carried from one component to the
+  //    next irregularly); roots are stored in their turns (into registers: when computed).
+  std::vector<uint32_t> free_regs;  // a min-heap
   uint32_t num_temps = 0;
   auto operand = [&](uint32_t child) -> uint32_t {
     if (computed(child)) return kTempFlag | reg_[child];
@@ -285,9 +285,8 @@ Program ProgramCompiler::Compile(const std::vector<ExprId>& roots, const std::ve
   };
   for (uint32_t id : order) {
     if (id & kTempFlag) {
-      // A root's turn is over: a leaf or parameter-only root is stored here, and so is a root
-      // computed for an earlier one (into out: each value stored in its own turn keeps the code of
-      // like components alike, for loop rerolling, core/reroll.h).
+      // A root's turn is over: it is stored here (into out), also when an earlier root computed
+      // it, so that the code of like components stays alike (loop rerolling, core/reroll.h).
       uint32_t k = id & ~kTempFlag;
       const uint32_t root = roots[k].value();
       if (!computed(root)) {

@@ -108,12 +108,12 @@ class PeriodChecker {
     const uint32_t n = static_cast<uint32_t>(code_.size());
     if (begin + len >= n) return 1;
     Memo& memo = memo_[len];
-    const uint32_t f1 = FirstFailure(&memo.op, begin + len, len, [&](uint32_t t) {
+    const uint32_t f1 = FirstFailure(&memo.op, begin + len, [&](uint32_t t) {
       return code_[t].op == code_[t - len].op;
     });
     uint32_t end = f1;
     if (begin + 2 * len < f1) {
-      const uint32_t f2 = FirstFailure(&memo.step, begin + 2 * len, len, [&](uint32_t t) {
+      const uint32_t f2 = FirstFailure(&memo.step, begin + 2 * len, [&](uint32_t t) {
         return SameDifference(code_[t], code_[t - len], code_[t - 2 * len]);
       });
       end = std::min(end, f2);
@@ -129,8 +129,9 @@ class PeriodChecker {
     Scan op, step;
   };
 
+  /// The first t >= start where `holds` fails, from the memo when an earlier scan covers start.
   template <typename Holds>
-  uint32_t FirstFailure(Scan* scan, uint32_t start, uint32_t /*len*/, Holds holds) {
+  uint32_t FirstFailure(Scan* scan, uint32_t start, Holds holds) {
     const uint32_t n = static_cast<uint32_t>(code_.size());
     if (scan->from != kNone && scan->from <= start && start <= scan->failure) return scan->failure;
     uint32_t t = start;

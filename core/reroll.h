@@ -41,7 +41,8 @@ struct RerollOptions {
 };
 
 /// The segments of `program`: maximal loops found greedily from the start, straight-line code
-/// between them. Time and memory are linear in the program's size (see reroll.cc).
+/// between them. Time is the program's size times a small factor (a hash per instruction, and
+/// one scan of the program per candidate body length at most; see reroll.cc); memory is linear.
 std::vector<LoopSegment> Reroll(const Program& program, const RerollOptions& options = {});
 
 /// The instruction stream the segments describe (the inverse of Reroll, for checks).
