@@ -17,8 +17,8 @@
 ///
 /// Candidate body lengths come from the program itself: each instruction gets a shape (its op and,
 /// per operand, whether it reads a computed value or an input), a window of kWindow shapes is
-/// hashed, and the distances to the next few windows with the
-/// same hash are the candidates at that position. The scan is greedy from the start: at each
+/// hashed, and the distances to the next few windows with the same hash are the candidates at
+/// that position. The scan is greedy from the start: at each
 /// position, the candidate covering most instructions with at least min_count repetitions becomes
 /// a loop and the scan continues after it; otherwise the instruction joins the straight-line code.
 
