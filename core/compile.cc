@@ -22,7 +22,16 @@ struct Slots {
 struct Entry {
   int32_t row, col;
   ExprId value;
+  /// A y' partial (cj dF/dy'): at the same (row, col) it comes after the y partial, so that the
+  /// merged entry has the same form in every component (a loop body, core/reroll.h).
+  bool der = false;
 };
+
+bool ColumnMajor(const Entry& a, const Entry& b) {
+  if (a.col != b.col) return a.col < b.col;
+  if (a.row != b.row) return a.row < b.row;
+  return a.der < b.der;
+}
 
 /// Start guesses for y. A start value that is not fixed is only a guess, and the components'
 /// defaults (a body's position starts at 0) are poor ones where the fixed conditions determine the
@@ -110,9 +119,7 @@ std::vector<ExprId> PropagatedStartGuesses(ExprPool* pool, const EquationSystem&
 
 void SortToPattern(std::vector<Entry>* entries, int32_t rows, int32_t cols, SparsePattern* pattern,
                    std::vector<ExprId>* values) {
-  std::sort(entries->begin(), entries->end(), [](const Entry& a, const Entry& b) {
-    return a.col != b.col ? a.col < b.col : a.row < b.row;
-  });
+  std::sort(entries->begin(), entries->end(), ColumnMajor);
   pattern->rows = rows;
   pattern->cols = cols;
   pattern->col_start.assign(cols + 1, 0);
@@ -359,7 +366,7 @@ std::shared_ptr<CompiledModel> CompileModel(EquationSystem sys, const Structure&
       ExprId d = PartialDerivative(&p, r, leaf);
       if (p.IsConst(d, 0)) continue;
       bool der = nd_leaf.op == Op::kDer;
-      entries.push_back({static_cast<int32_t>(i), y, der ? p.Mul(p.Cj(), d) : d});
+      entries.push_back({static_cast<int32_t>(i), y, der ? p.Mul(p.Cj(), d) : d, der});
       if (!der) {
         init_entries.push_back({static_cast<int32_t>(i), y, d});
       } else if (slots.state_of_y[y] >= 0) {
@@ -368,9 +375,7 @@ std::shared_ptr<CompiledModel> CompileModel(EquationSystem sys, const Structure&
     }
   }
   {
-    std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) {
-      return a.col != b.col ? a.col < b.col : a.row < b.row;
-    });
+    std::sort(entries.begin(), entries.end(), ColumnMajor);
     std::vector<Entry> merged;
     for (const Entry& e : entries) {
       if (!merged.empty() && merged.back().row == e.row && merged.back().col == e.col) {

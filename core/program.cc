@@ -10,7 +10,12 @@
 namespace momenta {
 
 void Program::Run(double* r, double* out) const {
-  for (const Instruction& in : code_) {
+  RunInstructions(code_.data(), code_.size(), tables_.data(), r, out);
+}
+
+void RunInstructions(const Instruction* code, size_t n, const TableShape* tables, double* r, double* out) {
+  for (const Instruction* end = code + n; code != end; ++code) {
+    const Instruction& in = *code;
     double v;
     switch (static_cast<Op>(in.op)) {
       case Op::kAdd: v = r[in.a] + r[in.b]; break;
@@ -27,7 +32,7 @@ void Program::Run(double* r, double* out) const {
       case Op::kInterp:
       case Op::kInterpSlope: {
         // b is the register of the table's element [1,1]: the parameters as they are now.
-        const TableShape& t = tables_[in.c];
+        const TableShape& t = tables[in.c];
         v = InterpolateTable(r + in.b, t.rows, t.cols, t.column, r[in.a], in.op == static_cast<uint8_t>(Op::kInterpSlope));
         break;
       }
@@ -207,7 +212,7 @@ Program ProgramCompiler::Compile(const std::vector<ExprId>& roots, const std::ve
     return !IsLeaf(n.op) && n.op != Op::kConst && !pool_.IsParamOnly(ExprId(id));
   };
   // 1. The nodes this program computes, children first, and how often each is read; after each
-  //    root, a marker (its index with kTempFlag) for the register-store mode.
+  //    root, a marker (its index with kTempFlag): the root is stored in its turn.
   std::vector<uint32_t> order;
   {
     std::vector<uint32_t> stack;
@@ -245,9 +250,10 @@ Program ProgramCompiler::Compile(const std::vector<ExprId>& roots, const std::ve
       order.push_back(kTempFlag | static_cast<uint32_t>(k));
     }
   }
-  // 2. Emit, reusing a temporary as soon as its last reader has run; roots are stored as soon as
-  //    they are computed.
-  std::vector<uint32_t> free_regs;
+  // 2. Emit, reusing a temporary as soon as its last reader has run, the lowest free one first
+  //    (last-freed first would rotate the registers of values carried from one component to the
+  //    next irregularly); roots are stored in their turns (into registers: when computed).
+  std::vector<uint32_t> free_regs;  // a min-heap
   uint32_t num_temps = 0;
   auto operand = [&](uint32_t child) -> uint32_t {
     if (computed(child)) return kTempFlag | reg_[child];
@@ -255,11 +261,19 @@ Program ProgramCompiler::Compile(const std::vector<ExprId>& roots, const std::ve
     if (n.op != Op::kConst && IsLeaf(n.op)) return LeafRegister(ExprId(child));
     return ParamOnlyRegister(ExprId(child));
   };
+  // Per temporary: the instruction that wrote its value (the value a live register holds).
+  std::vector<uint32_t> written_at;
+  auto OperandOrder = [&](uint32_t child, uint32_t reg) -> uint64_t {
+    return computed(child) ? (uint64_t{1} << 32) | written_at[reg_[child]] : reg;
+  };
   auto release = [&](uint32_t child) {
-    if (computed(child) && --uses_[child] == 0) free_regs.push_back(reg_[child]);
+    if (computed(child) && --uses_[child] == 0) {
+      free_regs.push_back(reg_[child]);
+      std::push_heap(free_regs.begin(), free_regs.end(), std::greater<uint32_t>());
+    }
   };
   std::unordered_map<uint32_t, std::vector<uint32_t>> root_slots;
-  for (size_t k = 0; k < roots.size(); ++k) {
+  for (size_t k = 0; registers && k < roots.size(); ++k) {
     if (computed(roots[k].value())) root_slots[roots[k].value()].push_back(static_cast<uint32_t>(k));
   }
   auto store = [&](uint32_t k, uint32_t src) {
@@ -271,9 +285,16 @@ Program ProgramCompiler::Compile(const std::vector<ExprId>& roots, const std::ve
   };
   for (uint32_t id : order) {
     if (id & kTempFlag) {
-      // A root's turn is over: a leaf or parameter-only root is stored here.
+      // A root's turn is over: it is stored here (into out), also when an earlier root computed
+      // it, so that the code of like components stays alike (loop rerolling, core/reroll.h).
       uint32_t k = id & ~kTempFlag;
-      if (!computed(roots[k].value())) store(k, operand(roots[k].value()));
+      const uint32_t root = roots[k].value();
+      if (!computed(root)) {
+        store(k, operand(root));
+      } else if (!registers) {
+        store(k, kTempFlag | reg_[root]);
+        release(root);
+      }
       continue;
     }
     const Node& n = pool_.node(ExprId(id));
@@ -281,6 +302,13 @@ Program ProgramCompiler::Compile(const std::vector<ExprId>& roots, const std::ve
     Instruction in{static_cast<uint8_t>(n.op), 0, 0, 0, 0};
     if (arity >= 1) in.a = operand(n.a);
     if (arity >= 2) in.b = operand(n.b);
+    // Operands of + and * in an order that does not depend on node ids (which follow the order
+    // the expressions were made in): inputs first by register, then computed values oldest
+    // first, so that like components give like code (loop rerolling, core/reroll.h). Both are
+    // commutative in IEEE arithmetic: the value is the same bit for bit.
+    if ((n.op == Op::kAdd || n.op == Op::kMul) && OperandOrder(n.b, in.b) < OperandOrder(n.a, in.a)) {
+      std::swap(in.a, in.b);
+    }
     if (arity >= 3) in.c = operand(n.c);
     if (n.op == Op::kInterp || n.op == Op::kInterpSlope) in.c = prog.AddTable(pool_.node(ExprId(n.b)));
     if (arity >= 1) release(n.a);
@@ -288,15 +316,19 @@ Program ProgramCompiler::Compile(const std::vector<ExprId>& roots, const std::ve
     if (arity >= 3) release(n.c);
     uint32_t dst;
     if (!free_regs.empty()) {
+      std::pop_heap(free_regs.begin(), free_regs.end(), std::greater<uint32_t>());
       dst = free_regs.back();
       free_regs.pop_back();
     } else {
       dst = num_temps++;
     }
     reg_[id] = dst;
+    if (written_at.size() <= dst) written_at.resize(dst + 1);
+    written_at[dst] = static_cast<uint32_t>(prog.code().size());
     in.dst = kTempFlag | dst;
     prog.code().push_back(in);
-    auto slots = root_slots.find(id);
+    // Into registers, every root of this value is stored at once (later roots read them).
+    auto slots = registers ? root_slots.find(id) : root_slots.end();
     if (slots != root_slots.end()) {
       for (uint32_t k : slots->second) {
         store(k, kTempFlag | dst);

@@ -29,6 +29,10 @@ struct TableShape {
   uint32_t rows, cols, column;
 };
 
+/// Runs `n` instructions from `code` on the registers (what Program::Run does for its code):
+/// for evaluators that hold instructions elsewhere (rerolled loops, core/reroll.h).
+void RunInstructions(const Instruction* code, size_t n, const TableShape* tables, double* regs, double* out);
+
 class Program {
  public:
   void Run(double* regs, double* out) const;
@@ -63,8 +67,12 @@ class ProgramCompiler {
   ProgramCompiler(const ExprPool& pool, uint32_t num_params, std::vector<int32_t> y_index,
                   std::vector<int32_t> disc_index, uint32_t num_conditions);
 
-  /// A program that stores roots[k] into out[k] or, with `registers`, into regs[registers[k]]
-  /// as soon as it is computed (so later roots read it).
+  /// A program that stores roots[k] into out[k] in its turn, right after the code for roots[k]
+  /// (a value several roots share is computed once and stored in each one's turn), or, with
+  /// `registers`, into regs[registers[k]] as soon as it is computed (so later roots read it).
+  /// Temporaries are taken lowest free first and the operands of + and * are ordered by kind
+  /// and age, not by node id, so that runs of like components give like instruction blocks
+  /// (core/reroll.h).
   Program Compile(const std::vector<ExprId>& roots, const std::vector<uint32_t>* registers = nullptr);
   /// Finalises the layout (after every Compile): temporaries go after the global registers.
   void Finish(std::vector<Program*> programs);
