@@ -4,7 +4,8 @@
 // Each of --repeat K runs measures separately
 //   load_s       LoadModelFile (YAML -> ModelSpec)
 //   build_s      BuildModel (flatten ... compile), wall time; pass_<name>_s is each pass's own
-//                time from the BuildReport
+//                time from the BuildReport, pass_<name>_cpu_s its CPU time
+//   max_rss_mb   the process's peak resident memory so far (getrusage), after the build
 //   state_s      ModelState construction + SetParameters
 //   init_s       consistent initialisation (SolverStats::init_seconds)
 //   integrate_s  IDA set-up + the IDASolve loop (SolverStats::integrate_seconds)
@@ -35,6 +36,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
+#include <sys/resource.h>
 #include <map>
 #include <memory>
 #include <string>
@@ -245,7 +247,13 @@ int main(int argc, char** argv) {
         r.fields.emplace_back("load_cpu_s", c1 - c0);
         r.fields.emplace_back("build_cpu_s", c2 - c1);
         r.fields.emplace_back("load_build_cpu_s", c2 - c0);
-        for (const auto& p : report.passes) r.fields.emplace_back("pass_" + Key(p.name) + "_s", p.seconds);
+        for (const auto& p : report.passes) {
+          r.fields.emplace_back("pass_" + Key(p.name) + "_s", p.seconds);
+          r.fields.emplace_back("pass_" + Key(p.name) + "_cpu_s", p.cpu_seconds);
+        }
+        rusage ru{};
+        getrusage(RUSAGE_SELF, &ru);
+        r.fields.emplace_back("max_rss_mb", static_cast<double>(ru.ru_maxrss) / 1024.0);
         // Native code (compiled now or from the cache) as --codegen says.
         NativeCodeReport code;
         auto t4 = Clock::now();

@@ -5,7 +5,8 @@
 #   momenta_sundials  SUNDIALS 6.4.x: IDA, KINSOL, serial NVector, dense + sparse SUNMatrix,
 #                     dense + KLU SUNLinearSolver (and KLU). Compile definition
 #                     MOMENTA_SUNDIALS_OPTIMIZED=1 (our -O2 build) or =0 (Debian's).
-#   momenta_yaml      yaml-cpp
+#   momenta_yaml      yaml-cpp, and libyaml (Debian's libyaml-dev, via pkg-config): the faster
+#                     reader of large model files (core/yaml_tree.h)
 #   momenta_eigen     Eigen3::Eigen
 #   momenta_cli11     CLI11::CLI11
 #   momenta_matio     libmatio (MAT v4 result files; Debian's libmatio-dev)
@@ -148,6 +149,9 @@ if(TARGET yaml-cpp::yaml-cpp)
 else()
   target_link_libraries(momenta_yaml INTERFACE yaml-cpp)
 endif()
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(LIBYAML REQUIRED IMPORTED_TARGET yaml-0.1)
+target_link_libraries(momenta_yaml INTERFACE PkgConfig::LIBYAML)
 
 # ---- Eigen ---------------------------------------------------------------------------------
 find_package(Eigen3 3.3 CONFIG REQUIRED)

@@ -14,7 +14,8 @@ namespace momenta {
 
 struct PassReport {
   std::string name;
-  double seconds = 0;
+  double seconds = 0;      ///< wall-clock time
+  double cpu_seconds = 0;  ///< CPU time of the building thread (leaves out waiting for a core)
   size_t variables = 0;  ///< unknowns after the pass
   size_t equations = 0;  ///< equations after the pass
   std::string note;

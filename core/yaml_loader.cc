@@ -18,6 +18,7 @@
 #include "core/model_spec.h"
 #include "core/parser.h"
 #include "core/unit_check.h"
+#include "core/yaml_tree.h"
 
 namespace momenta {
 
@@ -31,7 +32,7 @@ class Reader {
  public:
   explicit Reader(std::string file) : file_(std::move(file)) {}
 
-  SourceLoc Loc(const YAML::Node& n) const {
+  SourceLoc Loc(const YamlNode& n) const {
     SourceLoc l;
     l.set_file(file_);
     YAML::Mark m = n.Mark();
@@ -43,21 +44,21 @@ class Reader {
   }
 
   /// Where the text of a scalar starts (after the opening quote of a quoted scalar).
-  SourceLoc TextLoc(const YAML::Node& n) const {
+  SourceLoc TextLoc(const YamlNode& n) const {
     SourceLoc l = Loc(n);
     if (n.Tag() == "!") l.column += 1;
     return l;
   }
 
-  [[noreturn]] void Fail(const YAML::Node& n, const std::string& msg) const {
+  [[noreturn]] void Fail(const YamlNode& n, const std::string& msg) const {
     throw ModelError(Loc(n), msg);
   }
 
-  void ExpectMap(const YAML::Node& n, const std::string& what) const {
+  void ExpectMap(const YamlNode& n, const std::string& what) const {
     if (!n.IsMap()) Fail(n, what + " must be a mapping of keys to values");
   }
 
-  void CheckKeys(const YAML::Node& n, const std::string& what,
+  void CheckKeys(const YamlNode& n, const std::string& what,
                  const std::vector<std::string>& allowed) const {
     for (auto it = n.begin(); it != n.end(); ++it) {
       std::string key = it->first.as<std::string>();
@@ -70,12 +71,12 @@ class Reader {
     }
   }
 
-  std::string Scalar(const YAML::Node& n, const std::string& what) const {
+  std::string Scalar(const YamlNode& n, const std::string& what) const {
     if (!n.IsScalar()) Fail(n, what + " must be a single value, not a list or mapping");
     return n.Scalar();
   }
 
-  double Number(const YAML::Node& n, const std::string& what) const {
+  double Number(const YamlNode& n, const std::string& what) const {
     std::string s = Scalar(n, what);
     CheckFinite(n, s, what);
     try {
@@ -88,14 +89,14 @@ class Reader {
     }
   }
 
-  void CheckFinite(const YAML::Node& n, const std::string& s, const std::string& what) const {
+  void CheckFinite(const YamlNode& n, const std::string& s, const std::string& what) const {
     static const std::set<std::string> kNonFinite = {".nan", ".NaN", ".NAN", ".inf", "-.inf",
                                                      ".Inf", "-.Inf", "nan", "NaN", "inf",
                                                      "-inf", "Inf", "-Inf"};
     if (kNonFinite.count(s)) Fail(n, what + " must be a finite number, found '" + s + "'");
   }
 
-  bool Bool(const YAML::Node& n, const std::string& what) const {
+  bool Bool(const YamlNode& n, const std::string& what) const {
     std::string s = Scalar(n, what);
     if (s == "true") return true;
     if (s == "false") return false;
@@ -104,7 +105,7 @@ class Reader {
 
   /// The text of a value: a scalar as written, a list (`[0.5, 4]`, a matrix as a list of rows)
   /// as the array literal it stands for.
-  std::string ValueText(const YAML::Node& n, const std::string& what) const {
+  std::string ValueText(const YamlNode& n, const std::string& what) const {
     if (!n.IsSequence()) return Scalar(n, what);
     if (n.size() == 0) Fail(n, what + " is an empty list; an array has at least one element");
     std::string s = "[";
@@ -114,7 +115,7 @@ class Reader {
 
   /// `shape: [2]` or `shape: [3, 3]`: one or two whole numbers of at least 1. With `open`, a
   /// size may be ":" (kOpenSize): the parameter's value gives it (`shape: [":", 2]`).
-  Shape ReadShape(const YAML::Node& n, const std::string& what, bool open = false) const {
+  Shape ReadShape(const YamlNode& n, const std::string& what, bool open = false) const {
     if (!n.IsSequence() || n.size() < 1 || n.size() > 2) {
       Fail(n, "the shape of " + what + " is a list of one or two sizes, e.g. shape: [2] or shape: [3, 3]");
     }
@@ -137,7 +138,7 @@ class Reader {
     return shape;
   }
 
-  AstPtr Expression(const YAML::Node& n, const std::string& what) const {
+  AstPtr Expression(const YamlNode& n, const std::string& what) const {
     std::string s = ValueText(n, what);
     CheckFinite(n, s, what);
     if (s.empty()) Fail(n, what + " is empty");
@@ -151,7 +152,7 @@ class Reader {
   }
 
   /// A `unit:` string, checked to parse (an error at its place otherwise).
-  std::string UnitString(const YAML::Node& n, const std::string& what) const {
+  std::string UnitString(const YamlNode& n, const std::string& what) const {
     std::string unit = Scalar(n, what);
     CheckUnitString(unit, TextLoc(n), "the unit of " + what);
     return unit;
@@ -159,7 +160,7 @@ class Reader {
 
   /// A value as an expression; a number written with a unit ("40 kg", "10kN/m") is the number,
   /// and `*unit` receives the unit for the caller to convert (core/units.h).
-  AstPtr ValueExpression(const YAML::Node& n, const std::string& what, std::string* unit) const {
+  AstPtr ValueExpression(const YamlNode& n, const std::string& what, std::string* unit) const {
     if (n.IsScalar()) {
       std::optional<Quantity> q;
       try {
@@ -179,7 +180,7 @@ class Reader {
 
   /// The key of a component, parameter or variable the model's expressions refer to: a name as
   /// the expression parser reads it (ASCII letters, digits and '_', not starting with a digit).
-  std::string Name(const YAML::Node& key, const std::string& what) const {
+  std::string Name(const YamlNode& key, const std::string& what) const {
     std::string s = Scalar(key, what);
     bool ok = !s.empty() && !std::isdigit(static_cast<unsigned char>(s[0]));
     for (char c : s) ok = ok && (std::isalnum(static_cast<unsigned char>(c)) || c == '_');
@@ -190,13 +191,13 @@ class Reader {
     return s;
   }
 
-  std::optional<double> OptionalNumber(const YAML::Node& map, const char* key,
+  std::optional<double> OptionalNumber(const YamlNode& map, const char* key,
                                        const std::string& what) const {
     if (!map[key]) return std::nullopt;
     return Number(map[key], what + "." + key);
   }
 
-  ValueType Type(const YAML::Node& n, const std::string& what) const {
+  ValueType Type(const YamlNode& n, const std::string& what) const {
     std::string s = Scalar(n, what);
     if (s == "Real") return ValueType::kReal;
     if (s == "Integer") return ValueType::kInteger;
@@ -204,7 +205,7 @@ class Reader {
     Fail(n, "unknown type '" + s + "' for " + what + " (valid types: Real, Integer, Boolean)");
   }
 
-  ParameterDecl Parameter(const std::string& name, const YAML::Node& n,
+  ParameterDecl Parameter(const std::string& name, const YamlNode& n,
                           const std::string& owner) const {
     ParameterDecl p;
     p.name = name;
@@ -240,7 +241,7 @@ class Reader {
 
   /// `stateSelect:` (MSL's StateSelect) as a priority: never -2, avoid -1, default 0, prefer 1,
   /// always 2.
-  int StateSelect(const YAML::Node& n, const std::string& what) const {
+  int StateSelect(const YamlNode& n, const std::string& what) const {
     static const char* const kChoices[] = {"never", "avoid", "default", "prefer", "always"};
     std::string s = Scalar(n, what + ".stateSelect");
     for (int k = 0; k < 5; ++k) {
@@ -249,7 +250,7 @@ class Reader {
     Fail(n, "unknown stateSelect '" + s + "' for " + what + " (valid choices: never, avoid, default, prefer, always)");
   }
 
-  VariableDecl Variable(const std::string& name, const YAML::Node& n,
+  VariableDecl Variable(const std::string& name, const YamlNode& n,
                         const std::string& owner) const {
     VariableDecl v;
     v.name = name;
@@ -275,7 +276,7 @@ class Reader {
     return v;
   }
 
-  std::vector<EquationDecl> Equations(const YAML::Node& n, const std::string& what) const {
+  std::vector<EquationDecl> Equations(const YamlNode& n, const std::string& what) const {
     std::vector<EquationDecl> out;
     if (n.IsNull()) return out;
     if (!n.IsSequence()) Fail(n, what + " must be a list of equations such as '- v = der(s)'");
@@ -289,7 +290,7 @@ class Reader {
     return out;
   }
 
-  std::vector<WhenDecl> Whens(const YAML::Node& n, const std::string& what) const {
+  std::vector<WhenDecl> Whens(const YamlNode& n, const std::string& what) const {
     std::vector<WhenDecl> out;
     if (n.IsNull()) return out;
     if (!n.IsSequence()) Fail(n, what + " must be a list of {when: condition, then: [statements]}");
@@ -301,7 +302,7 @@ class Reader {
       d.loc = Loc(w);
       d.text = Scalar(w["when"], "a when condition");
       d.condition = ParseExpression(d.text, TextLoc(w["when"]));
-      const YAML::Node& body = w["then"];
+      const YamlNode& body = w["then"];
       if (!body.IsSequence()) Fail(body, "'then' must be a list such as [\"reinit(v, -e*pre(v))\", \"n = pre(n) + 1\"]");
       for (const auto& st : body) {
         StatementDecl sd;
@@ -330,7 +331,7 @@ class Reader {
     return out;
   }
 
-  ImpactDecl Impact(const YAML::Node& n, const std::string& what) const {
+  ImpactDecl Impact(const YamlNode& n, const std::string& what) const {
     ImpactDecl d;
     d.loc = Loc(n);
     ExpectMap(n, "impact of " + what);
@@ -354,7 +355,7 @@ class Reader {
   }
 
   /// `animation:`: a list of shapes, each a mapping with `shape:` and that kind's fields.
-  std::vector<ShapeDecl> Animation(const YAML::Node& n, const std::string& what) const {
+  std::vector<ShapeDecl> Animation(const YamlNode& n, const std::string& what) const {
     static const std::map<std::string, std::pair<std::vector<std::string>, std::vector<std::string>>> kKinds = {
         // kind -> (required fields, optional fields)
         {"circle", {{"at", "radius"}, {"angle"}}},
@@ -397,7 +398,7 @@ class Reader {
     return out;
   }
 
-  ConnectorType Connector(const std::string& name, const YAML::Node& n) const {
+  ConnectorType Connector(const std::string& name, const YamlNode& n) const {
     ConnectorType c;
     c.name = name;
     c.loc = Loc(n);
@@ -440,7 +441,7 @@ class Reader {
     return c;
   }
 
-  ComponentType Component(const std::string& name, const YAML::Node& n, bool user) const {
+  ComponentType Component(const std::string& name, const YamlNode& n, bool user) const {
     ComponentType t;
     t.name = name;
     t.loc = Loc(n);
@@ -495,7 +496,7 @@ class Reader {
   }
 
   /// `components:` and `connections:` of a model or a composite type.
-  void Parts(const YAML::Node& n, std::vector<ComponentSpec>* components,
+  void Parts(const YamlNode& n, std::vector<ComponentSpec>* components,
              std::vector<ConnectionSpec>* connections) const {
     if (n["components"] && !n["components"].IsNull()) {
       ExpectMap(n["components"], "components");
@@ -509,12 +510,12 @@ class Reader {
     }
   }
 
-  void LibraryEntries(const YAML::Node& root, Library* lib, std::vector<ComponentType>* defines,
+  void LibraryEntries(const YamlNode& root, Library* lib, std::vector<ComponentType>* defines,
                       bool user, const char* what = nullptr) const {
     ExpectMap(root, what ? what : user ? "define" : "a library file");
     for (auto it = root.begin(); it != root.end(); ++it) {
       std::string name = it->first.as<std::string>();
-      const YAML::Node n = it->second;  // a copy: it->second is a temporary
+      const YamlNode n = it->second;  // a copy: it->second is a temporary
       ExpectMap(n, "type " + name);
       std::string kind = n["kind"] ? Scalar(n["kind"], name + ".kind") : "component";
       if (kind == "connector") {
@@ -533,7 +534,7 @@ class Reader {
     }
   }
 
-  ComponentSpec ComponentEntry(const std::string& name, const YAML::Node& n) const {
+  ComponentSpec ComponentEntry(const std::string& name, const YamlNode& n) const {
     ComponentSpec c;
     c.name = name;
     c.loc = Loc(n);
@@ -571,13 +572,13 @@ class Reader {
     return c;
   }
 
-  AstPtr End(const YAML::Node& n, std::string* text, SourceLoc* loc) const {
+  AstPtr End(const YamlNode& n, std::string* text, SourceLoc* loc) const {
     *text = Scalar(n, "a connection end");
     *loc = TextLoc(n);
     return ParseName(*text, *loc);
   }
 
-  ConnectionSpec Connection(const YAML::Node& n) const {
+  ConnectionSpec Connection(const YamlNode& n) const {
     ConnectionSpec c;
     c.loc = Loc(n);
     if (n.IsMap()) {
@@ -603,7 +604,7 @@ class Reader {
       }
     }
     // (yaml-cpp's Node::operator= writes through to the node, so the pair is bound once.)
-    const YAML::Node pair = n.IsMap() ? n["connect"] : n;
+    const YamlNode pair = n.IsMap() ? n["connect"] : n;
     if (!pair.IsSequence() || pair.size() != 2) {
       Fail(pair, "a connection is a list of two connectors, e.g. [A.flange_b, B.flange_a]");
     }
@@ -612,7 +613,7 @@ class Reader {
     return c;
   }
 
-  ModelSpec Model(const YAML::Node& root) const {
+  ModelSpec Model(const YamlNode& root) const {
     ModelSpec m;
     m.file = file_;
     m.loc = Loc(root);
@@ -626,7 +627,7 @@ class Reader {
     m.name = Scalar(root["model"], "model");
     if (root["doc"]) m.doc = Scalar(root["doc"], "doc");
     if (root["uses"] && !root["uses"].IsNull()) {
-      const YAML::Node& u = root["uses"];
+      const YamlNode& u = root["uses"];
       if (!u.IsSequence()) Fail(u, "uses must be a list of YAML files, e.g. uses: [mylib.yaml]");
       for (const auto& f : u) m.uses.push_back({Scalar(f, "a uses: file"), TextLoc(f)});
     }
@@ -657,7 +658,7 @@ class Reader {
     }
     if (root["when"]) m.whens = Whens(root["when"], "the model");
     if (root["experiment"]) {
-      const YAML::Node& e = root["experiment"];
+      const YamlNode& e = root["experiment"];
       ExpectMap(e, "experiment");
       CheckKeys(e, "experiment", {"start", "stop", "tolerance", "interval", "linear_solver"});
       m.experiment.loc = Loc(e);
@@ -725,20 +726,19 @@ SourceLoc MarkLoc(const std::string& file, const YAML::Mark& mark) {
   return loc;
 }
 
-/// yaml-cpp keeps every pair of a mapping and looks a key up by its first occurrence, so a key
+/// A YAML mapping keeps every pair and looks a key up by its first occurrence, so a key
 /// given twice would silently lose its second value: report it, with both places. The walk is
 /// iterative and visits a node reached through several aliases once (alias bombs stay linear).
-void CheckDuplicateKeys(const YAML::Node& root, const std::string& file, const std::string& what) {
-  std::vector<std::pair<YAML::Node, std::string>> stack{{root, ""}};
-  std::set<size_t> visited;  // positions of the collections walked
+void CheckDuplicateKeys(const YamlNode& root, const std::string& file, const std::string& what) {
+  std::vector<std::pair<YamlNode, std::string>> stack{{root, ""}};
+  std::set<uint32_t> visited;  // the collections walked
   while (!stack.empty()) {
     auto [node, path] = stack.back();
     stack.pop_back();
     if (!node.IsMap() && !node.IsSequence()) continue;
-    int pos = node.Mark().pos;
-    if (pos >= 0 && !visited.insert(static_cast<size_t>(pos)).second) continue;
+    if (!visited.insert(node.id()).second) continue;
     // The children, walked in the order of the file (pushed last to first).
-    std::vector<std::pair<YAML::Node, std::string>> children;
+    std::vector<std::pair<YamlNode, std::string>> children;
     if (node.IsSequence()) {
       for (size_t k = 0; k < node.size(); ++k) {
         children.push_back({node[k], path + "[" + std::to_string(k + 1) + "]"});
@@ -763,64 +763,13 @@ void CheckDuplicateKeys(const YAML::Node& root, const std::string& file, const s
   }
 }
 
-/// Counts the documents of a YAML stream, stopping at the start of the second: yaml-cpp's LoadAll
-/// would read them all, and loops for ever (allocating) on a ',' where a document should start,
-/// which its parser never consumes (yaml-cpp 0.7: the input ",").
-class DocumentCounter : public YAML::EventHandler {
- public:
-  /// Thrown at the start of a second document; `stuck` if it starts where the first did.
-  struct SecondDocument {
-    YAML::Mark mark;
-    bool stuck;
-  };
-
-  int count() const { return count_; }
-
-  void OnDocumentStart(const YAML::Mark& mark) override {
-    if (++count_ == 2) throw SecondDocument{mark, mark.pos == first_.pos};
-    first_ = mark;
-  }
-  void OnDocumentEnd() override {}
-  void OnNull(const YAML::Mark&, YAML::anchor_t) override {}
-  void OnAlias(const YAML::Mark&, YAML::anchor_t) override {}
-  void OnScalar(const YAML::Mark&, const std::string&, YAML::anchor_t, const std::string&) override {}
-  void OnSequenceStart(const YAML::Mark&, const std::string&, YAML::anchor_t,
-                       YAML::EmitterStyle::value) override {}
-  void OnSequenceEnd() override {}
-  void OnMapStart(const YAML::Mark&, const std::string&, YAML::anchor_t, YAML::EmitterStyle::value) override {}
-  void OnMapEnd() override {}
-
- private:
-  int count_ = 0;
-  YAML::Mark first_;
-};
-
-/// Reads the single YAML document of a file. An empty file, a second document (`---`), YAML
-/// nested deeper than yaml-cpp reads, and a key given twice in one mapping are errors.
-YAML::Node ParseYaml(const std::string& text, const std::string& file, const std::string& what) {
-  YAML::Node root;
+/// Reads the single YAML document of a file (core/yaml_tree.h: yaml-cpp's event parser, or
+/// libyaml's for a large file). An empty file, a second document (`---`), YAML nested deeper than
+/// yaml-cpp reads, and a key given twice in one mapping are errors.
+std::unique_ptr<YamlDoc> ParseYaml(const std::string& text, const std::string& file, const std::string& what) {
+  ParsedYaml parsed;
   try {
-    // First the documents are counted (the first one read as events), then the first is loaded.
-    std::istringstream stream(text);
-    YAML::Parser parser(stream);
-    DocumentCounter counter;
-    try {
-      while (parser.HandleNextDocument(counter)) {
-      }
-    } catch (const DocumentCounter::SecondDocument& second) {
-      if (second.stuck) {
-        throw ModelError(MarkLoc(file, second.mark),
-                         "YAML syntax error: unexpected '" + text.substr(second.mark.pos, 1) + "'");
-      }
-      throw ModelError(MarkLoc(file, second.mark),
-                       "a second YAML document starts here; a " + what + " holds one document");
-    }
-    if (counter.count() == 0) {
-      bool blank = text.find_first_not_of(" \t\r\n") == std::string::npos;
-      throw ModelError(SourceLoc(file), "the " + what + " is empty" +
-                                            (blank ? "" : " (it holds only comments)"));
-    }
-    root = YAML::Load(text);
+    parsed = ParseYamlDocument(text);
   } catch (const YAML::DeepRecursion& e) {
     throw ModelError(MarkLoc(file, e.mark),
                      "YAML nested too deeply: lists and mappings nested hundreds of levels deep are "
@@ -828,8 +777,22 @@ YAML::Node ParseYaml(const std::string& text, const std::string& file, const std
   } catch (const YAML::Exception& e) {
     throw ModelError(MarkLoc(file, e.mark), "YAML syntax error: " + e.msg);
   }
-  CheckDuplicateKeys(root, file, what);
-  return root;
+  if (parsed.documents == 2) {
+    // yaml-cpp's parser does not consume a ',' where a document should start (0.7: the input ",").
+    if (parsed.stuck) {
+      throw ModelError(MarkLoc(file, parsed.second_mark),
+                       "YAML syntax error: unexpected '" + text.substr(parsed.second_mark.pos, 1) + "'");
+    }
+    throw ModelError(MarkLoc(file, parsed.second_mark),
+                     "a second YAML document starts here; a " + what + " holds one document");
+  }
+  if (parsed.documents == 0 || !parsed.doc || parsed.doc->empty()) {
+    bool blank = text.find_first_not_of(" \t\r\n") == std::string::npos;
+    throw ModelError(SourceLoc(file), "the " + what + " is empty" +
+                                          (blank ? "" : " (it holds only comments)"));
+  }
+  CheckDuplicateKeys(parsed.doc->root(), file, what);
+  return std::move(parsed.doc);
 }
 
 /// The text of a model or library file, refused when it is a directory or larger than a model
@@ -857,9 +820,9 @@ std::string ReadModelText(const std::string& path, const char* what) {
 
 ModelSpec ParseModel(const std::string& yaml, const std::string& file_name) {
   Reader reader(file_name);
-  YAML::Node root = ParseYaml(yaml, file_name, "model file");
+  std::unique_ptr<YamlDoc> doc = ParseYaml(yaml, file_name, "model file");
   try {
-    return reader.Model(root);
+    return reader.Model(doc->root());
   } catch (const YAML::Exception& e) {
     SourceLoc loc;
     loc.set_file(file_name);
@@ -891,7 +854,8 @@ void LoadUses(ModelSpec* spec, std::set<std::string>* loaded) {
     } catch (const ModelError& e) {
       throw ModelError(u.loc, std::string("uses: ") + e.what());
     }
-    YAML::Node root = ParseYaml(text, file, "file in uses:");
+    std::unique_ptr<YamlDoc> doc = ParseYaml(text, file, "file in uses:");
+    const YamlNode root = doc->root();
     if (root.IsMap() && root["model"]) {
       ModelSpec used = ParseModel(text, file);
       LoadUses(&used, loaded);
@@ -947,8 +911,8 @@ ModelSpec LoadModelFile(const std::string& path) {
 
 void LoadLibraryString(const std::string& yaml, const std::string& file_name, Library* library) {
   Reader reader(file_name);
-  YAML::Node root = ParseYaml(yaml, file_name, "library file");
-  reader.LibraryEntries(root, library, nullptr, false);
+  std::unique_ptr<YamlDoc> doc = ParseYaml(yaml, file_name, "library file");
+  reader.LibraryEntries(doc->root(), library, nullptr, false);
   ScalariseLibrary(library);  // vectors and matrices become scalars (core/arrays.h)
 }
 

@@ -53,7 +53,7 @@ fi
 PACKAGES=(
   build-essential cmake
   libsundials-dev libsuitesparse-dev
-  libeigen3-dev libyaml-cpp-dev libcli11-dev
+  libeigen3-dev libyaml-cpp-dev libyaml-dev libcli11-dev pkg-config
   libgtest-dev libbenchmark-dev
   libmatio-dev
   libopenmpi-dev openmpi-bin

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "app/commands.h"
+#include "core/yaml_tree.h"
 #include "tests/support/cli_runner.h"
 #include "tests/support/test_models.h"
 
@@ -385,6 +386,20 @@ TEST_P(BadModelTest, BuildErrorNamesTheProblem) {
     const std::string want = WithFile(fragment, "test.yaml");
     EXPECT_NE(message.find(want), std::string::npos) << c.name << ": no '" << want << "' in:\n" << message;
   }
+}
+
+// The reader of large files (libyaml, core/yaml_tree.h) gives the same message, at the same place,
+// as yaml-cpp's.
+TEST_P(BadModelTest, LibyamlReaderGivesTheSameMessage) {
+  const BadModel& c = GetParam();
+  ParameterOverrides overrides;
+  if (!c.params.empty()) overrides = ParseOverrides(c.params);
+  SetDefaultYamlReader(YamlReader::kYamlCpp);
+  const std::string by_yaml_cpp = testing::BuildError(c.yaml, overrides);
+  SetDefaultYamlReader(YamlReader::kLibyaml);
+  const std::string by_libyaml = testing::BuildError(c.yaml, overrides);
+  SetDefaultYamlReader(YamlReader::kAuto);
+  EXPECT_EQ(by_libyaml, by_yaml_cpp) << c.name;
 }
 
 TEST_P(BadModelTest, CliExitsWithOneAndPrintsTheMessage) {

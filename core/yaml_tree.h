@@ -1,0 +1,171 @@
+#pragma once
+/// A read-only YAML document as the model loader walks it: one flat array of nodes built from a
+/// parser's events, with the part of yaml-cpp's YAML::Node interface the loader uses (and the same
+/// answers and exceptions). yaml-cpp's own node tree costs a heap node, a shared pointer and a
+/// memory holder per value; for a model of 100 000 written-out components that tree took longer
+/// than everything else the loader does. Two parsers fill it (core/yaml_tree.cc): yaml-cpp's event
+/// parser, which defines the format, and, for large ASCII files, libyaml's (about 4× faster);
+/// whatever libyaml cannot read is read again with yaml-cpp, so errors are yaml-cpp's.
+
+#include <yaml-cpp/mark.h>
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace momenta {
+
+class YamlDoc;
+
+/// A node of a YamlDoc, or a "zombie": the result of looking up a key that is not there, which
+/// converts to false (like YAML::Node's).
+class YamlNode {
+ public:
+  YamlNode() = default;
+  YamlNode(const YamlDoc* doc, uint32_t id) : doc_(doc), id_(id) {}
+
+  explicit operator bool() const { return IsDefined(); }
+  bool IsDefined() const { return doc_ != nullptr && id_ != kZombie; }
+  bool IsNull() const;
+  bool IsScalar() const;
+  bool IsSequence() const;
+  bool IsMap() const;
+  /// The text of a scalar; "" for anything else.
+  const std::string& Scalar() const;
+  /// "!" for a quoted scalar or one tagged '!', the explicit tag otherwise, "?" when untagged.
+  const std::string& Tag() const;
+  YAML::Mark Mark() const;
+  /// Elements of a sequence, pairs of a mapping, 0 otherwise.
+  size_t size() const;
+  /// The value of `key` in a mapping (the first pair with that scalar key); a zombie when there is
+  /// none, or when this is null or a sequence. Throws YAML::BadSubscript on a scalar.
+  YamlNode operator[](const std::string& key) const;
+  YamlNode operator[](const char* key) const { return (*this)[std::string(key)]; }
+  /// Element k of a sequence; a zombie past its end or on anything else but a scalar.
+  YamlNode operator[](size_t k) const;
+  YamlNode operator[](int k) const { return (*this)[static_cast<size_t>(k)]; }
+  /// The scalar's text, "null" for a null; throws YAML::TypedBadConversion otherwise.
+  template <typename T>
+  T as() const;
+
+  /// What iterating yields: for a sequence the element itself, for a mapping a pair (first,
+  /// second), as YAML::Node's iterators do.
+  struct Entry;
+  class Iterator;
+  Iterator begin() const;
+  Iterator end() const;
+
+  uint32_t id() const { return id_; }
+
+ private:
+  friend class YamlDoc;
+  static constexpr uint32_t kZombie = ~0u;
+  YamlNode(const YamlDoc* doc, std::string missing_key)
+      : doc_(doc), id_(kZombie), missing_key_(std::make_shared<std::string>(std::move(missing_key))) {}
+  void CheckValid() const;
+
+  const YamlDoc* doc_ = nullptr;
+  uint32_t id_ = kZombie;
+  std::shared_ptr<const std::string> missing_key_;  ///< for a zombie's InvalidNode message
+};
+
+struct YamlNode::Entry : YamlNode {
+  YamlNode first, second;
+};
+
+class YamlNode::Iterator {
+ public:
+  Iterator(const YamlNode& owner, size_t k) : owner_(owner), k_(k) {}
+  bool operator==(const Iterator& o) const { return k_ == o.k_; }
+  bool operator!=(const Iterator& o) const { return k_ != o.k_; }
+  Iterator& operator++() {
+    ++k_;
+    return *this;
+  }
+  Entry operator*() const;
+  struct Arrow {
+    Entry e;
+    const Entry* operator->() const { return &e; }
+  };
+  Arrow operator->() const { return {**this}; }
+
+ private:
+  YamlNode owner_;
+  size_t k_;
+};
+
+/// The nodes of one document. Node 0 is the root.
+class YamlDoc {
+ public:
+  enum class Kind : uint8_t { kNull, kScalar, kSequence, kMap };
+  struct Item {
+    Kind kind = Kind::kNull;
+    uint32_t tag = 0;     ///< index into tags_: 0 "?", 1 "!", others explicit tags
+    uint32_t first = 0;   ///< scalar: index into scalars_; collection: first index into children_
+    uint32_t count = 0;   ///< collection: children (a mapping's are key, value, key, value, ...)
+    YAML::Mark mark;
+  };
+
+  YamlDoc();
+  YamlNode root() const { return YamlNode(this, 0); }
+  bool empty() const { return items_.empty(); }
+  const Item& item(uint32_t id) const { return items_[id]; }
+  const std::string& scalar(uint32_t id) const { return scalars_[items_[id].first]; }
+  const std::string& tag(uint32_t id) const { return tags_[items_[id].tag]; }
+  uint32_t child(uint32_t id, size_t k) const { return children_[items_[id].first + k]; }
+  static const std::string& EmptyString();
+
+  /// Building, in the order of a parser's events. A collection's children are gathered while it
+  /// is open and stored together when it closes.
+  uint32_t AddScalar(const YAML::Mark& mark, const std::string& tag, std::string value);
+  uint32_t AddNull(const YAML::Mark& mark);
+  uint32_t Open(Kind kind, const YAML::Mark& mark, const std::string& tag);
+  void Close();
+  /// A reference to an earlier node (an alias) as the next child.
+  void AddAlias(uint32_t id) { Attach(id); }
+
+ private:
+  uint32_t TagIndex(const std::string& tag);
+  void Attach(uint32_t id);
+  YamlNode Zombie(std::string key) const { return YamlNode(this, std::move(key)); }
+  friend class YamlNode;
+
+  std::vector<Item> items_;
+  std::vector<std::string> scalars_;
+  std::vector<std::string> tags_;
+  std::vector<uint32_t> children_;
+  /// Open collections, innermost last: (node, where its children start in pending_).
+  std::vector<std::pair<uint32_t, size_t>> open_;
+  std::vector<uint32_t> pending_;
+};
+
+template <>
+std::string YamlNode::as<std::string>() const;
+
+/// Which parser reads the text (ParseYamlDocument).
+enum class YamlReader {
+  kAuto,     ///< libyaml for large ASCII texts (kLargeYamlBytes and up), yaml-cpp otherwise
+  kYamlCpp,  ///< yaml-cpp's event parser, always
+  kLibyaml,  ///< libyaml first, whatever the size (yaml-cpp again when libyaml finds an error)
+};
+
+/// From this size on, kAuto reads with libyaml.
+constexpr size_t kLargeYamlBytes = size_t{256} << 10;
+
+/// The first document of `text` as a YamlDoc (`documents` receives 0, 1 or 2: how many documents
+/// were seen, stopping at the start of a second, whose mark goes to `second_mark`; `stuck` says
+/// yaml-cpp's parser did not advance there). yaml-cpp's exceptions (YAML::ParserException,
+/// YAML::DeepRecursion) pass through.
+struct ParsedYaml {
+  std::unique_ptr<YamlDoc> doc;
+  int documents = 0;
+  YAML::Mark second_mark;
+  bool stuck = false;
+};
+ParsedYaml ParseYamlDocument(const std::string& text, YamlReader reader = YamlReader::kAuto);
+
+/// The reader used by ParseYamlDocument's kAuto (for tests comparing the two parsers).
+void SetDefaultYamlReader(YamlReader reader);
+
+}  // namespace momenta
