@@ -57,47 +57,48 @@ def parse_summary(out):
     }
 
 
-def run_once(momenta, model, n, tmp, timeout):
-    """One `momenta simulate` under /usr/bin/time: its summary plus the process's CPU seconds (user
-    + system) and maximum resident set size (bytes)."""
-    out_csv, usage = os.path.join(tmp, "out.csv"), os.path.join(tmp, "usage")
-    cmd = ["/usr/bin/time", "-f", "%U %S %M", "-o", usage,
-           momenta, "simulate", model, "-p", "N=%d" % n, "-o", out_csv]
+def timed(args, tmp, timeout):
+    """Runs args under /usr/bin/time in a session of its own (so that a timeout ends momenta too,
+    not only /usr/bin/time): (stdout, CPU seconds (user + system), maximum RSS in bytes, wall
+    seconds), or an error message."""
+    usage = os.path.join(tmp, "usage")
+    cmd = ["/usr/bin/time", "-f", "%U %S %M", "-o", usage] + args
     t0 = time.perf_counter()
-    # A session of its own, so that a timeout ends momenta too, not only /usr/bin/time.
     p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
     try:
         stdout, stderr = p.communicate(timeout=timeout)
     except subprocess.TimeoutExpired:
         os.killpg(p.pid, signal.SIGKILL)
         p.communicate()
-        return {"error": "no result within %d s" % timeout}
+        return "no result within %d s" % timeout
     wall = time.perf_counter() - t0
     if p.returncode != 0:
-        return {"error": "exit %d: %s" % (p.returncode, " ".join((stderr or stdout).strip().splitlines()[-1:]))}
+        return "exit %d: %s" % (p.returncode, " ".join((stderr or stdout).strip().splitlines()[-1:]))
     user, system, rss_kb = open(usage).read().split()[-3:]
+    return stdout, float(user) + float(system), int(rss_kb) * 1024, wall
+
+
+def run_once(momenta, model, n, tmp, timeout):
+    """One `momenta simulate`: its summary plus the process's CPU seconds and maximum resident
+    set size (bytes)."""
+    out = timed([momenta, "simulate", model, "-p", "N=%d" % n, "-o", os.path.join(tmp, "out.csv")], tmp, timeout)
+    if isinstance(out, str):
+        return {"error": out}
+    stdout, cpu, rss, wall = out
     r = parse_summary(stdout)
-    r.update(wall=wall, raw=stdout, cpu=float(user) + float(system), rss=int(rss_kb) * 1024)
+    r.update(wall=wall, raw=stdout, cpu=cpu, rss=rss)
     r["passes_total"] = r["load"] + sum(r["passes"].values())
     return r
 
 
 def build_cpu(momenta, model, n, tmp, timeout):
-    """`momenta check` under /usr/bin/time: the build alone (load through compilation, plus the
-    built-in library), its CPU seconds and maximum RSS (bytes)."""
-    usage = os.path.join(tmp, "usage")
-    cmd = ["/usr/bin/time", "-f", "%U %S %M", "-o", usage, momenta, "check", model, "-p", "N=%d" % n]
-    p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
-    try:
-        stdout, stderr = p.communicate(timeout=timeout)
-    except subprocess.TimeoutExpired:
-        os.killpg(p.pid, signal.SIGKILL)
-        p.communicate()
-        return {"error": "check: no result within %d s" % timeout}
-    if p.returncode != 0:
-        return {"error": "check: exit %d: %s" % (p.returncode, " ".join((stderr or stdout).strip().splitlines()[-1:]))}
-    user, system, rss_kb = open(usage).read().split()[-3:]
-    return {"build_cpu": float(user) + float(system), "build_rss": int(rss_kb) * 1024}
+    """`momenta check`: the build alone (load through compilation, plus the built-in library),
+    its CPU seconds and maximum RSS (bytes)."""
+    out = timed([momenta, "check", model, "-p", "N=%d" % n], tmp, timeout)
+    if isinstance(out, str):
+        return {"error": "check: " + out}
+    _, cpu, rss, _ = out
+    return {"build_cpu": cpu, "build_rss": rss}
 
 
 def exponent(n0, t0, n1, t1):
