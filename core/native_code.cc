@@ -147,6 +147,7 @@ std::string KeyOf(const CompiledModel& model, const NativeCodeOptions& options, 
   h.Add(compiler.identity);
   for (const std::string& f : CompileFlags()) h.Add(f);
   h.Add(options.max_function_len);
+  h.Add(options.loops ? 1u : 0u);
   const RegisterLayout& L = model.layout;
   for (uint32_t v : {L.param_base, L.y_base, L.yp_base, L.disc_base, L.pre_base, L.cond_base, L.temp_base, L.size}) {
     h.Add(v);
@@ -277,20 +278,41 @@ std::string FinishCompiler(const Compiler& compiler, const CompilerJob& job) {
   return failure;
 }
 
-/// The programs in `parts` groups of about equal instruction counts (largest first into the
-/// lightest group), one translation unit each, so that the compiler runs on every core.
+/// The instructions a program's C holds: the bodies of its segments (a loop's once).
+size_t EmittedSize(const CodegenProgram& p) {
+  size_t n = 0;
+  for (const CodeSegment& s : p.segments) n += s.len;
+  return n;
+}
+
+/// The programs in `parts` groups of about equal emitted size (largest first into the lightest
+/// group), one translation unit each, so that the compiler runs on every core.
 std::vector<std::vector<CodegenProgram>> Partition(std::vector<CodegenProgram> programs, size_t parts) {
   std::sort(programs.begin(), programs.end(),
-            [](const CodegenProgram& x, const CodegenProgram& y) { return x.program->size() > y.program->size(); });
+            [](const CodegenProgram& x, const CodegenProgram& y) { return EmittedSize(x) > EmittedSize(y); });
   std::vector<std::vector<CodegenProgram>> groups(parts);
   std::vector<size_t> load(parts, 0);
   for (CodegenProgram& p : programs) {
     const size_t g = static_cast<size_t>(std::min_element(load.begin(), load.end()) - load.begin());
-    load[g] += p.program->size() + 1;
+    load[g] += EmittedSize(p) + 1;
     groups[g].push_back(std::move(p));
   }
   while (groups.size() > 1 && groups.back().empty()) groups.pop_back();
   return groups;
+}
+
+/// The native programs of `model` with their segments: loops where rerolling finds them
+/// (options.loops), straight-line code otherwise.
+std::vector<CodegenProgram> NativePrograms(const CompiledModel& model, const NativeCodeOptions& options) {
+  std::vector<CodegenProgram> programs;
+  for (size_t k = 0; k < kNumModelPrograms; ++k) {
+    if (!IsNativeProgram(static_cast<ModelProgram>(k))) continue;
+    const Program& p = ProgramOf(model, static_cast<ModelProgram>(k));
+    programs.push_back({Symbol(k), &p,
+                        options.loops ? LoopSegments(p, options.max_function_len)
+                                      : StraightSegments(p, options.max_function_len)});
+  }
+  return programs;
 }
 
 /// A name no other process or thread picks for its temporary files in `dir`.
@@ -311,13 +333,10 @@ std::string Build(const CompiledModel& model, const NativeCodeOptions& options, 
                   const std::string& key, const std::string& object, NativeCodeReport* report) {
   // The C files.
   auto t0 = Clock::now();
-  std::vector<CodegenProgram> programs;
+  std::vector<CodegenProgram> programs = NativePrograms(model, options);
   size_t instructions = 0;
-  for (size_t k = 0; k < kNumModelPrograms; ++k) {
-    if (!IsNativeProgram(static_cast<ModelProgram>(k))) continue;
-    programs.push_back({Symbol(k), &ProgramOf(model, static_cast<ModelProgram>(k)), {}});
-    instructions += programs.back().program->size();
-  }
+  for (const CodegenProgram& p : programs) instructions += EmittedSize(p);
+  report->emitted = instructions;
   const size_t cores = std::max(1u, std::thread::hardware_concurrency());
   const auto units = Partition(std::move(programs), std::min(cores, 1 + instructions / kInstructionsPerUnit));
   const std::string stem = TemporaryStem(object.substr(0, object.find_last_of('/')), key);
