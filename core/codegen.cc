@@ -160,7 +160,8 @@ class ProgramEmitter {
       if (seg.count == 1) {
         for (uint32_t k = seg.begin; k < seg.begin + seg.len; ++k) Statement(program, program.code()[k], nullptr, "  ");
       } else {
-        w_ << "  for (uint32_t i = 0; i < " << seg.count << "u; ++i) {\n";
+        count_ = seg.count;
+        w_ << "  for (ptrdiff_t i = 0; i < " << seg.count << "; ++i) {\n";
         for (uint32_t j = 0; j < seg.len; ++j) Statement(program, program.code()[seg.begin + j], &seg.stride[j], "    ");
         w_ << "  }\n";
       }
@@ -252,11 +253,21 @@ class ProgramEmitter {
     return ref;
   }
 
-  static std::string Affine(uint32_t base, uint32_t step) {
+  /// reg + i*step modulo 2^32 as a C index. Where the signed step keeps every repetition's value
+  /// between 0 and 2^32 (always, in practice), plain signed arithmetic on the loop counter gives
+  /// the same values, and the compiler can step the addresses (induction variables); otherwise
+  /// unsigned 32-bit arithmetic, which wraps as the definition does.
+  std::string Affine(uint32_t base, uint32_t step) const {
+    const int64_t signed_step = static_cast<int32_t>(step);
+    const int64_t last = static_cast<int64_t>(base) + signed_step * (static_cast<int64_t>(count_) - 1);
     std::string e = std::to_string(base);
-    e += "u + ";
-    e += std::to_string(step);
-    e += "u * i";
+    if (last >= 0 && last <= static_cast<int64_t>(UINT32_MAX)) {
+      e += signed_step < 0 ? " - " : " + ";
+      e += std::to_string(signed_step < 0 ? -signed_step : signed_step);
+      e += " * i";
+    } else {
+      e = "(uint32_t)(" + e + "u + " + std::to_string(step) + "u * (uint32_t)i)";
+    }
     return e;
   }
 
@@ -345,6 +356,7 @@ class ProgramEmitter {
   /// Per temporary: the stamp of the loop segment that keeps it in the register file.
   std::vector<uint32_t> memory_mark_;
   uint32_t stamp_ = 0;
+  uint32_t count_ = 1;  ///< repetitions of the loop being emitted
 };
 
 }  // namespace

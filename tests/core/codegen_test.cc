@@ -144,7 +144,7 @@ TEST_F(CodegenTest, IdenticalComponentsBecomeLoopsWithTheSameResults) {
       const std::vector<CodeSegment> loops = LoopSegments(*p, 2000);
       const std::string rolled = EmitC({{"f", p, loops}}, b.model->layout, {});
       const std::string straight = EmitC({{"f", p, StraightSegments(*p, 2000)}}, b.model->layout, {});
-      EXPECT_NE(rolled.find("for (uint32_t i = 0; i < "), std::string::npos);
+      EXPECT_NE(rolled.find("for (ptrdiff_t i = 0; i < "), std::string::npos);
       EXPECT_LT(rolled.size() * 10, straight.size()) << rolled.size() << " vs " << straight.size();
       // The segments cover the program in order.
       uint32_t next = 0;
@@ -186,8 +186,8 @@ TEST(CodegenEmitTest, MovingTemporariesStayInTheRegisterFile) {
   layout.temp_base = 100;
   layout.size = 141;
   const std::string c = EmitC({{"f", &p, segments}}, layout, {});
-  const std::string statement = "r[" + std::to_string(body.dst) + "u + 1u * i] = r[" + std::to_string(body.a) +
-                                "u + 1u * i] + r[" + std::to_string(body.b) + "u + 1u * i];";
+  const std::string statement = "r[" + std::to_string(body.dst) + " + 1 * i] = r[" + std::to_string(body.a) +
+                                " + 1 * i] + r[" + std::to_string(body.b) + " + 1 * i];";
   EXPECT_NE(c.find(statement), std::string::npos) << c;
   // The loop's temporaries are no locals of its function.
   EXPECT_EQ(c.find("double t" + std::to_string(body.dst - 100) + ";"), std::string::npos) << c;
