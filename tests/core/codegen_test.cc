@@ -193,6 +193,31 @@ TEST(CodegenEmitTest, MovingTemporariesStayInTheRegisterFile) {
   EXPECT_EQ(c.find("double t" + std::to_string(body.dst - 100) + ";"), std::string::npos) << c;
 }
 
+/// The same program compiled as a model's residual gives the interpreter's value to the bit.
+TEST_F(CodegenTest, MovingTemporariesCompileToTheInterpretersValues) {
+  CompiledModel model;
+  model.layout.param_base = model.layout.y_base = model.layout.yp_base = 3;
+  model.layout.disc_base = model.layout.pre_base = model.layout.cond_base = 100;
+  model.layout.temp_base = 100;
+  model.layout.size = 141;
+  for (uint32_t i = 0; i < 40; ++i) {
+    model.residual.code().push_back({static_cast<uint8_t>(Op::kAdd), 101 + i, 100 + i, 3 + i, 0});
+  }
+  model.residual.code().push_back({kStore, 0, 140, 0, 0});
+  NativeCodeOptions native;
+  native.mode = CodegenMode::kNative;
+  NativeCodeReport report;
+  std::shared_ptr<const NativeCode> code = LoadNativeCode(model, native, &report);
+  ASSERT_TRUE(code) << report.note;
+  std::vector<double> regs(141), regs_native;
+  for (uint32_t k = 0; k < regs.size(); ++k) regs[k] = 0.1 * k + 1.0 / (k + 3);
+  regs_native = regs;
+  double out = 0, out_native = 1;
+  model.residual.Run(regs.data(), &out);
+  code->function(ModelProgram::kResidual)(regs_native.data(), &out_native);
+  EXPECT_TRUE(SameBits(out, out_native)) << out << " vs " << out_native;
+}
+
 // Component names are ASCII identifiers (the loader's rule), so unicode reaches the code only
 // through the model's name; array elements and dotted paths through every variable.
 TEST_F(CodegenTest, ModelWithUnicodeAndDottedNamesCompilesAndMatches) {
