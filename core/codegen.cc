@@ -3,6 +3,7 @@
 #include <charconv>
 
 #include "core/error.h"
+#include "core/reroll.h"
 
 namespace momenta {
 
@@ -109,18 +110,22 @@ class ProgramEmitter {
     live_.assign(num_temps, 0);
     in_mark_.assign(num_temps, 0);
     written_mark_.assign(num_temps, 0);
+    memory_mark_.assign(num_temps, 0);
   }
 
   void Emit(const CodegenProgram& p) {
     const Program& program = *p.program;
     const std::vector<CodeSegment>& segments = p.segments;
     // Which temporaries each segment needs from earlier ones (live in) and leaves for later ones
-    // (live out): a backward pass over the segments.
+    // (live out): a backward pass over the segments. A loop is scanned as the straight-line code
+    // it stands for (the program holds it expanded), so its liveness is exact.
     std::vector<std::vector<uint32_t>> live_in(segments.size()), written(segments.size()),
-        live_out(segments.size());
+        live_out(segments.size()), in_memory(segments.size());
     for (size_t s = 0; s < segments.size(); ++s) {
-      MOMENTA_CHECK_MSG(segments[s].count == 1, "loop segments are not emitted yet");
-      Scan(program, segments[s], &live_in[s], &written[s]);
+      const CodeSegment& seg = segments[s];
+      MOMENTA_CHECK(seg.count >= 1 && (seg.count == 1 || seg.stride.size() == seg.len));
+      Scan(program, seg, &live_in[s], &written[s]);
+      if (seg.count > 1) MovingTemporaries(program, seg, &in_memory[s]);
     }
     std::fill(live_.begin(), live_.end(), 0);
     for (size_t s = segments.size(); s-- > 0;) {
@@ -134,21 +139,35 @@ class ProgramEmitter {
     for (size_t s = 0; s < segments.size(); ++s) {
       w_ << "static __attribute__((noinline)) void " << p.symbol << "_" << static_cast<uint32_t>(s)
          << "(double* restrict r, double* restrict out) {\n";
-      // Locals: the live-in ones start from the register file.
+      // Locals: the live-in ones start from the register file. Temporaries a loop keeps in the
+      // register file are none of them (they are there already).
       ++stamp_;
+      for (uint32_t t : in_memory[s]) memory_mark_[t] = stamp_;
       for (uint32_t t : live_in[s]) in_mark_[t] = stamp_;
       for (uint32_t t : written[s]) written_mark_[t] = stamp_;
       for (uint32_t t : written[s]) {
+        if (memory_mark_[t] == stamp_) continue;
         w_ << "  double t" << t;
         if (in_mark_[t] == stamp_) w_ << " = r[" << (layout_.temp_base + t) << "]";
         w_ << ";\n";
       }
       for (uint32_t t : live_in[s]) {
-        if (written_mark_[t] != stamp_) w_ << "  const double t" << t << " = r[" << (layout_.temp_base + t) << "];\n";
+        if (written_mark_[t] != stamp_ && memory_mark_[t] != stamp_) {
+          w_ << "  const double t" << t << " = r[" << (layout_.temp_base + t) << "];\n";
+        }
       }
       const CodeSegment& seg = segments[s];
-      for (uint32_t k = seg.begin; k < seg.begin + seg.len; ++k) Statement(program, program.code()[k]);
-      for (uint32_t t : live_out[s]) w_ << "  r[" << (layout_.temp_base + t) << "] = t" << t << ";\n";
+      if (seg.count == 1) {
+        for (uint32_t k = seg.begin; k < seg.begin + seg.len; ++k) Statement(program, program.code()[k], nullptr, "  ");
+      } else {
+        count_ = seg.count;
+        w_ << "  for (ptrdiff_t i = 0; i < " << seg.count << "; ++i) {\n";
+        for (uint32_t j = 0; j < seg.len; ++j) Statement(program, program.code()[seg.begin + j], &seg.stride[j], "    ");
+        w_ << "  }\n";
+      }
+      for (uint32_t t : live_out[s]) {
+        if (memory_mark_[t] != stamp_) w_ << "  r[" << (layout_.temp_base + t) << "] = t" << t << ";\n";
+      }
       w_ << "  (void)r;\n  (void)out;\n}\n\n";
     }
     w_ << "void " << p.symbol << "(double* restrict r, double* restrict out) {\n";
@@ -165,7 +184,7 @@ class ProgramEmitter {
   void Scan(const Program& program, const CodeSegment& seg, std::vector<uint32_t>* live_in,
             std::vector<uint32_t>* written) {
     ++stamp_;
-    for (uint32_t k = seg.begin; k < seg.begin + seg.len; ++k) {
+    for (uint32_t k = seg.begin; k < seg.begin + seg.len * seg.count; ++k) {
       const Instruction& in = program.code()[k];
       const Access acc = AccessOf(in);
       for (int j = 0; j < acc.num_reads; ++j) {
@@ -186,37 +205,99 @@ class ProgramEmitter {
     }
   }
 
-  /// A register as a C operand: a local for a temporary, the register file otherwise.
-  std::string Ref(uint32_t reg) const {
+  /// The temporaries a loop reaches through an operand whose register moves with the repetition:
+  /// they stay in the register file for the whole segment (a local cannot be indexed by i), and
+  /// so do the same temporaries where an operand with stride 0 names them.
+  void MovingTemporaries(const Program& program, const CodeSegment& seg, std::vector<uint32_t>* out) {
+    ++stamp_;
+    const Instruction* code = program.code().data() + seg.begin;
+    auto add = [&](uint32_t reg) {
+      if (!IsTemp(reg) || memory_mark_[reg - layout_.temp_base] == stamp_) return;
+      memory_mark_[reg - layout_.temp_base] = stamp_;
+      out->push_back(reg - layout_.temp_base);
+    };
+    for (uint32_t j = 0; j < seg.len; ++j) {
+      const Instruction& body = code[j];
+      const Instruction& step = seg.stride[j];
+      const Access acc = AccessOf(body);
+      // AccessOf's reads are fields a, b, c in that order (as many as it reads).
+      const uint32_t read_strides[3] = {step.a, step.b, step.c};
+      for (int f = 0; f < acc.num_reads; ++f) {
+        if (read_strides[f] == 0) continue;
+        for (uint32_t i = 0; i < seg.count; ++i) {
+          const Instruction& in = code[i * seg.len + j];
+          add(f == 0 ? in.a : f == 1 ? in.b : in.c);
+        }
+      }
+      if (acc.writes_register && step.dst != 0) {
+        for (uint32_t i = 0; i < seg.count; ++i) add(code[i * seg.len + j].dst);
+      }
+    }
+  }
+
+  /// A register as a C operand: a local for a temporary, the register file otherwise. In a loop
+  /// (`step` not 0) the register of repetition i is reg + i*step modulo 2^32, which is what
+  /// unsigned 32-bit arithmetic in C computes.
+  std::string Ref(uint32_t reg, uint32_t step = 0) const {
+    if (step != 0) {
+      std::string ref("r[");
+      ref += Affine(reg, step);
+      ref += ']';
+      return ref;
+    }
+    const bool local = IsTemp(reg) && memory_mark_[reg - layout_.temp_base] != stamp_;
     // Appended piece by piece: `"t" + std::to_string(…)` trips gcc 12's false -Wrestrict.
-    std::string ref(IsTemp(reg) ? "t" : "r[");
-    ref += std::to_string(IsTemp(reg) ? reg - layout_.temp_base : reg);
-    if (!IsTemp(reg)) ref += ']';
+    std::string ref(local ? "t" : "r[");
+    ref += std::to_string(local ? reg - layout_.temp_base : reg);
+    if (!local) ref += ']';
     return ref;
   }
 
-  void Statement(const Program& program, const Instruction& in) {
+  /// reg + i*step modulo 2^32 as a C index. Where the signed step keeps every repetition's value
+  /// between 0 and 2^32 (always, in practice), plain signed arithmetic on the loop counter gives
+  /// the same values, and the compiler can step the addresses (induction variables); otherwise
+  /// unsigned 32-bit arithmetic, which wraps as the definition does.
+  std::string Affine(uint32_t base, uint32_t step) const {
+    const int64_t signed_step = static_cast<int32_t>(step);
+    const int64_t last = static_cast<int64_t>(base) + signed_step * (static_cast<int64_t>(count_) - 1);
+    std::string e = std::to_string(base);
+    if (last >= 0 && last <= static_cast<int64_t>(UINT32_MAX)) {
+      e += signed_step < 0 ? " - " : " + ";
+      e += std::to_string(signed_step < 0 ? -signed_step : signed_step);
+      e += " * i";
+    } else {
+      e = "(uint32_t)(" + e + "u + " + std::to_string(step) + "u * (uint32_t)i)";
+    }
+    return e;
+  }
+
+  /// One instruction as a C statement; `step` (in a loop) holds its operands' strides.
+  void Statement(const Program& program, const Instruction& in, const Instruction* step, const char* indent) {
+    static const Instruction kStraight{0, 0, 0, 0, 0};
+    const Instruction& st = step ? *step : kStraight;
     if (in.op == kStore) {
-      w_ << "  out[" << in.dst << "] = " << Ref(in.a) << ";\n";
+      w_ << indent << "out[" << (st.dst ? Affine(in.dst, st.dst) : std::to_string(in.dst)) << "] = " << Ref(in.a, st.a)
+         << ";\n";
       return;
     }
-    w_ << "  " << Ref(in.dst) << " = ";
+    w_ << indent << Ref(in.dst, st.dst) << " = ";
     if (in.op == kStoreRegister) {
-      w_ << Ref(in.a) << ";\n";
+      w_ << Ref(in.a, st.a) << ";\n";
       return;
     }
-    const std::string a = Ref(in.a);
-    auto binary = [&](const char* op) { w_ << a << " " << op << " " << Ref(in.b); };
+    const std::string a = Ref(in.a, st.a);
+    const std::string b = Ref(in.b, st.b);
+    auto binary = [&](const char* op) { w_ << a << " " << op << " " << b; };
     auto call1 = [&](const char* f) { w_ << f << "(" << a << ")"; };
-    auto relation = [&](const char* op) { w_ << "(" << a << " " << op << " " << Ref(in.b) << " ? 1.0 : 0.0)"; };
+    auto relation = [&](const char* op) { w_ << "(" << a << " " << op << " " << b << " ? 1.0 : 0.0)"; };
     switch (static_cast<Op>(in.op)) {
       case Op::kAdd: binary("+"); break;
       case Op::kSub: binary("-"); break;
       case Op::kMul: binary("*"); break;
       case Op::kDiv: binary("/"); break;
       case Op::kNeg: w_ << "-" << a; break;
-      case Op::kPow: w_ << "m_pow(" << a << ", " << Ref(in.b) << ")"; break;
-      case Op::kIf: w_ << "(" << a << " != 0 ? " << Ref(in.b) << " : " << Ref(in.c) << ")"; break;
+      case Op::kPow: w_ << "m_pow(" << a << ", " << b << ")"; break;
+      case Op::kIf: w_ << "(" << a << " != 0 ? " << b << " : " << Ref(in.c, st.c) << ")"; break;
       case Op::kSin: call1("sin"); break;
       case Op::kCos: call1("cos"); break;
       case Op::kTan: call1("tan"); break;
@@ -233,22 +314,29 @@ class ProgramEmitter {
       case Op::kAbs: call1("fabs"); break;
       case Op::kSign: w_ << "(" << a << " > 0 ? 1.0 : (" << a << " < 0 ? -1.0 : 0.0))"; break;
       case Op::kNot: w_ << "(" << a << " != 0 ? 0.0 : 1.0)"; break;
-      case Op::kAtan2: w_ << "atan2(" << a << ", " << Ref(in.b) << ")"; break;
-      case Op::kMin: w_ << "(" << a << " < " << Ref(in.b) << " ? " << a << " : " << Ref(in.b) << ")"; break;
-      case Op::kMax: w_ << "(" << a << " > " << Ref(in.b) << " ? " << a << " : " << Ref(in.b) << ")"; break;
+      case Op::kAtan2: w_ << "atan2(" << a << ", " << b << ")"; break;
+      case Op::kMin: w_ << "(" << a << " < " << b << " ? " << a << " : " << b << ")"; break;
+      case Op::kMax: w_ << "(" << a << " > " << b << " ? " << a << " : " << b << ")"; break;
       case Op::kLt: relation("<"); break;
       case Op::kLe: relation("<="); break;
       case Op::kGt: relation(">"); break;
       case Op::kGe: relation(">="); break;
       case Op::kEq: relation("=="); break;
       case Op::kNe: relation("!="); break;
-      case Op::kAnd: w_ << "((" << a << " != 0 && " << Ref(in.b) << " != 0) ? 1.0 : 0.0)"; break;
-      case Op::kOr: w_ << "((" << a << " != 0 || " << Ref(in.b) << " != 0) ? 1.0 : 0.0)"; break;
+      case Op::kAnd: w_ << "((" << a << " != 0 && " << b << " != 0) ? 1.0 : 0.0)"; break;
+      case Op::kOr: w_ << "((" << a << " != 0 || " << b << " != 0) ? 1.0 : 0.0)"; break;
       case Op::kInterp:
       case Op::kInterpSlope: {
-        // b is the register of the table's element [1,1]; the shape is structure, so a constant.
+        // b is the register of the table's element [1,1]; the shape is structure, so a constant
+        // (LoopSegments keeps loops whose shapes change straight).
         const TableShape& t = program.tables().at(in.c);
-        w_ << "m_interp(r + " << in.b << ", " << t.rows << "u, " << t.cols << "u, " << t.column << "u, " << a
+        w_ << "m_interp(r + ";
+        if (st.b) {
+          w_ << "(" << Affine(in.b, st.b) << ")";
+        } else {
+          w_ << in.b;
+        }
+        w_ << ", " << t.rows << "u, " << t.cols << "u, " << t.column << "u, " << a
            << ", " << (in.op == static_cast<uint8_t>(Op::kInterpSlope) ? "1" : "0") << ")";
         break;
       }
@@ -265,7 +353,10 @@ class ProgramEmitter {
   std::vector<uint8_t> live_;
   // Per temporary: the stamp of the segment that reads it first / writes it (no clearing needed).
   std::vector<uint32_t> in_mark_, written_mark_;
+  /// Per temporary: the stamp of the loop segment that keeps it in the register file.
+  std::vector<uint32_t> memory_mark_;
   uint32_t stamp_ = 0;
+  uint32_t count_ = 1;  ///< repetitions of the loop being emitted
 };
 
 }  // namespace
@@ -274,7 +365,49 @@ std::vector<CodeSegment> StraightSegments(const Program& program, uint32_t max_l
   MOMENTA_CHECK(max_len > 0);
   std::vector<CodeSegment> out;
   const uint32_t n = static_cast<uint32_t>(program.size());
-  for (uint32_t begin = 0; begin < n; begin += max_len) out.push_back({begin, std::min(max_len, n - begin), 1});
+  for (uint32_t begin = 0; begin < n; begin += max_len) out.push_back({begin, std::min(max_len, n - begin), 1, {}});
+  return out;
+}
+
+namespace {
+
+/// Whether every repetition of the loop's interpolations reads a table of the body's shape.
+bool SameTableShapes(const Program& program, const LoopSegment& loop) {
+  for (uint32_t j = 0; j < loop.len; ++j) {
+    const Instruction& body = program.code()[loop.begin + j];
+    const bool interp = body.op == static_cast<uint8_t>(Op::kInterp) || body.op == static_cast<uint8_t>(Op::kInterpSlope);
+    if (!interp || loop.stride[j].c == 0) continue;
+    const TableShape& t = program.tables().at(body.c);
+    for (uint32_t i = 1; i < loop.count; ++i) {
+      const TableShape& u = program.tables().at(program.code()[loop.begin + i * loop.len + j].c);
+      if (u.rows != t.rows || u.cols != t.cols || u.column != t.column) return false;
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+std::vector<CodeSegment> LoopSegments(const Program& program, uint32_t max_len) {
+  MOMENTA_CHECK(max_len > 0);
+  std::vector<CodeSegment> out;
+  // Straight-line code not emitted yet: [straight, end).
+  uint32_t straight = 0, end = 0;
+  auto flush = [&] {
+    for (uint32_t b = straight; b < end; b += max_len) out.push_back({b, std::min(max_len, end - b), 1, {}});
+    straight = end;
+  };
+  for (LoopSegment& s : Reroll(program)) {
+    end = s.begin + s.len * s.count;
+    if (s.count > 1 && s.len <= max_len && SameTableShapes(program, s)) {
+      const uint32_t loop_end = end;
+      end = s.begin;
+      flush();
+      out.push_back({s.begin, s.len, s.count, std::move(s.stride)});
+      straight = end = loop_end;
+    }
+  }
+  flush();
   return out;
 }
 

@@ -8,7 +8,9 @@
 /// bounded size, because the time an optimising C compiler takes grows faster than linearly with
 /// the size of a function. Temporaries (registers from RegisterLayout::temp_base) become local
 /// variables within a segment, so the compiler keeps them in machine registers; only those a later
-/// segment reads are written back to the register file.
+/// segment reads are written back to the register file. Inside a loop, a temporary that is the
+/// same register in every repetition stays a local; one whose register moves with the repetition
+/// lives in the register file for the whole segment.
 ///
 /// Model names never reach the code except inside comments, and SanitizeComment makes any text
 /// safe there.
@@ -22,15 +24,23 @@
 namespace momenta {
 
 /// The instructions code[begin, begin + len * count) of a program. count == 1: straight-line code
-/// (len instructions). count > 1 is the shape loop rerolling (core/reroll.h) produces — count
-/// copies of a body of len instructions whose operands advance by a constant stride — and is not
-/// emitted as a loop yet: EmitC refuses it.
+/// (len instructions). count > 1: a loop as loop rerolling (core/reroll.h) describes it — count
+/// copies of a body of len instructions, code[begin + i*len + j] equal to code[begin + j] with
+/// dst, a, b and c each advanced by i * stride[j] (modulo 2^32) — emitted as a C `for` loop over
+/// i whose operands are affine in i.
 struct CodeSegment {
   uint32_t begin = 0, len = 0, count = 1;
+  std::vector<Instruction> stride;  ///< per body position (len entries) when count > 1
 };
 
 /// Straight-line segments of at most `max_len` instructions covering `program` in order.
 std::vector<CodeSegment> StraightSegments(const Program& program, uint32_t max_len);
+
+/// Segments covering `program` in order: the loops Reroll finds whose body has at most `max_len`
+/// instructions, straight-line code of at most `max_len` instructions between them. A loop whose
+/// interpolations change table shape from one repetition to the next stays straight-line code
+/// (the shape is a constant in the code).
+std::vector<CodeSegment> LoopSegments(const Program& program, uint32_t max_len);
 
 /// One program to emit, under the C symbol `symbol` (an identifier the caller chooses).
 struct CodegenProgram {

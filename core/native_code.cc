@@ -61,7 +61,8 @@ std::vector<std::string> CompileFlags() {
 
 /// Auto's cost model, measured on this project's machine (bench/RESULTS.md, "Native model code";
 /// 2 shared cores, gcc 12): compiling costs about kCompileFixed plus kCompilePerInstruction per
-/// native instruction; a cached object costs about half a millisecond (key, dlopen); native code
+/// instruction in the C (a rerolled loop's body counts once: the chain at n = 10 000 compiles in
+/// 0.2 s); a cached object costs about half a millisecond (key, dlopen); native code
 /// saves about kSavedPerEvaluation per residual instruction and evaluation; a run evaluates the
 /// residual about kEvaluationsPerRun times (the 1 000-mass chain: 3 100).
 constexpr double kCompileFixed = 0.3;               // s
@@ -69,7 +70,8 @@ constexpr double kCompilePerInstruction = 2.3e-4;   // s
 constexpr double kCacheHit = 5e-4;                  // s
 constexpr double kSavedPerEvaluation = 1.1e-9;      // s per residual instruction
 constexpr double kEvaluationsPerRun = 3000;
-/// Straight-line code stops paying beyond this many residual instructions: its machine code no
+/// Straight-line code stops paying beyond this many residual instructions in the C (loops count
+/// their body once, so this is the residual rerolling leaves irregular): its machine code no
 /// longer fits the caches and is fetched from memory at every evaluation (the RC ladder at
 /// n = 100 000, 600 000 residual instructions, ran its residual 1.9× slower native than
 /// interpreted; the chain at n = 10 000, 150 000, still 2.3× faster).
@@ -147,6 +149,7 @@ std::string KeyOf(const CompiledModel& model, const NativeCodeOptions& options, 
   h.Add(compiler.identity);
   for (const std::string& f : CompileFlags()) h.Add(f);
   h.Add(options.max_function_len);
+  h.Add(options.loops ? 1u : 0u);
   const RegisterLayout& L = model.layout;
   for (uint32_t v : {L.param_base, L.y_base, L.yp_base, L.disc_base, L.pre_base, L.cond_base, L.temp_base, L.size}) {
     h.Add(v);
@@ -277,20 +280,41 @@ std::string FinishCompiler(const Compiler& compiler, const CompilerJob& job) {
   return failure;
 }
 
-/// The programs in `parts` groups of about equal instruction counts (largest first into the
-/// lightest group), one translation unit each, so that the compiler runs on every core.
+/// The instructions a program's C holds: the bodies of its segments (a loop's once).
+size_t EmittedSize(const CodegenProgram& p) {
+  size_t n = 0;
+  for (const CodeSegment& s : p.segments) n += s.len;
+  return n;
+}
+
+/// The programs in `parts` groups of about equal emitted size (largest first into the lightest
+/// group), one translation unit each, so that the compiler runs on every core.
 std::vector<std::vector<CodegenProgram>> Partition(std::vector<CodegenProgram> programs, size_t parts) {
   std::sort(programs.begin(), programs.end(),
-            [](const CodegenProgram& x, const CodegenProgram& y) { return x.program->size() > y.program->size(); });
+            [](const CodegenProgram& x, const CodegenProgram& y) { return EmittedSize(x) > EmittedSize(y); });
   std::vector<std::vector<CodegenProgram>> groups(parts);
   std::vector<size_t> load(parts, 0);
   for (CodegenProgram& p : programs) {
     const size_t g = static_cast<size_t>(std::min_element(load.begin(), load.end()) - load.begin());
-    load[g] += p.program->size() + 1;
+    load[g] += EmittedSize(p) + 1;
     groups[g].push_back(std::move(p));
   }
   while (groups.size() > 1 && groups.back().empty()) groups.pop_back();
   return groups;
+}
+
+/// The native programs of `model` with their segments: loops where rerolling finds them
+/// (options.loops), straight-line code otherwise.
+std::vector<CodegenProgram> NativePrograms(const CompiledModel& model, const NativeCodeOptions& options) {
+  std::vector<CodegenProgram> programs;
+  for (size_t k = 0; k < kNumModelPrograms; ++k) {
+    if (!IsNativeProgram(static_cast<ModelProgram>(k))) continue;
+    const Program& p = ProgramOf(model, static_cast<ModelProgram>(k));
+    programs.push_back({Symbol(k), &p,
+                        options.loops ? LoopSegments(p, options.max_function_len)
+                                      : StraightSegments(p, options.max_function_len)});
+  }
+  return programs;
 }
 
 /// A name no other process or thread picks for its temporary files in `dir`.
@@ -307,17 +331,13 @@ std::string TemporaryStem(const std::string& dir, const std::string& key) {
 /// least kInstructionsPerUnit), then linked.
 constexpr size_t kInstructionsPerUnit = 10000;
 
-std::string Build(const CompiledModel& model, const NativeCodeOptions& options, const Compiler& compiler,
-                  const std::string& key, const std::string& object, NativeCodeReport* report) {
+std::string Build(const CompiledModel& model, std::vector<CodegenProgram> programs, const NativeCodeOptions& options,
+                  const Compiler& compiler, const std::string& key, const std::string& object,
+                  NativeCodeReport* report) {
   // The C files.
   auto t0 = Clock::now();
-  std::vector<CodegenProgram> programs;
   size_t instructions = 0;
-  for (size_t k = 0; k < kNumModelPrograms; ++k) {
-    if (!IsNativeProgram(static_cast<ModelProgram>(k))) continue;
-    programs.push_back({Symbol(k), &ProgramOf(model, static_cast<ModelProgram>(k)), {}});
-    instructions += programs.back().program->size();
-  }
+  for (const CodegenProgram& p : programs) instructions += EmittedSize(p);
   const size_t cores = std::max(1u, std::thread::hardware_concurrency());
   const auto units = Partition(std::move(programs), std::min(cores, 1 + instructions / kInstructionsPerUnit));
   const std::string stem = TemporaryStem(object.substr(0, object.find_last_of('/')), key);
@@ -383,17 +403,20 @@ std::string Build(const CompiledModel& model, const NativeCodeOptions& options, 
 }
 
 /// Auto's choice: whether native code is expected to save more than it costs in
-/// `options.expected_runs` runs; `why` says what was weighed.
-bool NativePays(const CompiledModel& model, size_t instructions, bool cached, const NativeCodeOptions& options,
-                std::string* why) {
-  if (model.residual.size() > kMaxStraightLine) {
-    *why = "auto: a residual of " + std::to_string(model.residual.size()) +
-           " instructions runs slower as straight-line native code than interpreted (the instruction cache)";
+/// `options.expected_runs` runs; `why` says what was weighed. `residual_emitted` and `emitted` are
+/// the instructions the C holds (a loop's body once) for the residual and for all native programs:
+/// what costs compile time and instruction cache, where the saving grows with the instructions
+/// run (the residual's size).
+bool NativePays(const CompiledModel& model, size_t residual_emitted, size_t emitted, bool cached,
+                const NativeCodeOptions& options, std::string* why) {
+  if (residual_emitted > kMaxStraightLine) {
+    *why = "auto: a residual of " + std::to_string(residual_emitted) +
+           " straight-line instructions runs slower native than interpreted (the instruction cache)";
     return false;
   }
   const double saved = options.expected_runs * kEvaluationsPerRun * kSavedPerEvaluation *
                        static_cast<double>(model.residual.size());
-  const double cost = cached ? kCacheHit : kCompileFixed + kCompilePerInstruction * static_cast<double>(instructions);
+  const double cost = cached ? kCacheHit : kCompileFixed + kCompilePerInstruction * static_cast<double>(emitted);
   std::ostringstream s;
   s.precision(2);
   s << "auto: " << (cached ? "loading the cached code" : "compiling") << " costs about " << cost
@@ -467,7 +490,9 @@ std::string NativeCodeReport::Summary() const {
   std::ostringstream s;
   s.precision(3);
   if (native) {
-    s << "native code, " << instructions << " instructions, ";
+    s << "native code, " << instructions << " instructions";
+    if (emitted) s << " (" << emitted << " in the C)";
+    s << ", ";
     if (cache_hit) {
       s << "cached (loaded in " << load_seconds * 1e3 << " ms)";
     } else {
@@ -518,8 +543,21 @@ std::shared_ptr<const NativeCode> LoadNativeCode(const CompiledModel& model, con
   const bool cached = !r.library.empty() && ::stat(r.library.c_str(), &st) == 0;
   r.codegen_seconds = Since(t0);
   // Auto: native only where it pays.
+  // The segments (rerolling: linear, 0.1 s per million instructions), needed to compile and to
+  // weigh compiling or a large residual; a cached object of a small model skips them.
+  std::vector<CodegenProgram> programs;
+  size_t residual_emitted = model.residual.size();
+  auto segment = [&] {
+    programs = NativePrograms(model, options);
+    r.emitted = 0;
+    for (const CodegenProgram& p : programs) {
+      r.emitted += EmittedSize(p);
+      if (p.program == &model.residual) residual_emitted = EmittedSize(p);
+    }
+  };
   if (options.mode == CodegenMode::kAuto) {
-    if (!NativePays(model, r.instructions, cached, options, &r.reason)) return done(nullptr);
+    if (!cached || model.residual.size() > kMaxStraightLine) segment();
+    if (!NativePays(model, residual_emitted, r.emitted, cached, options, &r.reason)) return done(nullptr);
   } else {
     r.reason = "--codegen native";
   }
@@ -544,7 +582,9 @@ std::shared_ptr<const NativeCode> LoadNativeCode(const CompiledModel& model, con
              "): the model runs interpreted";
     return done(nullptr);
   }
-  if (std::string failure = Build(model, options, compiler, key, r.library, &r); !failure.empty()) {
+  if (programs.empty()) segment();
+  if (std::string failure = Build(model, std::move(programs), options, compiler, key, r.library, &r);
+      !failure.empty()) {
     r.note = "native code failed (" + failure + "): the model runs interpreted";
     return done(nullptr);
   }

@@ -45,7 +45,7 @@ const Program& ProgramOf(const CompiledModel& model, ModelProgram which);
 bool IsNativeProgram(ModelProgram which);
 
 /// Bumped whenever the generated code's meaning changes, so that old cache entries are not used.
-constexpr uint32_t kCodeFormatVersion = 1;
+constexpr uint32_t kCodeFormatVersion = 2;  // 2: loops for rerolled segments
 
 /// A loaded shared object holding a model's programs as native functions. Owned through a
 /// shared_ptr by the CompiledModel (and so by every ModelState and thread that uses it); the object
@@ -73,6 +73,9 @@ struct NativeCodeOptions {
   CodegenMode mode = CodegenMode::kAuto;
   /// Instructions per generated C function at most (core/codegen.h).
   uint32_t max_function_len = 2000;
+  /// Runs of identical instruction blocks (core/reroll.h) become C loops; false: straight-line
+  /// code only (to compare; part of the key).
+  bool loops = true;
   /// How many runs the code will serve (a sweep's runs): auto compiles when the expected saving
   /// outweighs the compilation.
   double expected_runs = 1;
@@ -86,6 +89,7 @@ struct NativeCodeReport {
   double compile_seconds = 0;     ///< the C compiler (on a miss)
   double load_seconds = 0;        ///< dlopen and symbol lookup
   size_t instructions = 0;        ///< of the native programs (IsNativeProgram)
+  size_t emitted = 0;             ///< of them in the C (a loop's body once), when it was emitted
   std::string reason;             ///< why this choice (one phrase)
   std::string note;               ///< a fallback to the interpreter worth telling the user (one line)
   std::string library;            ///< the shared object's path
