@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "app/csv_writer.h"
+#include "app/huge_pages.h"
 #include "app/interrupt.h"
 #include "app/mat_writer.h"
 #include "app/progress.h"
@@ -376,7 +377,7 @@ int RunCheck(const CheckArgs& args) {
     o << line << p.note << "\n";
     total += p.seconds;
   }
-  o << "  total " << Ms(total) << "\n";
+  o << "  total " << Ms(total) << (HugePagesInUse() ? "  (memory on huge pages)" : "") << "\n";
   o << "code: " << loaded.codegen_report.Summary() << "\n";
   auto list = [&](const std::string& title, const std::vector<std::string>& names) {
     o << title << " (" << names.size() << ")";

@@ -6,6 +6,7 @@
 #include <iostream>
 
 #include "app/commands.h"
+#include "app/huge_pages.h"
 #include "app/plot.h"
 #include "app/report_command.h"
 #include "app/sweep.h"
@@ -13,6 +14,7 @@
 
 int main(int argc, char** argv) {
   using namespace momenta;
+  MaybeRestartWithHugePages(argc, argv);
   CLI::App app{"momenta: acausal component-model simulation (YAML models, SUNDIALS IDA)"};
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string("momenta 0.1 (SUNDIALS 6.4.1") +

@@ -62,7 +62,8 @@ std::shared_ptr<const CompiledModel> BuildModel(const ModelSpec& spec, const Lib
   // Parameters are evaluated now too, so a bad value is reported before any solving.
   const std::vector<double> params = EvaluateParameters(*flat, overrides);
   ExprPool& p = *flat->pool;
-  EquationSystem sys = MakeEquationSystem(flat);
+  // The system takes the flat system over: passes that extend it need not copy it.
+  EquationSystem sys = MakeEquationSystem(std::move(flat));
   // Branches chosen by Boolean and Integer parameters are fixed before the structure is analysed;
   // then connectors whose condition is false leave, with the equations that hold only with them.
   const size_t folded = FoldStructuralConditions(&sys, params);

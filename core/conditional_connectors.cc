@@ -20,8 +20,8 @@ VarId NamedAbsent(const ExprPool& p, ExprId e, const std::vector<bool>& absent) 
 
 size_t ResolveConditionalConnectors(EquationSystem* sys, const std::vector<double>& params) {
   if (sys->flat->conditional_connectors.empty()) return 0;
-  const std::shared_ptr<const FlatSystem> as_flattened = sys->flat;  // MutableFlat may replace sys->flat
-  const FlatSystem& flat = *as_flattened;
+  // MutableFlat replaces sys->flat only by a copy while another holder keeps this one alive.
+  const FlatSystem& flat = *sys->flat;
   ExprPool& p = *sys->pool;
   // Which connectors are absent; connecting one is the user's error.
   std::vector<bool> absent(flat.variables.size(), false);

@@ -22,10 +22,12 @@ size_t EquationSystem::num_unknowns() const {
 
 FlatSystem& EquationSystem::MutableFlat() {
   if (!owns_flat) {
-    flat = std::make_shared<FlatSystem>(*flat);
+    // Nobody else holds the flat system (the build hands it over): it is this system's already.
+    // Otherwise copy it, so what the other holders see stays as it was.
+    if (flat.use_count() != 1) flat = std::make_shared<FlatSystem>(*flat);
     owns_flat = true;
   }
-  // The copy is this system's alone: handing it out for modification is safe.
+  // The flat system is this system's alone: handing it out for modification is safe.
   return const_cast<FlatSystem&>(*flat);
 }
 

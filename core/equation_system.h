@@ -70,7 +70,7 @@ struct EquationSystem {
   std::vector<SystemWhen> whens;
   std::vector<SystemImpact> impacts;
   std::vector<DiscreteEquation> discrete;  ///< in evaluation order
-  bool owns_flat = false;  ///< `flat` is this system's own copy (see MutableFlat)
+  bool owns_flat = false;  ///< `flat` is this system's alone (see MutableFlat)
 
   size_t num_unknowns() const;
   /// The flat system for passes that add to it (index reduction): copied on first use, so the

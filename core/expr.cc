@@ -157,7 +157,7 @@ ExprPool::ExprPool() {
 }
 
 void ExprPool::Grow() {
-  std::vector<uint64_t> old;
+  std::vector<uint64_t, HugePageAllocator<uint64_t>> old;
   old.swap(table_);
   table_.assign(old.size() * 2, kEmptySlot);
   const size_t mask = table_.size() - 1;

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "core/huge_alloc.h"
 #include "core/ids.h"
 
 namespace momenta {
@@ -139,10 +140,10 @@ class ExprPool {
   ExprId Intern(const Node& n);
   void Grow();
 
-  std::vector<Node> nodes_;
+  std::vector<Node, HugePageAllocator<Node>> nodes_;
   /// Open-addressing hash table: each slot holds (hash tag << 32) | node id, or kEmptySlot. The
   /// tag spares a probe the node comparison (a cache miss) unless it is a likely match.
-  std::vector<uint64_t> table_;
+  std::vector<uint64_t, HugePageAllocator<uint64_t>> table_;
   size_t table_used_ = 0;
   ExprId zero_, one_, minus_one_, time_;
 };

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -152,6 +153,36 @@ TEST_F(CliTest, OutDashWritesOnlyTheCsvToStandardOutput) {
       break;
     }
   }
+}
+
+// A large model file makes momenta restart once with glibc's malloc on transparent huge pages
+// (app/huge_pages.h); check says so on its total line. A small one, or MOMENTA_HUGE_PAGES=0,
+// keeps ordinary pages.
+TEST_F(CliTest, LargeModelFileRunsOnHugePages) {
+  std::ifstream thp("/sys/kernel/mm/transparent_hugepage/enabled");
+  std::string mode;
+  if (!std::getline(thp, mode) || mode.find("[never]") != std::string::npos) {
+    GTEST_SKIP() << "transparent huge pages are off on this machine";
+  }
+  // The pushed mass with a megabyte of comment lines: a file over the threshold.
+  std::string large = kPushedMass;
+  const std::string comment = "# " + std::string(98, 'x') + "\n";
+  while (large.size() < (1u << 20) + 4096) large += comment;
+  dir_.Write("large.yaml", large);
+  dir_.Write("pushed.yaml", kPushedMass);
+  const char* kMarker = "(memory on huge pages)";
+  CliResult big = Momenta({"check", "large.yaml"});
+  ASSERT_EQ(big.exit_code, kExitOk) << big.err;
+  EXPECT_TRUE(Contains(big.out, "model PushedMass (large.yaml): 2 components")) << big.out;
+  EXPECT_TRUE(Contains(big.out, kMarker)) << big.out;
+  CliResult small = Momenta({"check", "pushed.yaml"});
+  ASSERT_EQ(small.exit_code, kExitOk) << small.err;
+  EXPECT_FALSE(Contains(small.out, kMarker)) << small.out;
+  setenv("MOMENTA_HUGE_PAGES", "0", 1);
+  CliResult off = Momenta({"check", "large.yaml"});
+  unsetenv("MOMENTA_HUGE_PAGES");
+  ASSERT_EQ(off.exit_code, kExitOk) << off.err;
+  EXPECT_FALSE(Contains(off.out, kMarker)) << off.out;
 }
 
 TEST_F(CliTest, CheckPrintsEachPass) {

@@ -1,0 +1,23 @@
+#pragma once
+/// Huge pages for large builds. Building a model of 100 000 components touches more than a
+/// gigabyte of freshly allocated memory; with 4 KiB pages a large share of the build is spent in
+/// page faults and TLB misses. glibc's malloc backs its heap with transparent huge pages when the
+/// tunable glibc.malloc.hugetlb=1 is set, but tunables are read only when a process starts, so
+/// momenta restarts itself once (execv of /proc/self/exe, same arguments) with it set when a
+/// model file is large.
+
+namespace momenta {
+
+/// Model files of at least this many bytes make momenta restart with huge pages.
+constexpr long kHugePagesFileBytes = 1L << 20;
+
+/// Restarts the process with GLIBC_TUNABLES=…:glibc.malloc.hugetlb=1 when an argument names a
+/// regular file of at least kHugePagesFileBytes (or MOMENTA_HUGE_PAGES=1), the tunable is not set
+/// yet, transparent huge pages are not disabled and MOMENTA_HUGE_PAGES is not 0. Returns (and the
+/// run goes on as before) whenever it does not restart or the restart fails. Call first in main.
+void MaybeRestartWithHugePages(int argc, char** argv);
+
+/// glibc's malloc uses huge pages in this process (GLIBC_TUNABLES has glibc.malloc.hugetlb=1 or 2).
+bool HugePagesInUse();
+
+}  // namespace momenta
