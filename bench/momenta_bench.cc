@@ -6,6 +6,8 @@
 //   build_s      BuildModel (flatten ... compile), wall time; pass_<name>_s is each pass's own
 //                time from the BuildReport, pass_<name>_cpu_s its CPU time
 //   max_rss_mb   the process's peak resident memory so far (getrusage), after the build
+//   pool_nodes   expression nodes in the pool after the build (24 bytes each, plus the hash table)
+//   flat_variables  variables of the flat system after the build
 //   state_s      ModelState construction + SetParameters
 //   init_s       consistent initialisation (SolverStats::init_seconds)
 //   integrate_s  IDA set-up + the IDASolve loop (SolverStats::integrate_seconds)
@@ -254,6 +256,9 @@ int main(int argc, char** argv) {
         rusage ru{};
         getrusage(RUSAGE_SELF, &ru);
         r.fields.emplace_back("max_rss_mb", static_cast<double>(ru.ru_maxrss) / 1024.0);
+        // The expression pool only grows: every pass's rewritten expressions stay in it.
+        r.fields.emplace_back("pool_nodes", static_cast<double>(model->pool->size()));
+        r.fields.emplace_back("flat_variables", static_cast<double>(model->flat->variables.size()));
         // Native code (compiled now or from the cache) as --codegen says.
         NativeCodeReport code;
         auto t4 = Clock::now();
