@@ -21,6 +21,60 @@ void ResetScratch(Container* c) {
     c->clear();
   }
 }
+/// Results by node id for one traversal of one expression: open addressing in a power-of-two
+/// array that grows with the expression. The small expressions of most calls (an equation, a
+/// residual) then cost a few cache lines and no allocation once the scratch has grown; the
+/// std::unordered_map this replaces allocated a node per entry and was a tenth of building a
+/// large model's Jacobian.
+class NodeMemo {
+ public:
+  /// Forgets every entry; an array grown large by one big expression is given back.
+  void Clear() {
+    if (slots_.size() > 4096 || slots_.empty()) {
+      slots_.assign(64, kEmpty);
+    } else if (used_ > 0) {
+      std::fill(slots_.begin(), slots_.end(), kEmpty);
+    }
+    used_ = 0;
+  }
+  /// The entry of `id`, or an invalid id.
+  ExprId Find(uint32_t id) const {
+    const size_t mask = slots_.size() - 1;
+    for (size_t k = Slot(id, mask);; k = (k + 1) & mask) {
+      const uint64_t e = slots_[k];
+      if (e == kEmpty) return ExprId();
+      if (static_cast<uint32_t>(e >> 32) == id) return ExprId(static_cast<uint32_t>(e));
+    }
+  }
+  bool Has(uint32_t id) const { return Find(id).valid(); }
+  /// Sets the entry of an id that has none.
+  void Insert(uint32_t id, ExprId value) {
+    if ((used_ + 1) * 2 > slots_.size()) Grow();
+    Place(&slots_, (static_cast<uint64_t>(id) << 32) | value.value());
+    ++used_;
+  }
+
+ private:
+  static constexpr uint64_t kEmpty = ~0ull;
+  static size_t Slot(uint32_t id, size_t mask) { return (static_cast<size_t>(id) * 0x9E3779B97F4A7C15ull >> 17) & mask; }
+  static void Place(std::vector<uint64_t>* slots, uint64_t entry) {
+    const size_t mask = slots->size() - 1;
+    size_t k = Slot(static_cast<uint32_t>(entry >> 32), mask);
+    while ((*slots)[k] != kEmpty) k = (k + 1) & mask;
+    (*slots)[k] = entry;
+  }
+  void Grow() {
+    std::vector<uint64_t> bigger(slots_.size() * 2, kEmpty);
+    for (uint64_t e : slots_) {
+      if (e != kEmpty) Place(&bigger, e);
+    }
+    slots_.swap(bigger);
+  }
+
+  std::vector<uint64_t> slots_;
+  size_t used_ = 0;
+};
+
 }  // namespace
 
 std::vector<ExprId> CollectLeaves(const ExprPool& pool, ExprId e, uint8_t mask) {
@@ -179,39 +233,41 @@ ExprId Substitution::Apply(ExprId root) {
 ExprId ReplaceNodes(ExprPool* pool, ExprId root, const std::unordered_map<uint32_t, ExprId>& map,
                     uint8_t mask) {
   ExprPool& p = *pool;
-  std::unordered_map<uint32_t, ExprId> memo;
-  std::vector<uint32_t> stack{root.value()};
+  thread_local NodeMemo memo;
+  thread_local std::vector<uint32_t> stack;
+  memo.Clear();
+  stack.assign(1, root.value());
   while (!stack.empty()) {
     uint32_t id = stack.back();
-    if (memo.count(id)) {
+    if (memo.Has(id)) {
       stack.pop_back();
       continue;
     }
     auto hit = map.find(id);
     const Node n = p.node(ExprId(id));
     if (hit != map.end() || !(n.mask & mask) || IsLeaf(n.op)) {
-      memo.emplace(id, hit != map.end() ? hit->second : ExprId(id));
+      memo.Insert(id, hit != map.end() ? hit->second : ExprId(id));
       stack.pop_back();
       continue;
     }
     int arity = Arity(n.op);
     bool ready = true;
-    if (arity >= 1 && !memo.count(n.a)) { stack.push_back(n.a); ready = false; }
-    if (arity >= 2 && !memo.count(n.b)) { stack.push_back(n.b); ready = false; }
-    if (arity >= 3 && !memo.count(n.c)) { stack.push_back(n.c); ready = false; }
+    if (arity >= 1 && !memo.Has(n.a)) { stack.push_back(n.a); ready = false; }
+    if (arity >= 2 && !memo.Has(n.b)) { stack.push_back(n.b); ready = false; }
+    if (arity >= 3 && !memo.Has(n.c)) { stack.push_back(n.c); ready = false; }
     if (!ready) continue;
     stack.pop_back();
     ExprId r;
     if (arity == 1) {
-      r = p.Unary(n.op, memo.at(n.a));
+      r = p.Unary(n.op, memo.Find(n.a));
     } else if (arity == 2) {
-      r = p.Binary(n.op, memo.at(n.a), memo.at(n.b), n.flags);
+      r = p.Binary(n.op, memo.Find(n.a), memo.Find(n.b), n.flags);
     } else {
-      r = p.If(memo.at(n.a), memo.at(n.b), memo.at(n.c));
+      r = p.If(memo.Find(n.a), memo.Find(n.b), memo.Find(n.c));
     }
-    memo.emplace(id, r);
+    memo.Insert(id, r);
   }
-  return memo.at(root.value());
+  return memo.Find(root.value());
 }
 
 ExprId ReplaceLeaf(ExprPool* pool, ExprId root, ExprId leaf, ExprId value) {
@@ -291,19 +347,19 @@ ExprId ChainRule(ExprPool& p, const Node& n, ExprId self, ExprId da, ExprId db, 
 ExprId Derive(ExprPool* pool, ExprId root, const std::function<ExprId(const Node&, ExprId)>& leaf_rule,
               uint8_t relevant_mask, bool* failed) {
   ExprPool& p = *pool;
-  thread_local std::unordered_map<uint32_t, ExprId> memo;
+  thread_local NodeMemo memo;
   thread_local std::vector<uint32_t> stack;
-  ResetScratch(&memo);
+  memo.Clear();
   stack.assign(1, root.value());
   while (!stack.empty()) {
     uint32_t id = stack.back();
-    if (memo.count(id)) {
+    if (memo.Has(id)) {
       stack.pop_back();
       continue;
     }
     const Node n = p.node(ExprId(id));
     if (!(n.mask & relevant_mask)) {
-      memo.emplace(id, p.Zero());
+      memo.Insert(id, p.Zero());
       stack.pop_back();
       continue;
     }
@@ -313,24 +369,24 @@ ExprId Derive(ExprPool* pool, ExprId root, const std::function<ExprId(const Node
         *failed = true;
         d = p.Zero();
       }
-      memo.emplace(id, d);
+      memo.Insert(id, d);
       stack.pop_back();
       continue;
     }
     int arity = Arity(n.op);
     bool ready = true;
     // The condition of an if has no derivative: only the branches are needed.
-    if (n.op != Op::kIf && arity >= 1 && !memo.count(n.a)) { stack.push_back(n.a); ready = false; }
-    if (arity >= 2 && !memo.count(n.b)) { stack.push_back(n.b); ready = false; }
-    if (arity >= 3 && !memo.count(n.c)) { stack.push_back(n.c); ready = false; }
+    if (n.op != Op::kIf && arity >= 1 && !memo.Has(n.a)) { stack.push_back(n.a); ready = false; }
+    if (arity >= 2 && !memo.Has(n.b)) { stack.push_back(n.b); ready = false; }
+    if (arity >= 3 && !memo.Has(n.c)) { stack.push_back(n.c); ready = false; }
     if (!ready) continue;
     stack.pop_back();
-    ExprId da = (n.op != Op::kIf && arity >= 1) ? memo.at(n.a) : p.Zero();
-    ExprId db = arity >= 2 ? memo.at(n.b) : p.Zero();
-    ExprId dc = arity >= 3 ? memo.at(n.c) : p.Zero();
-    memo.emplace(id, ChainRule(p, n, ExprId(id), da, db, dc));
+    ExprId da = (n.op != Op::kIf && arity >= 1) ? memo.Find(n.a) : p.Zero();
+    ExprId db = arity >= 2 ? memo.Find(n.b) : p.Zero();
+    ExprId dc = arity >= 3 ? memo.Find(n.c) : p.Zero();
+    memo.Insert(id, ChainRule(p, n, ExprId(id), da, db, dc));
   }
-  return memo.at(root.value());
+  return memo.Find(root.value());
 }
 
 }  // namespace
