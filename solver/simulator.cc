@@ -165,6 +165,9 @@ class EventIntegrator {
     if (std::string grid = OutputGridProblem(opt.start, opt.stop, interval_); !grid.empty()) {
       throw std::invalid_argument("the output interval " + Num(interval_) + ": " + grid);
     }
+    if (opt.max_order < 1 || opt.max_order > 5) {
+      throw std::invalid_argument("the maximum BDF order " + std::to_string(opt.max_order) + " is not one of 1 to 5");
+    }
     num_intervals_ = static_cast<long>(std::ceil((opt.stop - opt.start) / interval_ - 1e-9));
     z_.resize(nc_);
     zscale_.assign(nc_, 1.0);
@@ -346,6 +349,7 @@ class EventIntegrator {
     CheckFlag(IDASetLinearSolver(mem, ls_.solver.get(), ls_.matrix.get()), "IDASetLinearSolver");
     CheckFlag(IDASetJacFn(mem, Jacobian), "IDASetJacFn");
     CheckFlag(IDASetMaxNumSteps(mem, kMaxStepsPerRow), "IDASetMaxNumSteps");
+    CheckFlag(IDASetMaxOrd(mem, opt_.max_order), "IDASetMaxOrd");
     CheckFlag(IDASetStopTime(mem, opt_.stop), "IDASetStopTime");
     abstol_ = std::move(abstol);
   }

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <limits>
@@ -156,6 +157,38 @@ TEST(SimulatorTest, ALongerRunRepeatsAShorterOnesRows) {
     EXPECT_EQ(compared, counts ? 103u : 101u) << yaml;
     if (counts) EXPECT_EQ(longer.values[compared - 1][2], 1.0);
   }
+}
+
+TEST(SimulatorTest, MaxOrderOutsideOneToFiveIsRefused) {
+  Built b = testing::BuildYaml(kDecay);
+  for (int q : {0, 6, -1}) {
+    SimulationOptions opt = OptionsFromExperiment(b.model->experiment);
+    opt.max_order = q;
+    const std::string msg = RunError(b, opt);
+    EXPECT_NE(msg.find("the maximum BDF order " + std::to_string(q) + " is not one of 1 to 5"), std::string::npos)
+        << msg;
+  }
+}
+
+// x' = -x with IDA's BDF order capped at 1 (backward Euler) to 5: every cap follows exp(-t) (the
+// local error test at rtol 1e-6 leaves backward Euler a global error of 2e-4 over ten time
+// constants, order 2 2e-5, the higher orders a few 1e-6), and each higher cap takes fewer steps,
+// so the cap reaches IDA.
+TEST(SimulatorTest, EveryMaxOrderFollowsTheDecay) {
+  Built b = testing::BuildYaml(kDecay);
+  long steps[6] = {};
+  for (int q = 1; q <= 5; ++q) {
+    SimulationOptions opt = OptionsFromExperiment(b.model->experiment);
+    opt.max_order = q;
+    const testing::Trajectory tr = testing::Run(b, opt);
+    ASSERT_EQ(tr.t.back(), 10) << "order " << q;
+    double worst = 0;
+    for (size_t k = 0; k < tr.t.size(); ++k) worst = std::max(worst, std::fabs(tr.values[k][0] - std::exp(-tr.t[k])));
+    EXPECT_LT(worst, q == 1 ? 5e-4 : q == 2 ? 5e-5 : 1e-5) << "order " << q;
+    steps[q] = tr.stats.steps;
+    if (q > 1) EXPECT_LT(steps[q], steps[q - 1]) << "order " << q;
+  }
+  EXPECT_GT(steps[1], 10 * steps[5]) << steps[1] << " steps at order 1, " << steps[5] << " at order 5";
 }
 
 TEST(SimulatorTest, SolverFailureAdviceFitsTheFailure) {
