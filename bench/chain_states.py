@@ -24,8 +24,9 @@ errors are the largest over all output rows (t = 0, 0.1, ..., 10) of:
 
 The hand-written program is run too (same tolerance), twice: with its output interval 0.1 s (as
 bench/run.sh runs it) and with a single output at t = 10. IDA takes its first step as 0.001 of the
-distance to the first output time it is asked for; momenta steps towards the stop time
-(IDA_ONE_STEP, tout = stop), so the second run starts as momenta does. The hand-written program
+distance to the first output time it is asked for; momenta aims its first step one output
+interval ahead, so the first run starts as momenta does (before that change momenta aimed at the
+stop time, as the second run does). bench/first_step.py varies that first step. The hand-written program
 prints its final values only: its errors are at t = 10. Timing is the process's CPU time
 (/usr/bin/time; the hand-written program's own CPU clock), one run per configuration: steps and
 errors are deterministic.
@@ -152,8 +153,7 @@ def main():
                     e[1], e[2], e[3]))
                 print(lines[-1], file=sys.stderr)
             # The hand-written program with its output interval (IDA's first step is 0.001 of the
-            # distance to the first output time) and with one output at the stop time, which is where
-            # momenta's one-step loop aims its first call.
+            # distance to the first output time, as momenta's) and with one output at the stop time.
             for interval in (0.1, 10):
                 h = run_handwritten(a.handwritten, n, a.tol, interval)
                 lines.append("| %d | hand-written, first output at %g s | %d | %d | %.3g | %.1e | %.1e | — | — | — |" % (

@@ -98,12 +98,13 @@ struct Options {
   double interval = -1.0;  // default: stop / 500
   std::string linear_solver = "klu";
   int repeat = 5;
+  int max_order = 5;  // IDA's highest BDF order (IDASetMaxOrd); 5 is IDA's default
 };
 
 inline void usage(const char* prog, const Options& d) {
   std::fprintf(stderr,
                "usage: %s [--n N] [--stop T] [--rtol R] [--atol A] [--linear-solver dense|klu]\n"
-               "          [--interval DT] [--repeat K]\n"
+               "          [--interval DT] [--repeat K] [--max-order Q]\n"
                "defaults: --n %ld --stop %g --rtol %g --atol %g --linear-solver %s --interval stop/500 "
                "--repeat %d\n",
                prog, d.n, d.stop, d.rtol, d.atol, d.linear_solver.c_str(), d.repeat);
@@ -147,6 +148,8 @@ inline Options parse_options(int argc, char** argv, Options o) {
         o.atol = std::stod(value, &used), whole(used);
       } else if (key == "--interval") {
         o.interval = std::stod(value, &used), whole(used);
+      } else if (key == "--max-order") {
+        o.max_order = std::stoi(value, &used), whole(used);
       } else if (key == "--repeat") {
         o.repeat = std::stoi(value, &used), whole(used);
       } else if (key == "--linear-solver") {
@@ -163,6 +166,7 @@ inline Options parse_options(int argc, char** argv, Options o) {
   if (!(o.stop > 0)) fail("--stop must be > 0");
   if (!(o.rtol > 0) || !(o.atol > 0)) fail("tolerances must be > 0");
   if (o.repeat < 1) fail("--repeat must be >= 1");
+  if (o.max_order < 1 || o.max_order > 5) fail("--max-order must be in 1..5");
   if (o.linear_solver != "dense" && o.linear_solver != "klu") fail("--linear-solver must be dense or klu");
   return o;
 }
@@ -237,6 +241,7 @@ inline RunResult run_once(const Options& opt, Problem& p) {
         "IDASetJacFn");
   check(IDASetStopTime(mem, opt.stop), "IDASetStopTime");
   check(IDASetMaxNumSteps(mem, 1000000), "IDASetMaxNumSteps");
+  check(IDASetMaxOrd(mem, opt.max_order), "IDASetMaxOrd");
   r.setup_s = seconds_since(start_setup);
   r.setup_cpu_s = cpu_seconds() - cpu_setup;
 
@@ -295,9 +300,9 @@ inline double residual_eval_ns(Problem& p) {
 // Runs opt.repeat integrations, prints one line per run and a line of medians.
 // Output lines are "key=value" pairs so that scripts can compare them with other programs.
 inline int run_benchmark(const Options& opt, Problem& p) {
-  std::printf("# %s n=%ld N=%lld stop=%g rtol=%g atol=%g interval=%g linear_solver=%s repeat=%d\n", p.name(),
+  std::printf("# %s n=%ld N=%lld stop=%g rtol=%g atol=%g interval=%g linear_solver=%s max_order=%d repeat=%d\n", p.name(),
               opt.n, static_cast<long long>(p.size()), opt.stop, opt.rtol, opt.atol, opt.interval,
-              opt.linear_solver.c_str(), opt.repeat);
+              opt.linear_solver.c_str(), opt.max_order, opt.repeat);
   std::printf("# SUNDIALS %s (%s build)\n", SUNDIALS_VERSION,
               MOMENTA_SUNDIALS_OPTIMIZED ? "optimised" : "system");
   std::vector<RunResult> runs;
@@ -306,7 +311,7 @@ inline int run_benchmark(const Options& opt, Problem& p) {
     std::printf(
         "run=%d setup_s=%.6f solve_s=%.6f setup_cpu_s=%.6f solve_cpu_s=%.6f steps=%ld res_evals=%ld "
         "jac_evals=%ld nonlin_iters=%ld lin_setups=%ld err_test_fails=%ld nonlin_conv_fails=%ld t=%.10g "
-        "%s=%.12g %s=%.12g\n",
+        "%s=%.17g %s=%.17g\n",
         k + 1, r.setup_s, r.solve_s, r.setup_cpu_s, r.solve_cpu_s, r.steps, r.res_evals, r.jac_evals,
         r.nonlin_iters, r.lin_setups, r.err_test_fails, r.nonlin_conv_fails, r.t_end, p.final_name(0), r.final0, p.final_name(1), r.final1);
     std::fflush(stdout);
@@ -315,7 +320,7 @@ inline int run_benchmark(const Options& opt, Problem& p) {
   std::printf("res_eval_ns=%.1f\n", residual_eval_ns(p));
   std::printf(
       "median setup_s=%.6f solve_s=%.6f setup_cpu_s=%.6f solve_cpu_s=%.6f steps=%.0f res_evals=%.0f jac_evals=%.0f "
-      "%s=%.12g %s=%.12g\n",
+      "%s=%.17g %s=%.17g\n",
               median_of(runs, [](const RunResult& r) { return r.setup_s; }),
               median_of(runs, [](const RunResult& r) { return r.solve_s; }),
               median_of(runs, [](const RunResult& r) { return r.setup_cpu_s; }),

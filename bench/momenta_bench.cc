@@ -24,7 +24,8 @@
 // usage: momenta_bench --model FILE [-p NAME=VALUE]... [--stop T] [--rtol R] [--atol A]
 //                      [--interval DT] [--linear-solver auto|dense|klu] [--repeat K]
 //                      [--build-only] [--unit-nominals] [--build-repeat B]
-//                      [--codegen auto|native|interp] [--function-len L]
+//                      [--codegen auto|native|interp] [--function-len L] [--max-order Q]
+//   --max-order      IDA's highest BDF order, 1..5 (default 5, IDA's)
 //   --codegen        how the programs run (default interp, as before native code existed): the
 //                    code_* fields say what it cost (code_compile_s: the C compiler; code_load_s:
 //                    dlopen; code_cache_hit); res_eval_ns is the residual per evaluation
@@ -89,6 +90,7 @@ struct Options {
   momenta::ParameterOverrides overrides;
   double stop = -1, rtol = -1, atol = -1, interval = -1;
   std::string linear_solver;  // empty: the model's experiment (default auto)
+  int max_order = 5;
   int repeat = 5;
   int build_repeat = -1;  // < 0: every run loads and builds
   bool build_only = false;
@@ -101,6 +103,7 @@ void Usage(const char* prog) {
                "usage: %s --model FILE [-p NAME=VALUE]... [--stop T] [--rtol R] [--atol A]\n"
                "          [--interval DT] [--linear-solver auto|dense|klu] [--repeat K] [--build-only]\n"
                "          [--unit-nominals] [--build-repeat B] [--codegen auto|native|interp] [--function-len L]\n"
+               "          [--max-order Q]\n"
                "defaults: the model's experiment section; --repeat 5; every run loads and builds\n"
                "  --build-repeat B  only the first B runs load and build (B >= 1); later runs simulate\n"
                "                    the last compiled model again (for models that are slow to build)\n",
@@ -170,6 +173,9 @@ Options Parse(int argc, char** argv) {
       o.repeat = static_cast<int>(number(key, value));
     } else if (key == "--build-repeat") {
       o.build_repeat = static_cast<int>(number(key, value));
+    } else if (key == "--max-order") {
+      o.max_order = static_cast<int>(number(key, value));
+      if (o.max_order < 1 || o.max_order > 5) fail("--max-order must be in 1..5");
     } else if (key == "--linear-solver") {
       if (value != "auto" && value != "dense" && value != "klu") fail("--linear-solver must be auto, dense or klu");
       o.linear_solver = value;
@@ -279,18 +285,19 @@ int main(int argc, char** argv) {
       if (opt.atol > 0) so.atol = opt.atol;
       if (opt.interval > 0) so.interval = opt.interval;
       if (!opt.linear_solver.empty()) so.linear_solver = opt.linear_solver;
+      so.max_order = opt.max_order;
 
       if (k == 0) {
         char buf[512];
         std::snprintf(buf, sizeof buf,
                       "# momenta_bench model=%s components=%zu unknowns=%zu states=%zu jac_nnz=%zu expr_nodes=%zu "
                       "residual_instr=%zu jacobian_instr=%zu stop=%g rtol=%g atol=%g interval=%g "
-                      "linear_solver=%s unit_nominals=%d repeat=%d build_repeat=%d",
+                      "linear_solver=%s max_order=%d unit_nominals=%d repeat=%d build_repeat=%d",
                       opt.model.c_str(), report.num_components, model->num_unknowns(), model->num_states(),
                       model->jacobian_pattern.nnz(), model->pool ? model->pool->size() : size_t{0}, model->residual.size(), model->jacobian.size(), so.stop,
                       so.rtol, so.atol > 0 ? so.atol : so.rtol,
                       so.interval > 0 ? so.interval : (so.stop - so.start) / 500.0, so.linear_solver.c_str(),
-                      opt.unit_nominals ? 1 : 0, opt.repeat, opt.build_repeat);
+                      so.max_order, opt.unit_nominals ? 1 : 0, opt.repeat, opt.build_repeat);
         header = buf;
         for (const auto& [name, v] : opt.overrides) {
           char pbuf[128];
@@ -375,7 +382,7 @@ int main(int argc, char** argv) {
           std::printf(" %s=%.10g", name.c_str(), v);
         }
       }
-      for (const auto& [name, v] : r.finals) std::printf(" %s=%.12g", name.c_str(), v);
+      for (const auto& [name, v] : r.finals) std::printf(" %s=%.17g", name.c_str(), v);
       std::printf("\n");
       std::fflush(stdout);
       runs.push_back(std::move(r));
@@ -410,7 +417,7 @@ int main(int argc, char** argv) {
     for (const Run& r : runs) {
       if (j < r.finals.size()) v.push_back(r.finals[j].second);
     }
-    std::printf(" %s=%.12g", runs[0].finals[j].first.c_str(), Median(v));
+    std::printf(" %s=%.17g", runs[0].finals[j].first.c_str(), Median(v));
   }
   std::printf("\n");
   return simulate_failed ? 1 : 0;

@@ -165,6 +165,9 @@ class EventIntegrator {
     if (std::string grid = OutputGridProblem(opt.start, opt.stop, interval_); !grid.empty()) {
       throw std::invalid_argument("the output interval " + Num(interval_) + ": " + grid);
     }
+    if (opt.max_order < 1 || opt.max_order > 5) {
+      throw std::invalid_argument("the maximum BDF order " + std::to_string(opt.max_order) + " is not one of 1 to 5");
+    }
     num_intervals_ = static_cast<long>(std::ceil((opt.stop - opt.start) / interval_ - 1e-9));
     z_.resize(nc_);
     zscale_.assign(nc_, 1.0);
@@ -346,6 +349,7 @@ class EventIntegrator {
     CheckFlag(IDASetLinearSolver(mem, ls_.solver.get(), ls_.matrix.get()), "IDASetLinearSolver");
     CheckFlag(IDASetJacFn(mem, Jacobian), "IDASetJacFn");
     CheckFlag(IDASetMaxNumSteps(mem, kMaxStepsPerRow), "IDASetMaxNumSteps");
+    CheckFlag(IDASetMaxOrd(mem, opt_.max_order), "IDASetMaxOrd");
     CheckFlag(IDASetStopTime(mem, opt_.stop), "IDASetStopTime");
     abstol_ = std::move(abstol);
   }
@@ -428,6 +432,14 @@ class EventIntegrator {
     throw SolverError(msg.str());
   }
 
+  /// The `tout` for IDASolve's next step from t_ (the step itself stops at IDASetStopTime's
+  /// `tstop`). IDA_ONE_STEP reads tout on the first step after a start or restart only, to size
+  /// that step: 0.001 of the distance to tout, less where 0.5 / |y'| is smaller (IDA's own
+  /// default). Aimed at one output interval ahead, as IDA_NORMAL aims at the first output row,
+  /// the first step follows the time scale the user asked to see rather than the length of the
+  /// run (a 1000 s run would otherwise start with a 1 s step, whatever the model's dynamics).
+  double StepTarget(double tstop) const { return std::min(t_ + interval_, tstop); }
+
   /// One step at a time to the stop time (the steps IDA_NORMAL would take to each output time),
   /// the output rows interpolated within each step, so an interrupt is seen after every step.
   void RunWithoutEvents() {
@@ -435,7 +447,7 @@ class EventIntegrator {
     long steps_since_row = 0;
     while (t_ < opt_.stop && !Interrupted(t_)) {
       double tret = 0;
-      int flag = IDASolve(mem, opt_.stop, &tret, y_vec_.get(), yp_vec_.get(), IDA_ONE_STEP);
+      int flag = IDASolve(mem, StepTarget(opt_.stop), &tret, y_vec_.get(), yp_vec_.get(), IDA_ONE_STEP);
       if (flag < 0) Fail(flag);
       // IDA_NORMAL's guard: this many steps without reaching the next output time is too many.
       const long before = next_grid_;
@@ -459,7 +471,7 @@ class EventIntegrator {
       double tstop = std::min(opt_.stop, t_event);
       CheckFlag(IDASetStopTime(mem, tstop), "IDASetStopTime");
       double t_old = t_, tret = 0;
-      int flag = IDASolve(mem, tstop, &tret, y_vec_.get(), yp_vec_.get(), IDA_ONE_STEP);
+      int flag = IDASolve(mem, StepTarget(tstop), &tret, y_vec_.get(), yp_vec_.get(), IDA_ONE_STEP);
       if (flag < 0) Fail(flag);
       // A state event inside (t_old, tret]?
       double t_cross = FirstCrossing(t_old, tret);

@@ -18,6 +18,10 @@ struct SimulationOptions {
   double rtol = 1e-6;
   double atol = -1;         ///< < 0: rtol; each variable's is atol*nominal
   std::string linear_solver = "auto";  ///< auto, dense or klu
+  /// IDA's highest BDF order, 1..5 (IDASetMaxOrd). Orders 3 and above are not A-stable: on lightly
+  /// damped oscillations IDA's order choice can wander into 4 and 5 and pay for it in steps
+  /// (bench/RESULTS.md, "The chain's extra steps"), where 3 takes fewer and is as accurate.
+  int max_order = 5;
   /// Left- and right-limit rows at every event, also one that changes no output (as Dymola's
   /// events=true output, which the MSL reference results use); otherwise only at events that
   /// change an output.

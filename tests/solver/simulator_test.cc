@@ -1,9 +1,10 @@
 // Simulate()'s contract at its edges: options that give no finite output grid are refused before
 // anything runs; an interrupt stops the run between steps and between rows with no gap in the rows;
-// a solver failure's advice points the right way.
+// a solver failure's advice points the right way; how long the run is does not change its start.
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <limits>
@@ -105,6 +106,89 @@ TEST(SimulatorTest, InterruptStopsBetweenRowsWithoutAGap) {
     EXPECT_FALSE(whole.stats.interrupted) << yaml;
     EXPECT_EQ(whole.t.back(), 10) << yaml;
   }
+}
+
+// A driven oscillator starting at rest: y'(0) = 0, so nothing in the state sizes IDA's first step;
+// the same with a when-clause counting the crossings of x = 0.005 (the event loop's path).
+constexpr const char* kDrivenAtRest = R"yaml(model: DrivenAtRest
+variables:
+  x: {start: 0, fixed: true}
+  v: {start: 0, fixed: true}
+equations:
+  - der(x) = v
+  - der(v) = sin(10*time) - 4*x - 0.2*v
+experiment: {stop: 2, interval: 0.01}
+outputs: [x, v]
+)yaml";
+constexpr const char* kDrivenAtRestWithEvent = R"yaml(model: DrivenAtRestWithEvent
+variables:
+  x: {start: 0, fixed: true}
+  v: {start: 0, fixed: true}
+  n: {start: 0}
+equations:
+  - der(x) = v
+  - der(v) = sin(10*time) - 4*x - 0.2*v
+when:
+  - when: x > 0.005
+    then: ["n = pre(n) + 1"]
+experiment: {stop: 2, interval: 0.01}
+outputs: [x, v, n]
+)yaml";
+
+// IDA's first step follows the output interval, not the length of the run (IDA_ONE_STEP aimed at
+// the stop time would start 100x larger here): so a run to 200 s repeats the rows of a run to 2 s
+// to the bit, up to where the shorter run's steps are cut at its stop time.
+TEST(SimulatorTest, ALongerRunRepeatsAShorterOnesRows) {
+  for (const char* yaml : {kDrivenAtRest, kDrivenAtRestWithEvent}) {
+    Built b = testing::BuildYaml(yaml);
+    SimulationOptions opt = OptionsFromExperiment(b.model->experiment);
+    const testing::Trajectory shorter = testing::Run(b, opt);
+    opt.stop = 200;
+    const testing::Trajectory longer = testing::Run(b, opt);
+    ASSERT_EQ(shorter.t.back(), 2) << yaml;
+    ASSERT_EQ(longer.t.back(), 200) << yaml;
+    size_t compared = 0;
+    for (size_t k = 0; k < shorter.t.size() && shorter.t[k] <= 1.0; ++k, ++compared) {
+      ASSERT_EQ(shorter.t[k], longer.t[k]) << yaml;
+      EXPECT_EQ(shorter.values[k], longer.values[k]) << yaml << " at t = " << shorter.t[k];
+    }
+    // 101 grid rows, and with the when-clause a left- and a right-limit row at each event.
+    const bool counts = yaml == kDrivenAtRestWithEvent;
+    EXPECT_EQ(compared, counts ? 103u : 101u) << yaml;
+    if (counts) EXPECT_EQ(longer.values[compared - 1][2], 1.0);
+  }
+}
+
+TEST(SimulatorTest, MaxOrderOutsideOneToFiveIsRefused) {
+  Built b = testing::BuildYaml(kDecay);
+  for (int q : {0, 6, -1}) {
+    SimulationOptions opt = OptionsFromExperiment(b.model->experiment);
+    opt.max_order = q;
+    const std::string msg = RunError(b, opt);
+    EXPECT_NE(msg.find("the maximum BDF order " + std::to_string(q) + " is not one of 1 to 5"), std::string::npos)
+        << msg;
+  }
+}
+
+// x' = -x with IDA's BDF order capped at 1 (backward Euler) to 5: every cap follows exp(-t) (the
+// local error test at rtol 1e-6 leaves backward Euler a global error of 2e-4 over ten time
+// constants, order 2 2e-5, the higher orders a few 1e-6), and each higher cap takes fewer steps,
+// so the cap reaches IDA.
+TEST(SimulatorTest, EveryMaxOrderFollowsTheDecay) {
+  Built b = testing::BuildYaml(kDecay);
+  long steps[6] = {};
+  for (int q = 1; q <= 5; ++q) {
+    SimulationOptions opt = OptionsFromExperiment(b.model->experiment);
+    opt.max_order = q;
+    const testing::Trajectory tr = testing::Run(b, opt);
+    ASSERT_EQ(tr.t.back(), 10) << "order " << q;
+    double worst = 0;
+    for (size_t k = 0; k < tr.t.size(); ++k) worst = std::max(worst, std::fabs(tr.values[k][0] - std::exp(-tr.t[k])));
+    EXPECT_LT(worst, q == 1 ? 5e-4 : q == 2 ? 5e-5 : 1e-5) << "order " << q;
+    steps[q] = tr.stats.steps;
+    if (q > 1) EXPECT_LT(steps[q], steps[q - 1]) << "order " << q;
+  }
+  EXPECT_GT(steps[1], 10 * steps[5]) << steps[1] << " steps at order 1, " << steps[5] << " at order 5";
 }
 
 TEST(SimulatorTest, SolverFailureAdviceFitsTheFailure) {
