@@ -53,6 +53,13 @@ SimulationOptions ResolveSimulationOptions(const ExperimentSpec& experiment, con
       Reject("interval", opt.interval, "the output interval must be a positive finite number");
     }
   }
+  if (overrides.max_order) {
+    const double k = *overrides.max_order;
+    if (!(k >= 1 && k <= 5 && k == std::floor(k))) {
+      Reject("max-order", k, "the maximum BDF order must be a whole number from 1 to 5 (IDA's default is 5)");
+    }
+    opt.max_order = static_cast<int>(k);
+  }
   if (!overrides.linear_solver.empty()) opt.linear_solver = overrides.linear_solver;
   // The output grid they make together (the experiment's own grid was checked when it was read).
   if (opt.interval > 0) {

@@ -13,6 +13,7 @@ namespace momenta {
 /// The values given on the command line; an empty optional was not given.
 struct SimulateOverrides {
   std::optional<double> stop, rtol, atol, interval;
+  std::optional<double> max_order;  ///< IDA's maximum BDF order, a whole number from 1 to 5
   std::string linear_solver;  ///< empty: the experiment's
   /// --codegen: auto, native or interp (empty: auto); see core/native_code.h.
   std::string codegen;
@@ -25,7 +26,7 @@ CodegenMode ResolveCodegenMode(const SimulateOverrides& overrides);
 /// naming the option and its value when a value is out of range: a stop time that is not a
 /// finite number after the start, a tolerance that is not finite and positive or below what
 /// double precision resolves, an output interval that is not positive or gives an output grid
-/// that cannot be written.
+/// that cannot be written, a maximum order that is not a whole number from 1 to 5.
 SimulationOptions ResolveSimulationOptions(const ExperimentSpec& experiment, const SimulateOverrides& overrides);
 
 }  // namespace momenta

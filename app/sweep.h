@@ -21,7 +21,7 @@ namespace momenta {
 struct SweepArgs {
   std::string model;
   std::vector<std::string> params;  ///< NAME=SPEC
-  SimulateOverrides options;        ///< --stop, --rtol, --atol, --interval, --linear-solver
+  SimulateOverrides options;        ///< --stop, --rtol, --atol, --interval, --max-order, --linear-solver
   unsigned jobs = 0;                ///< threads per process; 0: the cores / the ranks on this machine
   std::string out;                  ///< summary CSV; empty: <model file stem>_sweep.csv; "-": stdout
   std::string trajectories;         ///< directory for run-<k>.csv; empty: none written

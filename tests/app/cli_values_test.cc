@@ -119,6 +119,43 @@ TEST_F(CliValuesTest, IntervalThatIsNotPositiveOrGivesTooManyRowsIsAUsageError) 
   }
 }
 
+TEST_F(CliValuesTest, MaxOrderThatIsNotAWholeNumberFromOneToFiveIsAUsageError) {
+  const std::string rc = testing::SourcePath("models/rc_ladder.yaml");
+  const std::string why = ": the maximum BDF order must be a whole number from 1 to 5 (IDA's default is 5)";
+  for (const Case& c : std::vector<Case>{
+           {{"--max-order", "0"}, "--max-order 0" + why},
+           {{"--max-order", "6"}, "--max-order 6" + why},
+           {{"--max-order", "2.5"}, "--max-order 2.5" + why},
+           {{"--max-order", "nan"}, "--max-order nan" + why},
+       }) {
+    ExpectUsageError(rc, c);
+  }
+}
+
+TEST_F(CliValuesTest, MaxOrderReachesIda) {
+  // The decay x' = -x at rtol 1e-8: backward Euler (order 1) needs many more steps than IDA's
+  // variable order up to 5 for the same tolerance. Both end near exp(-1) = 0.3678794412: order 5
+  // to 1e-8; order 1 to 1.5e-5 (its local errors, each within the tolerance, add up over its
+  // 12 000 steps).
+  dir_.Write("decay.yaml", kDecay);
+  auto steps_of = [](const std::string& out) {
+    const size_t at = out.find(" steps,");
+    if (at == std::string::npos) return -1L;
+    size_t begin = out.rfind(' ', at - 1);
+    return std::stol(out.substr(begin + 1, at - begin - 1));
+  };
+  CliResult first = Simulate("decay.yaml", {"--stop", "2", "--rtol", "1e-8", "--atol", "1e-10", "--max-order", "1"});
+  CliResult fifth = Simulate("decay.yaml", {"--stop", "2", "--rtol", "1e-8", "--atol", "1e-10"});
+  ASSERT_EQ(first.exit_code, kExitOk) << first.err;
+  ASSERT_EQ(fifth.exit_code, kExitOk) << fifth.err;
+  EXPECT_TRUE(Contains(first.out, "x = 0.3678")) << first.out;
+  EXPECT_TRUE(Contains(fifth.out, "x = 0.3678794")) << fifth.out;
+  const long order1 = steps_of(first.out), order5 = steps_of(fifth.out);
+  ASSERT_GT(order1, 0) << first.out;
+  ASSERT_GT(order5, 0) << fifth.out;
+  EXPECT_GT(order1, 5 * order5) << first.out << fifth.out;
+}
+
 TEST_F(CliValuesTest, ValidValuesAreUsedNotReplaced) {
   // The smallest accepted tolerances run, and --stop and --interval shape the grid exactly.
   dir_.Write("decay.yaml", kDecay);
