@@ -14,7 +14,10 @@
 # build, and the test sources themselves -O0: every report still names file:line. Its tests run
 # as 8 GoogleTest shards per job (MOMENTA_TESTS_SHARDS) rather than a process per test, as an
 # instrumented process takes half a second to start: every test still runs under ASan, UBSan and
-# LeakSanitizer, and a failing shard's output names the failing tests.
+# LeakSanitizer, and a failing shard's output names the failing tests (run one alone with
+# build-asan/tests/momenta_tests --gtest_filter=NAME). Rehearsed on the shared 2-core machine:
+# 20 min in all (Release 453 + 100 s, sanitizer 360 + 100 s, fuzzing 171 s), where the sanitizer
+# stage alone had taken 2139 + 790 s under similar load (951 + 252 s on idle cores).
 #
 # Environment: MOMENTA_JOBS (default 2) parallel jobs; MOMENTA_SKIP_ASAN=1 skips stage 2;
 # MOMENTA_SKIP_FUZZ=1 skips stage 3; MOMENTA_FUZZ_SECONDS (default 60) its fuzzing time.
