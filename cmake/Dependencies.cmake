@@ -29,6 +29,13 @@
 #   MOMENTA_SUNDIALS_ROOT        optimised SUNDIALS prefix made by scripts/setup.sh
 #   MOMENTA_USE_SYSTEM_SUNDIALS  (OFF) ignore MOMENTA_SUNDIALS_ROOT, use the system SUNDIALS
 #   MOMENTA_USE_MPI              (ON)  sweeps under mpirun when MPI is found
+#   MOMENTA_TESTS_PCH            (OFF) precompile the tests' common headers (scripts/test.sh;
+#                                      not with ccache, which would then compile them uncached)
+#   MOMENTA_TESTS_COMPILE_OPTIONS  ("") extra compile options of the test sources only
+#                                      (scripts/test.sh: -O0 in the sanitizer build)
+#   MOMENTA_TESTS_SHARDS         (0)   0: one ctest test per GoogleTest test; N: N ctest tests,
+#                                      each a GoogleTest shard run in one process (scripts/test.sh:
+#                                      in the sanitizer build, whose start-up is slow)
 # Sets MOMENTA_SUNDIALS_OPTIMIZED (ON/OFF) and MOMENTA_SUNDIALS_VERSION in the including scope,
 # and MOMENTA_MPIEXEC (mpirun's path, empty without MPI) for the tests.
 
@@ -40,6 +47,9 @@ option(MOMENTA_SANITIZE "Build with AddressSanitizer and UndefinedBehaviorSaniti
 option(MOMENTA_BUILD_FUZZ "Build the libFuzzer target in fuzz/ (needs clang; implies the sanitizers)" OFF)
 option(MOMENTA_USE_SYSTEM_SUNDIALS "Use the system SUNDIALS even if the optimised build exists" OFF)
 option(MOMENTA_USE_MPI "Run sweeps under mpirun when MPI is found" ON)
+option(MOMENTA_TESTS_PCH "Precompile the common headers of the tests (not with ccache)" OFF)
+set(MOMENTA_TESTS_COMPILE_OPTIONS "" CACHE STRING "Extra compile options of the test sources only")
+set(MOMENTA_TESTS_SHARDS 0 CACHE STRING "0: a ctest test per GoogleTest test; N: N GoogleTest shards")
 
 # ---- Sanitizers: compile and link flags of every target defined after this point -------------
 # float-cast-overflow: a double converted to an integer type it does not fit (1e300 to int64_t).

@@ -36,9 +36,12 @@ fi
 
 # ---- build ------------------------------------------------------------------------------------
 log "building the fuzz target in $DIR/"
+# Ninja, when installed, for a directory not configured yet (an existing one keeps its generator).
+gen=()
+if [[ ! -f "$DIR/CMakeCache.txt" ]] && command -v ninja >/dev/null; then gen=(-G Ninja); fi
 mkdir -p "$DIR"
 # -O1 with line tables: quicker to build than -O2 -g, and every report still names file:line.
-CC=clang CXX=clang++ cmake -S . -B "$DIR" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMOMENTA_BUILD_FUZZ=ON \
+CC=clang CXX=clang++ cmake -S . -B "$DIR" "${gen[@]}" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMOMENTA_BUILD_FUZZ=ON \
   -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -gline-tables-only" -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O1 -gline-tables-only" \
   -DMOMENTA_BUILD_TESTS=OFF -DMOMENTA_BUILD_BENCH=OFF >"$DIR/configure.log" 2>&1 ||
   { tail -n 30 "$DIR/configure.log"; log "configure failed"; exit 2; }

@@ -48,10 +48,11 @@ fi
 # 1. Debian packages. SUNDIALS' source build needs cmake, a C compiler, SuiteSparse (KLU) and
 #    dpkg-dev (for 'apt-get source'); the rest are the project's own build dependencies. clang
 #    builds the fuzz target (scripts/fuzz.sh); its libFuzzer, ASan and UBSan runtimes are in
-#    libclang-rt-14-dev, which clang only recommends (and --no-install-recommends skips).
+#    libclang-rt-14-dev, which clang only recommends (and --no-install-recommends skips). Ninja
+#    keeps both cores busy where Make waits between targets (scripts/test.sh uses it if present).
 # ---------------------------------------------------------------------------------------------
 PACKAGES=(
-  build-essential cmake
+  build-essential cmake ninja-build
   libsundials-dev libsuitesparse-dev
   libeigen3-dev libyaml-cpp-dev libyaml-dev libcli11-dev pkg-config
   libgtest-dev libbenchmark-dev
