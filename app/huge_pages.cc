@@ -3,6 +3,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <cctype>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
@@ -12,8 +13,23 @@ namespace momenta {
 
 namespace {
 
-bool NamesLargeFile(int argc, char** argv) {
+/// A model file's name: .yaml or .yml. Results (-o out.csv), reports and trajectories written
+/// by an earlier run may be large too, and say nothing of the model's size.
+bool IsYamlName(const std::string& name) {
+  auto ends_with = [&](const char* suffix) {
+    const size_t n = std::strlen(suffix);
+    if (name.size() < n) return false;
+    for (size_t k = 0; k < n; ++k) {
+      if (std::tolower(static_cast<unsigned char>(name[name.size() - n + k])) != suffix[k]) return false;
+    }
+    return true;
+  };
+  return ends_with(".yaml") || ends_with(".yml");
+}
+
+bool NamesLargeModelFile(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
+    if (!IsYamlName(argv[i])) continue;
     struct stat st {};
     if (stat(argv[i], &st) == 0 && S_ISREG(st.st_mode) && st.st_size >= kHugePagesFileBytes) return true;
   }
@@ -35,7 +51,7 @@ void MaybeRestartWithHugePages(int argc, char** argv) {
   const char* tunables = std::getenv("GLIBC_TUNABLES");
   if (tunables != nullptr && std::strstr(tunables, "glibc.malloc.hugetlb") != nullptr) return;
   const bool forced = choice != nullptr && std::strcmp(choice, "1") == 0;
-  if (!forced && !NamesLargeFile(argc, argv)) return;
+  if (!forced && !NamesLargeModelFile(argc, argv)) return;
   if (!TransparentHugePagesAvailable()) return;
   std::string value = tunables != nullptr && *tunables != '\0' ? std::string(tunables) + ":" : std::string();
   value += "glibc.malloc.hugetlb=1";

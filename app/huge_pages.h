@@ -4,15 +4,15 @@
 /// page faults and TLB misses. glibc's malloc backs its heap with transparent huge pages when the
 /// tunable glibc.malloc.hugetlb=1 is set, but tunables are read only when a process starts, so
 /// momenta restarts itself once (execv of /proc/self/exe, same arguments) with it set when a
-/// model file is large.
+/// model file (.yaml, .yml) is large.
 
 namespace momenta {
 
-/// Model files of at least this many bytes make momenta restart with huge pages.
+/// Model files (.yaml, .yml) of at least this many bytes make momenta restart with huge pages.
 constexpr long kHugePagesFileBytes = 1L << 20;
 
 /// Restarts the process with GLIBC_TUNABLES=…:glibc.malloc.hugetlb=1 when an argument names a
-/// regular file of at least kHugePagesFileBytes (or MOMENTA_HUGE_PAGES=1), the tunable is not set
+/// YAML file of at least kHugePagesFileBytes (or MOMENTA_HUGE_PAGES=1), the tunable is not set
 /// yet, transparent huge pages are not disabled and MOMENTA_HUGE_PAGES is not 0. Returns (and the
 /// run goes on as before) whenever it does not restart or the restart fails. Call first in main.
 void MaybeRestartWithHugePages(int argc, char** argv);
