@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <random>
 #include <sstream>
@@ -326,6 +327,28 @@ std::string TemporaryStem(const std::string& dir, const std::string& key) {
   return s.str();
 }
 
+/// A private directory for one build's sources, objects and logs, removed with them. Inside it
+/// the files have fixed names (the key and the unit): the compiler records the source file's name
+/// in the object, so the same code then gives the same bytes in every process.
+class BuildDirectory {
+ public:
+  BuildDirectory(const std::string& cache_dir, const std::string& key)
+      : path_(TemporaryStem(cache_dir, key)), made_(::mkdir(path_.c_str(), 0700) == 0) {}
+  ~BuildDirectory() {
+    std::error_code ignored;
+    if (made_) std::filesystem::remove_all(path_, ignored);
+  }
+  BuildDirectory(const BuildDirectory&) = delete;
+  BuildDirectory& operator=(const BuildDirectory&) = delete;
+
+  bool made() const { return made_; }
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
+  bool made_;
+};
+
 /// Emits, compiles and renames into `object`; "" on success, else why not. A large model's
 /// programs are split over several translation units compiled at once (one per core, each of at
 /// least kInstructionsPerUnit), then linked.
@@ -340,7 +363,9 @@ std::string Build(const CompiledModel& model, std::vector<CodegenProgram> progra
   for (const CodegenProgram& p : programs) instructions += EmittedSize(p);
   const size_t cores = std::max(1u, std::thread::hardware_concurrency());
   const auto units = Partition(std::move(programs), std::min(cores, 1 + instructions / kInstructionsPerUnit));
-  const std::string stem = TemporaryStem(object.substr(0, object.find_last_of('/')), key);
+  const BuildDirectory dir(object.substr(0, object.find_last_of('/')), key);
+  if (!dir.made()) return "cannot make a directory for the compiler's files: " + dir.path();
+  const std::string stem = dir.path() + "/" + key;
   const std::string temp_object = stem + ".so";
   std::vector<std::string> sources;
   std::string failure;
