@@ -6,6 +6,7 @@
 #include <cctype>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <string>
 
@@ -15,16 +16,10 @@ namespace {
 
 /// A model file's name: .yaml or .yml. Results (-o out.csv), reports and trajectories written
 /// by an earlier run may be large too, and say nothing of the model's size.
-bool IsYamlName(const std::string& name) {
-  auto ends_with = [&](const char* suffix) {
-    const size_t n = std::strlen(suffix);
-    if (name.size() < n) return false;
-    for (size_t k = 0; k < n; ++k) {
-      if (std::tolower(static_cast<unsigned char>(name[name.size() - n + k])) != suffix[k]) return false;
-    }
-    return true;
-  };
-  return ends_with(".yaml") || ends_with(".yml");
+bool IsYamlName(const char* name) {
+  std::string ext = std::filesystem::path(name).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext == ".yaml" || ext == ".yml";
 }
 
 bool NamesLargeModelFile(int argc, char** argv) {

@@ -9,26 +9,16 @@
 #include <random>
 
 #include "core/native_code.h"
+#include "tests/support/cache_dir.h"
 #include "tests/support/test_models.h"
 
 namespace momenta {
 namespace {
 
-/// A temporary cache directory for the test's compiled code, removed afterwards.
+/// Compiles into a cache of its own.
 class CodegenTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = std::filesystem::temp_directory_path() /
-           ("momenta-codegen-test-" + std::to_string(::getpid()) + "-" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    std::filesystem::remove_all(dir_);
-    ::setenv("MOMENTA_CACHE_DIR", dir_.c_str(), 1);
-  }
-  void TearDown() override {
-    ::unsetenv("MOMENTA_CACHE_DIR");
-    std::filesystem::remove_all(dir_);
-  }
-  std::filesystem::path dir_;
+  testing::ScopedCacheDir cache_;
 };
 
 /// How many values a program writes to `out`.

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "tests/support/cache_dir.h"
 #include "tests/support/test_models.h"
 
 namespace momenta {
@@ -15,20 +16,9 @@ namespace {
 
 class NativeCodeTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = std::filesystem::temp_directory_path() /
-           ("momenta-native-test-" + std::to_string(::getpid()) + "-" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    std::filesystem::remove_all(dir_);
-    ::setenv("MOMENTA_CACHE_DIR", dir_.c_str(), 1);
-    native_.mode = CodegenMode::kNative;
-  }
-  void TearDown() override {
-    ::unsetenv("MOMENTA_CACHE_DIR");
-    ::unsetenv("MOMENTA_CC");
-    std::filesystem::remove_all(dir_);
-  }
-  std::filesystem::path dir_;
+  void SetUp() override { native_.mode = CodegenMode::kNative; }
+  void TearDown() override { ::unsetenv("MOMENTA_CC"); }
+  testing::ScopedCacheDir cache_;
   NativeCodeOptions native_;
 };
 
