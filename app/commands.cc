@@ -17,6 +17,7 @@
 #include "app/progress.h"
 #include "app/report_command.h"
 #include "core/build.h"
+#include "core/memory_budget.h"
 #include "core/model_state.h"
 #include "core/unit_check.h"
 #include "core/units.h"
@@ -188,13 +189,15 @@ int LoadAndBuild(const std::string& path, const ParameterOverrides& overrides, L
     ModelSpec spec = LoadModelFile(path);
     out->load_s = Since(t0);
     out->doc = spec.doc;
+    // An array model's file is small: a large build shows once its counts are known.
+    LargeBuildWatch large_build([](double) { RestartWithHugePagesForLargeBuild(); });
     // The report's scene: outputs added for what the parts draw (flattens once more).
     if (out->with_scene) out->scene = PrepareScene(&spec, BuiltinLibrary(), out->overrides);
     auto t1 = Clock::now();
     // Values given with units are converted to their parameters' declared units, which the
     // flattened model tells (flattened with the values in SI, in case one shapes the structure).
     if (!units.empty()) ApplyOverrideUnits(Flatten(spec, BuiltinLibrary(), out->overrides), units, &out->overrides);
-    out->model = BuildModel(spec, BuiltinLibrary(), out->overrides, &out->report);
+    out->model = BuildModel(std::move(spec), BuiltinLibrary(), out->overrides, &out->report);
     out->build_s = Since(t1);
     // Native code for the programs (from the cache, or compiled now) where it pays.
     out->model = AttachNativeCode(std::move(out->model), out->codegen, &out->codegen_report);

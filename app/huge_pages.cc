@@ -4,10 +4,12 @@
 #include <unistd.h>
 
 #include <cctype>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <string>
 
 namespace momenta {
@@ -38,22 +40,51 @@ bool TransparentHugePagesAvailable() {
   return std::getline(in, line) && line.find("[never]") == std::string::npos;
 }
 
-}  // namespace
+/// The process's arguments, kept by MaybeRestartWithHugePages for a later restart.
+char** saved_argv = nullptr;
 
-void MaybeRestartWithHugePages(int argc, char** argv) {
+/// MOMENTA_HUGE_PAGES: "0" never, "1" always, unset: by the model's size.
+bool ChoiceIs(const char* value) {
   const char* choice = std::getenv("MOMENTA_HUGE_PAGES");
-  if (choice != nullptr && std::strcmp(choice, "0") == 0) return;
+  return choice != nullptr && std::strcmp(choice, value) == 0;
+}
+
+bool TunableSet() {
   const char* tunables = std::getenv("GLIBC_TUNABLES");
-  if (tunables != nullptr && std::strstr(tunables, "glibc.malloc.hugetlb") != nullptr) return;
-  const bool forced = choice != nullptr && std::strcmp(choice, "1") == 0;
-  if (!forced && !NamesLargeModelFile(argc, argv)) return;
+  return tunables != nullptr && std::strstr(tunables, "glibc.malloc.hugetlb") != nullptr;
+}
+
+/// execv of this program with the tunable added; returns only when that fails.
+void Restart(char** argv) {
   if (!TransparentHugePagesAvailable()) return;
+  const char* tunables = std::getenv("GLIBC_TUNABLES");
   std::string value = tunables != nullptr && *tunables != '\0' ? std::string(tunables) + ":" : std::string();
   value += "glibc.malloc.hugetlb=1";
   if (setenv("GLIBC_TUNABLES", value.c_str(), 1) != 0) return;
+  std::cout.flush();
+  std::cerr.flush();
+  std::fflush(nullptr);
   execv("/proc/self/exe", argv);
   // Not restarted (no /proc, say): go on with ordinary pages. The variable stays set, which only
   // tells a compiler momenta starts to use huge pages too.
+}
+
+}  // namespace
+
+void MaybeRestartWithHugePages(int argc, char** argv) {
+  saved_argv = argv;
+  if (ChoiceIs("0") || TunableSet()) return;
+  if (!ChoiceIs("1") && !NamesLargeModelFile(argc, argv)) return;
+  Restart(argv);
+}
+
+void RestartWithHugePagesForLargeBuild() {
+  if (saved_argv == nullptr || ChoiceIs("0") || TunableSet()) return;
+  // A rank started by mpirun stays the process its launcher knows.
+  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK"}) {
+    if (std::getenv(name) != nullptr) return;
+  }
+  Restart(saved_argv);
 }
 
 bool HugePagesInUse() {

@@ -4,7 +4,7 @@
 /// page faults and TLB misses. glibc's malloc backs its heap with transparent huge pages when the
 /// tunable glibc.malloc.hugetlb=1 is set, but tunables are read only when a process starts, so
 /// momenta restarts itself once (execv of /proc/self/exe, same arguments) with it set when a
-/// model file (.yaml, .yml) is large.
+/// model file (.yaml, .yml) is large, or when the model's sizes (`count:`) make a large build.
 
 namespace momenta {
 
@@ -16,6 +16,12 @@ constexpr long kHugePagesFileBytes = 1L << 20;
 /// yet, transparent huge pages are not disabled and MOMENTA_HUGE_PAGES is not 0. Returns (and the
 /// run goes on as before) whenever it does not restart or the restart fails. Call first in main.
 void MaybeRestartWithHugePages(int argc, char** argv);
+
+/// Restarts the process as MaybeRestartWithHugePages does, for a build that turned out large
+/// once the model's sizes were known (core/memory_budget.h, LargeBuildWatch: an array model's
+/// file is small). Not under mpirun, nor when MOMENTA_HUGE_PAGES is 0 or huge pages are in use;
+/// returns when it does not restart. Nothing may have been written that a restart would repeat.
+void RestartWithHugePagesForLargeBuild();
 
 /// glibc's malloc uses huge pages in this process (GLIBC_TUNABLES has glibc.malloc.hugetlb=1 or 2).
 bool HugePagesInUse();

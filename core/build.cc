@@ -38,9 +38,11 @@ double ThreadCpuSeconds() {
 
 }  // namespace
 
-std::shared_ptr<const CompiledModel> BuildModel(const ModelSpec& spec, const Library& library,
-                                                const ParameterOverrides& overrides,
-                                                BuildReport* report) {
+namespace {
+
+/// BuildModel; `release`, when given, is `spec` itself, emptied once flattened.
+std::shared_ptr<const CompiledModel> Build(const ModelSpec& spec, ModelSpec* release, const Library& library,
+                                           const ParameterOverrides& overrides, BuildReport* report) {
   auto pass_start = Clock::now();
   double pass_cpu_start = ThreadCpuSeconds();
   auto record = [&](const std::string& name, size_t vars, size_t eqs, const std::string& note) {
@@ -52,6 +54,7 @@ std::shared_ptr<const CompiledModel> BuildModel(const ModelSpec& spec, const Lib
 
   // Flatten.
   auto flat = std::make_shared<FlatSystem>(Flatten(spec, library, overrides));
+  if (release != nullptr) *release = ModelSpec();
   report->num_components = flat->instances.size();
   report->num_parameters = flat->parameters.size();
   {
@@ -185,6 +188,20 @@ std::shared_ptr<const CompiledModel> BuildModel(const ModelSpec& spec, const Lib
   auto m = CompileModel(std::move(sys), st, output_names, report);
   record("compilation", m->num_unknowns(), m->num_unknowns(), report->compile_note);
   return m;
+}
+
+}  // namespace
+
+std::shared_ptr<const CompiledModel> BuildModel(const ModelSpec& spec, const Library& library,
+                                                const ParameterOverrides& overrides,
+                                                BuildReport* report) {
+  return Build(spec, nullptr, library, overrides, report);
+}
+
+std::shared_ptr<const CompiledModel> BuildModel(ModelSpec&& spec, const Library& library,
+                                                const ParameterOverrides& overrides,
+                                                BuildReport* report) {
+  return Build(spec, &spec, library, overrides, report);
 }
 
 }  // namespace momenta

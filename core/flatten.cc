@@ -1849,6 +1849,7 @@ class Flattener {
                                   ByteText(bytes) + " of memory to build, more than the budget of " +
                                   ByteText(budget_->bytes) + " (" + budget_->source + ")");
     }
+    NotePlannedBuild(bytes);
     // Instances, variables and parameters are numbered with 32-bit indices.
     double ids = std::max({static_cast<double>(flat_.instances.size()), static_cast<double>(flat_.variables.size()),
                            static_cast<double>(flat_.parameters.size())}) +

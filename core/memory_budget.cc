@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <string>
+#include <utility>
 
 namespace momenta {
 
@@ -72,6 +73,25 @@ double EstimatedComponentBytes(size_t num_variables, size_t num_parameters,
   return kBytesPerComponent + kBytesPerVariable * static_cast<double>(num_variables) +
          kBytesPerParameter * static_cast<double>(num_parameters) +
          kBytesPerExpressionNode * static_cast<double>(num_expression_nodes);
+}
+
+namespace {
+/// The watch of this thread's build; empty when there is none or it has been told.
+thread_local std::function<void(double)> large_build_watch;
+}  // namespace
+
+LargeBuildWatch::LargeBuildWatch(std::function<void(double bytes)> on_large) {
+  large_build_watch = std::move(on_large);
+}
+
+LargeBuildWatch::~LargeBuildWatch() { large_build_watch = nullptr; }
+
+void NotePlannedBuild(double bytes) {
+  if (!large_build_watch || bytes < kLargeBuildBytes) return;
+  // Told once: the callback leaves the watch before it runs (it may not return).
+  std::function<void(double)> on_large = std::move(large_build_watch);
+  large_build_watch = nullptr;
+  on_large(bytes);
 }
 
 }  // namespace momenta

@@ -5,6 +5,7 @@
 /// killed (or swapping) half-way through flattening.
 
 #include <cstddef>
+#include <functional>
 #include <string>
 
 namespace momenta {
@@ -25,5 +26,24 @@ MemoryBudget BuildMemoryBudget();
 /// and 1.2 million variables, peaks at 0.98 GB in `momenta check`).
 double EstimatedComponentBytes(size_t num_variables, size_t num_parameters,
                                size_t num_expression_nodes);
+
+/// Builds planned above this many bytes (sizes given by the model's `count:`) are large: their
+/// time goes largely to page faults and TLB misses (bench/RESULTS.md: huge pages take a quarter
+/// off the RC ladder's build from n = 2 500 on, about 40 MB).
+constexpr double kLargeBuildBytes = 32.0 * 1024 * 1024;
+
+/// While one lives, a build on this thread whose planned size passes kLargeBuildBytes calls
+/// `on_large` with the planned bytes, once, before it makes the components (the command line
+/// restarts itself on huge pages then: app/huge_pages.h). Watches do not nest.
+class LargeBuildWatch {
+ public:
+  explicit LargeBuildWatch(std::function<void(double bytes)> on_large);
+  ~LargeBuildWatch();
+  LargeBuildWatch(const LargeBuildWatch&) = delete;
+  LargeBuildWatch& operator=(const LargeBuildWatch&) = delete;
+};
+
+/// Called by the flattener with the bytes planned so far (core/flatten.cc, CheckedCount).
+void NotePlannedBuild(double bytes);
 
 }  // namespace momenta

@@ -191,6 +191,35 @@ TEST_F(CliTest, LargeModelFileRunsOnHugePages) {
   EXPECT_FALSE(Contains(off.out, kMarker)) << off.out;
 }
 
+TEST_F(CliTest, LargeArrayBuildRunsOnHugePages) {
+  std::ifstream thp("/sys/kernel/mm/transparent_hugepage/enabled");
+  std::string mode;
+  if (!std::getline(thp, mode) || mode.find("[never]") != std::string::npos) {
+    GTEST_SKIP() << "transparent huge pages are off on this machine";
+  }
+  // A small file whose count makes a large build: 8 000 masses plan about 40 MB, past
+  // kLargeBuildBytes (32 MiB); momenta restarts on huge pages once the count is known.
+  dir_.Write("masses.yaml", R"(model: Masses
+parameters:
+  n: {value: 10}
+components:
+  m: {type: Mass, count: n, m: 1}
+)");
+  const char* kMarker = "(memory on huge pages)";
+  CliResult big = Momenta({"check", "masses.yaml", "-p", "n=8000"});
+  ASSERT_EQ(big.exit_code, kExitOk) << big.err;
+  EXPECT_TRUE(Contains(big.out, "model Masses (masses.yaml): 8000 components")) << big.out;
+  EXPECT_TRUE(Contains(big.out, kMarker)) << big.out;
+  CliResult small = Momenta({"check", "masses.yaml"});
+  ASSERT_EQ(small.exit_code, kExitOk) << small.err;
+  EXPECT_FALSE(Contains(small.out, kMarker)) << small.out;
+  setenv("MOMENTA_HUGE_PAGES", "0", 1);
+  CliResult off = Momenta({"check", "masses.yaml", "-p", "n=8000"});
+  unsetenv("MOMENTA_HUGE_PAGES");
+  ASSERT_EQ(off.exit_code, kExitOk) << off.err;
+  EXPECT_FALSE(Contains(off.out, kMarker)) << off.out;
+}
+
 TEST_F(CliTest, CheckPrintsEachPass) {
   dir_.Write("pushed.yaml", kPushedMass);
   CliResult r = Momenta({"check", "pushed.yaml"});
