@@ -144,6 +144,17 @@ bool IsCommutative(Op op) {
          op == Op::kAnd || op == Op::kOr || op == Op::kEq || op == Op::kNe;
 }
 
+/// Which of ExprPool::leaf_index_ holds the leaf `n`, or -1 when it is found by hash.
+int LeafIndexKind(const Node& n) {
+  switch (n.op) {
+    case Op::kVar: return 0;
+    case Op::kParam: return 1;
+    case Op::kPre: return 2;
+    case Op::kDer: return n.b == 0 ? 3 : -1;
+    default: return -1;
+  }
+}
+
 }  // namespace
 
 ExprPool::ExprPool() {
@@ -170,11 +181,18 @@ void ExprPool::Grow() {
 }
 
 ExprId ExprPool::Intern(const Node& n) {
-  if ((table_used_ + 1) * 2 > table_.size()) Grow();
+  uint32_t* indexed = nullptr;
+  if (const int kind = LeafIndexKind(n); kind >= 0) {
+    std::vector<uint32_t>& index = leaf_index_[kind];
+    if (n.a >= index.size()) index.resize(static_cast<size_t>(n.a) + 1, 0);
+    if (index[n.a] != 0) return ExprId(index[n.a]);
+    indexed = &index[n.a];
+  }
+  if (indexed == nullptr && (table_used_ + 1) * 2 > table_.size()) Grow();
   const size_t mask = table_.size() - 1;
   const uint32_t tag = Tag(n);
   size_t slot = tag & mask;
-  while (table_[slot] != kEmptySlot) {
+  while (indexed == nullptr && table_[slot] != kEmptySlot) {
     const uint64_t entry = table_[slot];
     if (static_cast<uint32_t>(entry >> 32) == tag) {
       const uint32_t id = static_cast<uint32_t>(entry);
@@ -207,6 +225,10 @@ ExprId ExprPool::Intern(const Node& n) {
   }
   uint32_t id = static_cast<uint32_t>(nodes_.size());
   nodes_.push_back(stored);
+  if (indexed != nullptr) {
+    *indexed = id;
+    return ExprId(id);
+  }
   table_[slot] = (static_cast<uint64_t>(tag) << 32) | id;
   ++table_used_;
   return ExprId(id);
@@ -216,6 +238,10 @@ ExprId ExprPool::FindLeaf(Op op, uint32_t payload) const {
   Node n;
   n.op = op;
   n.a = payload;
+  if (const int kind = LeafIndexKind(n); kind >= 0) {
+    const std::vector<uint32_t>& index = leaf_index_[kind];
+    return payload < index.size() && index[payload] != 0 ? ExprId(index[payload]) : ExprId();
+  }
   const size_t mask = table_.size() - 1;
   const uint32_t tag = Tag(n);
   size_t slot = tag & mask;

@@ -145,6 +145,10 @@ class ExprPool {
   /// tag spares a probe the node comparison (a cache miss) unless it is a likely match.
   std::vector<uint64_t, HugePageAllocator<uint64_t>> table_;
   size_t table_used_ = 0;
+  /// The leaves of variables, parameters, pre() and first derivatives by payload (0: not made
+  /// yet; node 0 is the constant 0): the most frequent nodes, found by index, next to their
+  /// neighbours, instead of by hash (a cache miss each in a large model). They are not in table_.
+  std::vector<uint32_t> leaf_index_[4];
   ExprId zero_, one_, minus_one_, time_;
 };
 
