@@ -59,7 +59,10 @@ void Restart(char** argv) {
   if (!TransparentHugePagesAvailable()) return;
   const char* tunables = std::getenv("GLIBC_TUNABLES");
   std::string value = tunables != nullptr && *tunables != '\0' ? std::string(tunables) + ":" : std::string();
-  value += "glibc.malloc.hugetlb=1";
+  // Huge pages, and freed memory kept for reuse: with mmap off and no trimming, the large arrays
+  // a build frees and makes again (pass by pass) reuse pages already faulted in instead of being
+  // unmapped and faulted anew (the RC ladder at n = 50 000: a quarter less CPU, 7 % more peak).
+  value += "glibc.malloc.hugetlb=1:glibc.malloc.mmap_max=0:glibc.malloc.trim_threshold=4294967295";
   if (setenv("GLIBC_TUNABLES", value.c_str(), 1) != 0) return;
   std::cout.flush();
   std::cerr.flush();

@@ -11,7 +11,8 @@ namespace momenta {
 /// Model files (.yaml, .yml) of at least this many bytes make momenta restart with huge pages.
 constexpr long kHugePagesFileBytes = 1L << 20;
 
-/// Restarts the process with GLIBC_TUNABLES=…:glibc.malloc.hugetlb=1 when an argument names a
+/// Restarts the process with GLIBC_TUNABLES=…:glibc.malloc.hugetlb=1 (and malloc's large
+/// blocks kept in its heap: mmap_max=0, no trimming) when an argument names a
 /// YAML file of at least kHugePagesFileBytes (or MOMENTA_HUGE_PAGES=1), the tunable is not set
 /// yet, transparent huge pages are not disabled and MOMENTA_HUGE_PAGES is not 0. Returns (and the
 /// run goes on as before) whenever it does not restart or the restart fails. Call first in main.
