@@ -77,6 +77,12 @@ def table(title, rows):
     sys.stdout.flush()
 
 
+# What momenta sets when it restarts itself for a large build (app/huge_pages.cc, Restart);
+# momenta_bench does not restart itself.
+HUGE_PAGES_TUNABLES = ("glibc.malloc.hugetlb=1:glibc.malloc.mmap_max=0:"
+                       "glibc.malloc.trim_threshold=4294967295")
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--bench", action="append", required=True, help="LABEL=path to momenta_bench")
@@ -87,8 +93,9 @@ def main():
     ap.add_argument("--single-run-from", type=int, default=100000,
                     help="one run only from this many components on")
     ap.add_argument("--hugepages", action="store_true",
-                    help="also run each binary with GLIBC_TUNABLES=glibc.malloc.hugetlb=1 (malloc's memory "
-                         "in transparent huge pages)")
+                    help="also run each binary with the tunables momenta restarts itself with for a large "
+                         "build (app/huge_pages.cc: malloc's memory in transparent huge pages, freed memory "
+                         "kept for reuse)")
     a = ap.parse_args()
     tmp = a.tmp or tempfile.mkdtemp(prefix="momenta-build-scaling.")
     chain = [int(x) for x in a.chain.split(",") if x]
@@ -98,7 +105,7 @@ def main():
         label, path = label_path.split("=", 1)
         configs.append((label, path, dict(os.environ)))
         if a.hugepages:
-            env = dict(os.environ, GLIBC_TUNABLES="glibc.malloc.hugetlb=1")
+            env = dict(os.environ, GLIBC_TUNABLES=HUGE_PAGES_TUNABLES)
             configs.append((label + ", huge pages", path, env))
     for label, path, env in configs:
         rows = []
