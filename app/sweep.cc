@@ -132,7 +132,7 @@ int Sweep::Prepare() {
 int Sweep::CheckSweptNames() const {
   const FlatSystem& flat = *model_->flat;
   std::vector<std::string> all;
-  for (const auto& p : flat.parameters) all.push_back(p.name);
+  for (uint32_t k = 0; k < flat.parameters.size(); ++k) all.push_back(flat.ParameterName(ParamId(k)));
   std::set<std::string> known(all.begin(), all.end());
   for (const auto& a : axes_) {
     if (!a.swept()) continue;

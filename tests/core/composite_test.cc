@@ -105,8 +105,8 @@ TEST(CompositeTest, NamesAreFullPaths) {
   testing::Built b = testing::BuildYaml(kNested);
   const FlatSystem& flat = *b.model->flat;
   std::set<std::string> vars, params, instances;
-  for (const auto& v : flat.variables) vars.insert(v.name);
-  for (const auto& p : flat.parameters) params.insert(p.name);
+  for (uint32_t k = 0; k < flat.variables.size(); ++k) vars.insert(flat.VariableName(VarId(k)));
+  for (uint32_t k = 0; k < flat.parameters.size(); ++k) params.insert(flat.ParameterName(ParamId(k)));
   for (const auto& i : flat.instances) instances.insert(i.path + " " + i.type->name);
   EXPECT_TRUE(vars.count("rig.pair.a.spring.flange_b.f"));
   EXPECT_TRUE(vars.count("rig.pair.flange.s"));
@@ -224,8 +224,8 @@ outputs: ["chain.m[3].s", "chain.s[2].c"]
   const FlatSystem& flat = *b.model->flat;
   std::vector<double> values = EvaluateParameters(flat, {});
   for (size_t k = 0; k < flat.parameters.size(); ++k) {
-    if (flat.parameters[k].name == "chain.m[2].m") EXPECT_EQ(values[k], 2);
-    if (flat.parameters[k].name == "chain.s[3].c") EXPECT_EQ(values[k], 30);
+    if (flat.ParameterName(ParamId(k)) == "chain.m[2].m") EXPECT_EQ(values[k], 2);
+    if (flat.ParameterName(ParamId(k)) == "chain.s[3].c") EXPECT_EQ(values[k], 30);
   }
   EXPECT_EQ(b.model->num_states(), 6u);
   const char* bad = R"(model: Bad
