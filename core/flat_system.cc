@@ -120,12 +120,15 @@ ExprNamer FlatSystem::Namer() const {
 }
 
 std::string FlatSystem::DescribeEquation(const FlatEquation& eq) const {
+  std::string quoted = "'";
+  quoted += EquationText(eq);
+  quoted += "'";
   std::string s;
   if (eq.instance.valid() && eq.origin != EquationOrigin::kUnconnectedFlow) {
     const FlatInstance& inst = instances[eq.instance.value()];
-    s = inst.path + " (" + inst.type->name + ", " + inst.loc.ToString() + "): '" + EquationText(eq) + "'";
+    s = inst.path + " (" + inst.type->name + ", " + inst.loc.ToString() + "): " + quoted;
   } else {
-    s = "'" + EquationText(eq) + "'";
+    s = quoted;
     if (eq.loc.known()) s += " (" + eq.loc.ToString() + ")";
   }
   if (eq.differentiations == 1) s += ", differentiated once";

@@ -28,10 +28,12 @@ struct TextRef {
   enum Kind : uint8_t {
     kNone,         ///< ""
     kOwned,        ///< FlatSystem::texts[a]: what no type gives (the model's own names, what passes add)
-    kType,         ///< entry b of the names of instance a's type, after the instance's path
+    kType,         ///< entry b of the names of instance a's type (TypeNames), after the instance's path
     kEqual,        ///< "<variable a> = <variable b> (connection)"
     kUnconnected,  ///< "<variable a> = 0 (unconnected)"
-    kFlowSum,      ///< "sum of <flow> over {<connectors of the b variables from FlatSystem::connection_vars[a]>} = 0 (connection)"
+    /// "sum of <flow> over {<connectors>} = 0 (connection)", of the b flow variables from
+    /// FlatSystem::connection_vars[a]
+    kFlowSum,
   };
   Kind kind = kNone;
   uint32_t a = 0, b = 0;

@@ -338,12 +338,17 @@ class Flattener {
       }
       std::vector<ExprId> deps = CollectLeaves(pool(), p.binding, kHasParam);
       if (!expanded) {
-        if (param_state_[q] == 1) throw ModelError(p.loc, "the parameters' bindings form a cycle through " + flat_.ParameterName(ParamId(q)));
+        if (param_state_[q] == 1) {
+          throw ModelError(p.loc, "the parameters' bindings form a cycle through " + flat_.ParameterName(ParamId(q)));
+        }
         param_state_[q] = 1;
         stack.push_back({q, true});
         for (ExprId pe : deps) {
           uint32_t d = pool().node(pe).a;
-          if (param_state_[d] == 1) throw ModelError(flat_.parameters[d].loc, "the parameters' bindings form a cycle through " + flat_.ParameterName(ParamId(d)));
+          if (param_state_[d] == 1) {
+            throw ModelError(flat_.parameters[d].loc,
+                             "the parameters' bindings form a cycle through " + flat_.ParameterName(ParamId(d)));
+          }
           if (param_state_[d] == 0) stack.push_back({d, false});
         }
         continue;
