@@ -47,10 +47,12 @@ std::vector<MatParameter> MatParameters(const CompiledModel& model, const ModelS
   std::vector<MatParameter> out;
   const std::vector<double>& values = state.parameter_values();
   for (size_t k = 0; k < model.flat->parameters.size() && k < values.size(); ++k) {
-    const FlatParameter& p = model.flat->parameters[k];
-    std::string description = p.doc;
-    if (!p.unit.empty()) description += (description.empty() ? "[" : " [") + p.unit + "]";
-    out.push_back({p.name, description, values[k]});
+    const FlatSystem& flat = *model.flat;
+    const ParamId p(static_cast<uint32_t>(k));
+    std::string description = flat.ParameterDoc(p);
+    const std::string& unit = flat.ParameterUnit(p);
+    if (!unit.empty()) description += (description.empty() ? "[" : " [") + unit + "]";
+    out.push_back({flat.ParameterName(p), description, values[k]});
   }
   return out;
 }
@@ -100,20 +102,20 @@ void WriteUnitsFile(const std::string& path, const std::vector<std::string>& nam
 bool ApplyOverrideUnits(const FlatSystem& flat, const OverrideUnits& units, ParameterOverrides* overrides) {
   bool changed = false;
   for (const auto& [name, q] : units) {
-    auto p = std::find_if(flat.parameters.begin(), flat.parameters.end(),
-                          [&name = name](const FlatParameter& fp) { return fp.name == name; });
-    if (p == flat.parameters.end()) continue;  // reported by the build as an unknown parameter
+    std::optional<ParamId> p = flat.FindParameter(name);
+    if (!p) continue;  // reported by the build as an unknown parameter
+    const std::string& unit = flat.ParameterUnit(*p);
     std::ostringstream given;
     given << "-p " << name << "=" << q.value << " " << q.unit;
-    if (p->unit.empty()) {
+    if (unit.empty()) {
       throw UsageError("momenta: " + given.str() + ": " + name + " declares no unit, so a value in " + q.unit +
                        " cannot be converted; give it as a plain number");
     }
     double v;
     try {
-      v = ConvertValue(q.value, q.unit, p->unit);
+      v = ConvertValue(q.value, q.unit, unit);
     } catch (const UnitError& e) {
-      throw UsageError("momenta: " + given.str() + ": " + name + " is in " + p->unit + ": " + e.what());
+      throw UsageError("momenta: " + given.str() + ": " + name + " is in " + unit + ": " + e.what());
     }
     changed = changed || v != (*overrides)[name];
     (*overrides)[name] = v;
@@ -421,7 +423,7 @@ int RunCheck(const CheckArgs& args) {
     if (!model->discrete_equations.empty()) {
       o << "discrete equations, evaluated at events in this order:\n";
       for (const auto& [var, value] : model->discrete_equations) {
-        o << "  " << model->flat->variables[var.value()].name << " = " << ToString(*model->pool, value, names) << "\n";
+        o << "  " << model->flat->VariableName(var) << " = " << ToString(*model->pool, value, names) << "\n";
       }
     }
     for (const auto& w : model->whens) o << "when " << w.text << ": " << w.assigns.size() << " assignments, " << w.reinits.size() << " reinit\n";

@@ -25,8 +25,8 @@ ReportData ReportFromModel(const std::string& model_path, const LoadedModel& loa
   d.doc = loaded.doc;
   const std::vector<double>& values = loaded.state->parameter_values();
   for (size_t k = 0; k < model.flat->parameters.size() && k < values.size(); ++k) {
-    const FlatParameter& p = model.flat->parameters[k];
-    d.parameters.push_back({p.name, p.unit, p.doc, values[k]});
+    const ParamId p(static_cast<uint32_t>(k));
+    d.parameters.push_back({model.flat->ParameterName(p), model.flat->ParameterUnit(p), model.flat->ParameterDoc(p), values[k]});
   }
   const BuildReport& r = loaded.report;
   d.build.push_back({"components", Num(static_cast<long>(r.num_components))});

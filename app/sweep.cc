@@ -12,7 +12,6 @@
 #include <iostream>
 #include <memory>
 #include <mutex>
-#include <set>
 #include <sstream>
 #include <thread>
 
@@ -131,12 +130,11 @@ int Sweep::Prepare() {
 
 int Sweep::CheckSweptNames() const {
   const FlatSystem& flat = *model_->flat;
-  std::vector<std::string> all;
-  for (const auto& p : flat.parameters) all.push_back(p.name);
-  std::set<std::string> known(all.begin(), all.end());
   for (const auto& a : axes_) {
     if (!a.swept()) continue;
-    if (!known.count(a.name)) {
+    if (!flat.FindParameter(a.name)) {
+      std::vector<std::string> all;  // every name, for the suggestion only
+      for (uint32_t k = 0; k < flat.parameters.size(); ++k) all.push_back(flat.ParameterName(ParamId(k)));
       auto close = ClosestNames(a.name, all);
       std::cerr << "momenta: " << args_.model << ": -p " << a.name << ": no parameter of that name in "
                 << flat.model_name << (close.empty() ? "" : " (did you mean " + JoinNames(close) + "?)") << "\n";

@@ -160,7 +160,7 @@ std::shared_ptr<const CompiledModel> Build(const ModelSpec& spec, ModelSpec* rel
   if (output_names.empty()) {
     for (uint32_t v = 0; v < st.is_state.size(); ++v) {
       if (!st.is_state[v]) continue;
-      output_names.push_back(model->variables[v].name);
+      output_names.push_back(model->VariableName(VarId(v)));
       sys.outputs.push_back(p.Var(VarId(v)));
     }
   }
@@ -168,7 +168,7 @@ std::shared_ptr<const CompiledModel> Build(const ModelSpec& spec, ModelSpec* rel
   PruneStats pruned;
   sys = Prune(std::move(sys), &st, &pruned);
   for (uint32_t v = 0; v < sys.role.size(); ++v) {
-    if (sys.role[v] == VarRole::kPruned) report->pruned.push_back(model->variables[v].name);
+    if (sys.role[v] == VarRole::kPruned) report->pruned.push_back(model->VariableName(VarId(v)));
   }
   {
     std::ostringstream note;

@@ -234,7 +234,7 @@ std::shared_ptr<CompiledModel> CompileModel(EquationSystem sys, const Structure&
     m->residual_exprs.push_back(eq.residual);
     m->residual_origin.push_back(sys.Describe(eq));
     residual_source.push_back(eq.origin);
-    if (st.is_state[v]) report->states.push_back(flat.variables[v].name);
+    if (st.is_state[v]) report->states.push_back(flat.VariableName(VarId(v)));
   }
   const uint32_t n = static_cast<uint32_t>(m->unknowns.size());
   const uint32_t nd = static_cast<uint32_t>(m->discrete_vars.size());
@@ -293,8 +293,8 @@ std::shared_ptr<CompiledModel> CompileModel(EquationSystem sys, const Structure&
   for (uint32_t y : defaulted) {
     VarId v = m->unknowns[y];
     m->initial_exprs.push_back(p.Sub(p.Var(v), sys.guess[v.value()]));
-    m->initial_origin.push_back("start value of " + flat.variables[v.value()].name + " (not fixed; taken as initial condition)");
-    m->defaulted_starts.push_back(flat.variables[v.value()].name);
+    m->initial_origin.push_back("start value of " + flat.VariableName(v) + " (not fixed; taken as initial condition)");
+    m->defaulted_starts.push_back(flat.VariableName(v));
   }
   if (!m->defaulted_starts.empty()) {
     std::ostringstream w;
@@ -447,11 +447,11 @@ std::shared_ptr<CompiledModel> CompileModel(EquationSystem sys, const Structure&
     std::vector<ExprId> cond_values, statement_values;
     for (const auto& w : sys.whens) {
       CompiledModel::When cw;
-      cw.text = flat.whens[w.origin].text;
+      cw.text = flat.WhenText(flat.whens[w.origin]);
       cond_values.push_back(w.condition);
       for (const auto& [target, value] : w.assigns) {
         int32_t d = slots.disc_of_var[target.value()];
-        if (d < 0) throw ModelError(flat.whens[w.origin].loc, "when '" + cw.text + "' assigns " + flat.variables[target.value()].name + ", which is not a discrete variable");
+        if (d < 0) throw ModelError(flat.whens[w.origin].loc, "when '" + cw.text + "' assigns " + flat.VariableName(target) + ", which is not a discrete variable");
         cw.assigns.emplace_back(static_cast<uint32_t>(d), static_cast<uint32_t>(statement_values.size()));
         statement_values.push_back(value);
       }
@@ -460,12 +460,12 @@ std::shared_ptr<CompiledModel> CompileModel(EquationSystem sys, const Structure&
         ExprId rep = sys.eliminated->Apply(p.Var(target));
         AffineForm form;
         if (!DecomposeAffine(&p, rep, 1, &form) || form.terms.size() != 1 || p.op(form.terms[0].first) != Op::kVar) {
-          throw ModelError(flat.whens[w.origin].loc, "reinit(" + flat.variables[target.value()].name + ", …) in '" + cw.text + "': the variable is not a state");
+          throw ModelError(flat.whens[w.origin].loc, "reinit(" + flat.VariableName(target) + ", …) in '" + cw.text + "': the variable is not a state");
         }
         uint32_t u = p.node(form.terms[0].first).a;
         int32_t y = slots.y_of_var[u];
         if (y < 0 || !m->is_state[y]) {
-          throw ModelError(flat.whens[w.origin].loc, "reinit(" + flat.variables[target.value()].name + ", …) in '" + cw.text + "': the variable is not a state (der() of it appears nowhere)");
+          throw ModelError(flat.whens[w.origin].loc, "reinit(" + flat.VariableName(target) + ", …) in '" + cw.text + "': the variable is not a state (der() of it appears nowhere)");
         }
         cw.reinits.emplace_back(static_cast<uint32_t>(y), static_cast<uint32_t>(statement_values.size()));
         statement_values.push_back(p.Div(p.Sub(value, form.offset), p.Const(form.terms[0].second)));

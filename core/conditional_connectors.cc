@@ -30,7 +30,7 @@ size_t ResolveConditionalConnectors(EquationSystem* sys, const std::vector<doubl
   for (const FlatConditionalConnector& cc : flat.conditional_connectors) {
     if (params[cc.condition.value()] != 0) continue;
     const FlatInstance& inst = flat.instances[cc.instance.value()];
-    const std::string& cond = flat.parameters[cc.condition.value()].name;
+    const std::string cond = flat.ParameterName(cc.condition);
     if (cc.connected_at.known()) {
       throw ModelError(cc.connected_at, "cannot connect " + inst.path + "." + cc.name + ": " + inst.path + " (" +
                                             inst.type->name + ") has the connector " + cc.name + " only when " +
@@ -46,14 +46,14 @@ size_t ResolveConditionalConnectors(EquationSystem* sys, const std::vector<doubl
   }
   FlatSystem& f = sys->MutableFlat();
   for (const FlatConditionalConnector& cc : flat.conditional_connectors) {
-    f.structural[flat.parameters[cc.condition.value()].name] = params[cc.condition.value()];
+    f.structural[flat.ParameterName(cc.condition)] = params[cc.condition.value()];
   }
   if (gone.empty()) return 0;
   auto absent_text = [&](VarId v) {
     const FlatConditionalConnector& cc = *gone[by_var[v.value()]];
     const std::string& path = flat.instances[cc.instance.value()].path;
-    return flat.variables[v.value()].name + ", but " + path + " has no connector " + cc.name + " (" +
-           flat.parameters[cc.condition.value()].name + " is false)";
+    return flat.VariableName(v) + ", but " + path + " has no connector " + cc.name + " (" +
+           flat.ParameterName(cc.condition) + " is false)";
   };
 
   // Equations: the component's own that name the connector hold only with it; a model equation
@@ -68,7 +68,7 @@ size_t ResolveConditionalConnectors(EquationSystem* sys, const std::vector<doubl
       if (fe.instance.valid()) return false;
     }
     if (fe.origin == EquationOrigin::kUnconnectedFlow) return false;  // 0 = 0 once the flow is zero
-    throw ModelError(fe.loc, "the equation '" + fe.text + "' names " + absent_text(v));
+    throw ModelError(fe.loc, "the equation '" + f.EquationText(fe) + "' names " + absent_text(v));
   };
   for (auto* list : {&sys->equations, &sys->initial}) {
     std::vector<SystemEquation> kept;

@@ -16,9 +16,10 @@ void CheckNoDerivativeOfDiscrete(const EquationSystem& sys) {
   auto check = [&](const SystemEquation& eq, const FlatEquation& origin) {
     if (!(p.mask(eq.residual) & kHasDer)) return;
     for (ExprId leaf : CollectLeaves(p, eq.residual, kHasDer)) {
-      const FlatVariable& v = flat.variables[p.node(leaf).a];
-      if (!v.discrete) continue;
-      throw ModelError(origin.loc, "der(" + v.name + ") in " + sys.Describe(eq) + ": " + v.name +
+      const VarId v(p.node(leaf).a);
+      if (!flat.variables[v.value()].discrete) continue;
+      const std::string name = flat.VariableName(v);
+      throw ModelError(origin.loc, "der(" + name + ") in " + sys.Describe(eq) + ": " + name +
                                        " is a discrete variable (Integer, Boolean, or set by a "
                                        "when-clause), constant between events, so it has no "
                                        "derivative; der() applies to continuous Real variables");
@@ -107,7 +108,7 @@ EquationSystem PartitionDiscrete(EquationSystem sys, DiscreteStats* stats) {
     if (comp.size() > 1) {
       std::ostringstream msg;
       msg << flat.file << ": the discrete variables";
-      for (uint32_t c : comp) msg << " " << flat.variables[var_of_col[c]].name;
+      for (uint32_t c : comp) msg << " " << flat.VariableName(VarId(var_of_col[c]));
       msg << " depend on each other at the same event; break the loop with pre()";
       throw ModelError(msg.str());
     }

@@ -258,7 +258,7 @@ class LevelChoice {
     return chosen;
   }
 
-  std::string Name(const Candidate& c) const { return DerName(sys_.flat->variables[c.var].name, c.order); }
+  std::string Name(const Candidate& c) const { return DerName(sys_.flat->VariableName(VarId(c.var)), c.order); }
 
   /// One state among the candidates of a small block whose pivots depend on the motion.
   bool IsDynamic(const std::vector<uint32_t>& comp_rows, const std::vector<uint32_t>& comp_cols,
@@ -278,7 +278,7 @@ class LevelChoice {
     std::string s = "{";
     for (size_t k = 0; k < set.selectable.size(); ++k) {
       const Candidate& c = set.cands[set.selectable[k]];
-      s += (k ? ", " : "") + DerName(sys_.flat->variables[c.var].name, c.order - 1);
+      s += (k ? ", " : "") + DerName(sys_.flat->VariableName(VarId(c.var)), c.order - 1);
     }
     return s + "}";
   }
@@ -287,7 +287,7 @@ class LevelChoice {
     std::ostringstream s;
     const Candidate& start = set.cands[set.selectable[set.start_choice]];
     s << "dynamic: one of " << SelectableNames(set) << " is a state, chosen during the run by the largest pivot (at the start: "
-      << DerName(sys_.flat->variables[start.var].name, start.order - 1) << ")";
+      << DerName(sys_.flat->VariableName(VarId(start.var)), start.order - 1) << ")";
     return s.str();
   }
 
@@ -309,12 +309,13 @@ class LevelChoice {
     for (uint32_t c : chosen) {
       if (Priority(cands[c]) != kStateAlways || cands[c].order != 1) continue;
       const FlatVariable& v = sys_.flat->variables[cands[c].var];
+      const std::string name = sys_.flat->VariableName(VarId(cands[c].var));
       std::ostringstream msg;
-      msg << "stateSelect: always on " << v.name << " cannot be honoured: the other states determine "
-          << v.name << " through";
+      msg << "stateSelect: always on " << name << " cannot be honoured: the other states determine "
+          << name << " through";
       for (uint32_t r : comp_rows) msg << "\n    " << sys_.Describe(sys_.equations[rows[r]]);
-      msg << "\n  (index reduction must make " << DerName(v.name, 1) << " a dummy derivative). Use stateSelect: prefer on "
-          << v.name << ", or always on fewer variables.";
+      msg << "\n  (index reduction must make " << DerName(name, 1) << " a dummy derivative). Use stateSelect: prefer on "
+          << name << ", or always on fewer variables.";
       throw ModelError(v.loc, msg.str());
     }
   }
@@ -350,7 +351,7 @@ void AddMadeEquation(EquationSystem* sys, ExprId residual, InstanceId instance, 
   fe.residual = residual;
   fe.origin = EquationOrigin::kModel;
   fe.instance = instance;
-  fe.text = text;
+  fe.text = sys->MutableFlat().Own(text);
   fe.loc = loc;
   sys->AddEquation(std::move(fe));
 }
@@ -425,7 +426,7 @@ void AddStateSet(EquationSystem* sys, const DynamicSet& set, size_t number) {
   }
   // The selection (Integer, 1-based) and the state.
   FlatVariable sel_var;
-  sel_var.name = prefix + ".select";
+  sel_var.name = sys->MutableFlat().Own(prefix + ".select");
   sel_var.type = ValueType::kInteger;
   sel_var.discrete = true;
   sel_var.start = p.Const(static_cast<double>(set.start_choice + 1));
@@ -433,7 +434,7 @@ void AddStateSet(EquationSystem* sys, const DynamicSet& set, size_t number) {
   sel_var.loc = loc;
   VarId sel = sys->AddVariable(std::move(sel_var), p.Const(static_cast<double>(set.start_choice + 1)));
   FlatVariable state_var;
-  state_var.name = prefix + ".x";
+  state_var.name = sys->MutableFlat().Own(prefix + ".x");
   state_var.nominal = first.nominal;
   state_var.instance = instance;
   state_var.loc = loc;
@@ -441,7 +442,7 @@ void AddStateSet(EquationSystem* sys, const DynamicSet& set, size_t number) {
   std::string candidates;
   for (size_t k = 0; k < n; ++k) {
     const Candidate& c = set.cands[set.selectable[k]];
-    candidates += (k ? ", " : "") + DerName(sys->flat->variables[c.var].name, c.order - 1);
+    candidates += (k ? ", " : "") + DerName(sys->flat->VariableName(VarId(c.var)), c.order - 1);
   }
   auto equation = [&](ExprId residual, const std::string& text) { AddMadeEquation(sys, residual, instance, text, loc); };
   ExprId sel_now = p.Var(sel);
@@ -463,9 +464,9 @@ void AddStateSet(EquationSystem* sys, const DynamicSet& set, size_t number) {
   w.assigns.push_back({sel, argmax});
   w.reinits.push_back({state, Choice(&p, argmax, lower)});
   w.instance = instance;
-  w.text = "the pivot of " + prefix + "'s choice among " + candidates + " falls below half the best";
-  w.loc = loc;
   FlatSystem& flat = sys->MutableFlat();
+  w.text = flat.Own("the pivot of " + prefix + "'s choice among " + candidates + " falls below half the best");
+  w.loc = loc;
   flat.whens.push_back(w);
   sys->whens.push_back({w.condition, w.assigns, w.reinits, static_cast<uint32_t>(flat.whens.size() - 1)});
 }
@@ -522,9 +523,10 @@ StateSelection SelectDummyDerivatives(EquationSystem* sys, const DifferentiatedS
     const uint32_t top = d.max_order[v];
     if (top == 0) continue;
     const FlatVariable base = sys->flat->variables[v];
+    const std::string base_name = sys->flat->VariableName(VarId(v));
     auto make = [&](uint32_t order) {
       FlatVariable fv;
-      fv.name = DerName(base.name, order);
+      fv.name = sys->MutableFlat().Own(DerName(base_name, order));
       fv.nominal = base.nominal;
       fv.instance = base.instance;
       fv.loc = base.loc;
@@ -536,7 +538,7 @@ StateSelection SelectDummyDerivatives(EquationSystem* sys, const DifferentiatedS
     for (uint32_t k = first_dummy; k <= top; ++k) {
       VarId w = make(k);
       s.Set(p.Der(VarId(v), k), p.Var(w));
-      out.dummy_derivatives.push_back(DerName(base.name, k));
+      out.dummy_derivatives.push_back(DerName(base_name, k));
     }
     const uint32_t highest_kept = first_dummy - 1;
     if (highest_kept >= 2) {
@@ -545,7 +547,7 @@ StateSelection SelectDummyDerivatives(EquationSystem* sys, const DifferentiatedS
         VarId w = make(j);
         s.Set(p.Der(VarId(v), j), p.Var(w));
         links.push_back({p.Der(prev), p.Var(w)});
-        out.new_states.push_back(DerName(base.name, j));
+        out.new_states.push_back(DerName(base_name, j));
         prev = w;
       }
       s.Set(p.Der(VarId(v), highest_kept), p.Der(prev));
@@ -555,9 +557,10 @@ StateSelection SelectDummyDerivatives(EquationSystem* sys, const DifferentiatedS
   if (s.size() == 0) return out;
   sys->ApplySubstitution(&s);
   for (auto [der_prev, w] : links) {
-    const FlatVariable wv = sys->flat->variables[p.node(w).a];
+    const VarId wid(p.node(w).a);
+    const FlatVariable wv = sys->flat->variables[wid.value()];
     AddMadeEquation(sys, p.Sub(der_prev, w), wv.instance,
-                    wv.name + " = " + DerName(sys->flat->variables[wv.derivative_of.value()].name, wv.derivative_order),
+                    sys->flat->VariableName(wid) + " = " + DerName(sys->flat->VariableName(wv.derivative_of), wv.derivative_order),
                     wv.loc);
   }
   return out;

@@ -56,7 +56,7 @@ std::string EquationSystem::Describe(const SystemEquation& eq) const {
       return "initial equation " + flat->DescribeEquation(flat->initial_equations[eq.origin]);
     case SystemEquation::Kind::kFixedStart: {
       const FlatVariable& v = flat->variables[eq.origin];
-      return "fixed start value of " + v.name + " (" + v.loc.ToString() + ")";
+      return "fixed start value of " + flat->VariableName(VarId(eq.origin)) + " (" + v.loc.ToString() + ")";
     }
   }
   return "";

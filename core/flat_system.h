@@ -20,8 +20,37 @@ namespace momenta {
 /// StateSelect; avoid is -1).
 constexpr int kStateNever = -2, kStateDefault = 0, kStatePrefer = 1, kStateAlways = 2;
 
+/// A name, unit, doc or text of the flat system, made when it is needed (a message, `check -v`,
+/// an output column) rather than held by each record: a model of 100 000 components would
+/// otherwise carry a million strings (docs/ARRAY-BUILD.md, step 1). FlatSystem makes the string
+/// (VariableName, EquationText, ...).
+struct TextRef {
+  enum Kind : uint8_t {
+    kNone,         ///< ""
+    kOwned,        ///< FlatSystem::texts[a]: what no type gives (the model's own names, what passes add)
+    kType,         ///< entry b of the names of instance a's type (TypeNames), after the instance's path
+    kEqual,        ///< "<variable a> = <variable b> (connection)"
+    kUnconnected,  ///< "<variable a> = 0 (unconnected)"
+    /// "sum of <flow> over {<connectors>} = 0 (connection)", of the b flow variables from
+    /// FlatSystem::connection_vars[a]
+    kFlowSum,
+  };
+  Kind kind = kNone;
+  uint32_t a = 0, b = 0;
+};
+
+/// The local names of one component type's variables and parameters ("flange_a.s", "mass.m"),
+/// their units and docs, and the texts of its equations and when-clauses: held once per type
+/// for all its instances.
+struct TypeNames {
+  std::vector<std::string> vars, var_units;
+  std::vector<std::string> params, param_units, param_docs;
+  std::vector<std::string> equations;  ///< as written; '\x01' stands for the instance's path and a dot
+  std::vector<std::string> whens;      ///< as written
+};
+
 struct FlatVariable {
-  std::string name;  ///< full path, e.g. "A.flange_a.s"
+  TextRef name;      ///< full path, e.g. "A.flange_a.s" (FlatSystem::VariableName)
   ValueType type = ValueType::kReal;
   ExprId start;      ///< parameter-only start value (invalid: 0)
   bool fixed = false;
@@ -34,7 +63,7 @@ struct FlatVariable {
   bool discrete = false;
   InstanceId instance;    ///< owner; invalid for the model's own variables
   SourceLoc loc;          ///< where start/fixed were given, else where declared
-  std::string unit;
+  TextRef unit;
   /// For a variable that index reduction made for a derivative (a dummy derivative, or a state of
   /// the first-order form of der(der(x))): it stands for der^derivative_order(derivative_of).
   VarId derivative_of;
@@ -42,11 +71,11 @@ struct FlatVariable {
 };
 
 struct FlatParameter {
-  std::string name;  ///< "mA" for a model parameter, "A.m" for a component's
+  TextRef name;      ///< "mA" for a model parameter, "A.m" for a component's (FlatSystem::ParameterName)
   ExprId binding;    ///< an expression of other parameters and constants
   ValueType type = ValueType::kReal;
   std::optional<double> min, max;
-  std::string unit, doc;
+  TextRef unit, doc;
   SourceLoc loc;       ///< where its value was set
   InstanceId instance; ///< invalid for model parameters
 };
@@ -57,7 +86,7 @@ struct FlatEquation {
   ExprId residual;  ///< lhs - rhs
   EquationOrigin origin = EquationOrigin::kComponent;
   InstanceId instance;  ///< the component whose equation it is (kComponent)
-  std::string text;     ///< the equation as written, or a description
+  TextRef text;         ///< the equation as written, or a description (FlatSystem::EquationText)
   SourceLoc loc;
   /// Index reduction: the flat equation this one is the time derivative of (-1: as written).
   int32_t differentiated_from = -1;
@@ -68,6 +97,9 @@ struct FlatInstance {
   std::string path;  ///< "A", "R[3]"
   const ComponentType* type = nullptr;
   SourceLoc loc;     ///< the component entry in the model file
+  /// Its type's names (FlatSystem::type_names), for a component of the model; a composite's
+  /// parts are named through the component that holds them (-1).
+  int32_t names = -1;
 };
 
 /// A when-clause: at the event where `condition` becomes true, `assigns` set discrete variables and
@@ -76,7 +108,7 @@ struct FlatWhen {
   ExprId condition;
   std::vector<std::pair<VarId, ExprId>> assigns, reinits;
   InstanceId instance;
-  std::string text;
+  TextRef text;  ///< FlatSystem::WhenText
   SourceLoc loc;
 };
 
@@ -142,6 +174,23 @@ struct FlatSystem {
   ExperimentSpec experiment;
   std::shared_ptr<const Library> defines;  ///< the model's own types (instances point into them)
   std::map<std::string, double> structural;  ///< parameters that shaped the structure, and their values
+  /// The names of each component type instantiated, shared by the copies passes make.
+  std::vector<std::shared_ptr<const TypeNames>> type_names;
+  std::vector<std::string> texts;          ///< TextRef::kOwned
+  std::vector<VarId> connection_vars;      ///< TextRef::kFlowSum
+
+  /// Holds `text` and returns its reference (an empty text needs none).
+  TextRef Own(std::string text);
+  std::string VariableName(VarId v) const;
+  const std::string& VariableUnit(VarId v) const;
+  std::string ParameterName(ParamId p) const;
+  const std::string& ParameterUnit(ParamId p) const;
+  const std::string& ParameterDoc(ParamId p) const;
+  std::string EquationText(const FlatEquation& eq) const;
+  std::string WhenText(const FlatWhen& w) const;
+  /// The parameter of that full name, compared in place with every parameter's (no map of every
+  /// name is held); nullopt when there is none.
+  std::optional<ParamId> FindParameter(const std::string& name) const;
 
   ExprNamer Namer() const;
   /// "component A (Mass) at model.yaml:12:3, equation 'm*a = flange_a.f + flange_b.f'".

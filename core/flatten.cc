@@ -277,12 +277,12 @@ class Flattener {
     for (const auto& p : spec_.parameters) {
       if (model_param_.count(p.name)) throw ModelError(p.loc, "parameter " + p.name + " is declared twice");
       FlatParameter fp;
-      fp.name = p.name;
+      fp.name = flat_.Own(p.name);
       fp.type = p.type;
       fp.min = p.min;
       fp.max = p.max;
-      fp.unit = p.unit;
-      fp.doc = p.doc;
+      fp.unit = flat_.Own(p.unit);
+      fp.doc = flat_.Own(p.doc);
       fp.loc = p.loc;
       model_param_[p.name] = ParamId(flat_.parameters.size());
       flat_.parameters.push_back(fp);
@@ -309,7 +309,7 @@ class Flattener {
       if (id >= spec_.parameters.size()) {
         throw ModelError(loc, "'" + text + "' shapes the model's structure, so it may use model parameters only");
       }
-      structural_[flat_.parameters[id].name] = model_values_[id];
+      structural_[flat_.ParameterName(ParamId(id))] = model_values_[id];
     }
     LeafValues lv;
     lv.params = model_values_.data();
@@ -330,7 +330,7 @@ class Flattener {
       stack.pop_back();
       if (param_state_[q] == 2) continue;
       const FlatParameter& p = flat_.parameters[q];
-      auto ov = overrides_.find(p.name);
+      auto ov = overrides_.find(flat_.ParameterName(ParamId(q)));
       if (ov != overrides_.end()) {
         param_value_[q] = ov->second;
         param_state_[q] = 2;
@@ -338,12 +338,17 @@ class Flattener {
       }
       std::vector<ExprId> deps = CollectLeaves(pool(), p.binding, kHasParam);
       if (!expanded) {
-        if (param_state_[q] == 1) throw ModelError(p.loc, "the parameters' bindings form a cycle through " + p.name);
+        if (param_state_[q] == 1) {
+          throw ModelError(p.loc, "the parameters' bindings form a cycle through " + flat_.ParameterName(ParamId(q)));
+        }
         param_state_[q] = 1;
         stack.push_back({q, true});
         for (ExprId pe : deps) {
           uint32_t d = pool().node(pe).a;
-          if (param_state_[d] == 1) throw ModelError(flat_.parameters[d].loc, "the parameters' bindings form a cycle through " + flat_.parameters[d].name);
+          if (param_state_[d] == 1) {
+            throw ModelError(flat_.parameters[d].loc,
+                             "the parameters' bindings form a cycle through " + flat_.ParameterName(ParamId(d)));
+          }
           if (param_state_[d] == 0) stack.push_back({d, false});
         }
         continue;
@@ -1680,16 +1685,18 @@ class Flattener {
     if (p.IsConst(e)) {
       v = p.ConstValue(e);
     } else if (p.op(e) == Op::kParam) {
-      const FlatParameter& fp = flat_.parameters[p.node(e).a];
-      auto ov = overrides_.find(fp.name);
+      const ParamId id(p.node(e).a);
+      const FlatParameter& fp = flat_.parameters[id.value()];
+      const std::string name = flat_.ParameterName(id);
+      auto ov = overrides_.find(name);
       if (ov != overrides_.end()) {
         v = ov->second;
       } else if (p.IsConst(fp.binding)) {
         v = p.ConstValue(fp.binding);
       } else {
-        throw ModelError(fp.loc, fp.name + " sets the " + what + " of a table, which shapes the equations: give it a number");
+        throw ModelError(fp.loc, name + " sets the " + what + " of a table, which shapes the equations: give it a number");
       }
-      structural_[fp.name] = v;
+      structural_[name] = v;
     } else {
       throw ModelError(loc, "the " + what + " of a table must be a number or a parameter");
     }
@@ -1732,7 +1739,7 @@ class Flattener {
   /// when it is an expression).
   double BuildValue(ParamId id) {
     const FlatParameter& fp = flat_.parameters[id.value()];
-    auto ov = overrides_.find(fp.name);
+    auto ov = overrides_.find(flat_.ParameterName(id));
     if (ov != overrides_.end()) return ov->second;
     return pool().IsConst(fp.binding) ? pool().ConstValue(fp.binding) : std::nan("");
   }
@@ -1746,13 +1753,13 @@ class Flattener {
         throw ModelError(v.loc, v.name + " is declared twice");
       }
       FlatVariable fv;
-      fv.name = v.name;
+      fv.name = flat_.Own(v.name);
       fv.type = v.type;
       fv.fixed = v.fixed;
       fv.nominal = v.nominal;
       fv.state_priority = v.state_priority;
       fv.loc = v.loc;
-      fv.unit = v.unit;
+      fv.unit = flat_.Own(v.unit);
       fv.start = v.start ? ModelExpr(*v.start, AstToString(*v.start), v.loc, nullptr, false) : ExprId();
       fv.discrete = v.type != ValueType::kReal;
       model_var_[v.name] = VarId(flat_.variables.size());
@@ -1861,13 +1868,36 @@ class Flattener {
     return static_cast<uint32_t>(n);
   }
 
+  /// The names of L's variables, parameters, equations and when-clauses (FlatSystem::type_names),
+  /// made once: every instance's are made from them on demand.
+  int32_t NamesOf(const TypeLayout& L) {
+    auto [at, added] = names_of_.emplace(&L, static_cast<int32_t>(flat_.type_names.size()));
+    if (!added) return at->second;
+    auto n = std::make_shared<TypeNames>();
+    for (const LocalVar& v : L.vars) {
+      n->vars.push_back(v.name);
+      n->var_units.push_back(v.unit);
+    }
+    for (const LocalParam& p : L.params) {
+      n->params.push_back(p.name);
+      n->param_units.push_back(p.decl->unit);
+      n->param_docs.push_back(p.decl->doc);
+    }
+    for (const auto* infos : {&L.equation_info, &L.initial_info}) {  // the equations, then the initial ones
+      for (const PartInfo& info : *infos) n->equations.push_back(info.text);
+    }
+    for (const PartInfo& info : L.when_info) n->whens.push_back(info.text);
+    flat_.type_names.push_back(std::move(n));
+    return at->second;
+  }
+
   void AddInstance(const ComponentSpec& c, const TypeLayout& L, const std::string& path,
                    const std::vector<const Modifier*>& param_mod,
                    const std::vector<const Modifier*>& var_mod,
                    const std::pair<std::string, double>* index) {
     const ComponentType* type = L.type;
     InstanceId inst(flat_.instances.size());
-    flat_.instances.push_back({path, type, c.loc});
+    flat_.instances.push_back({path, type, c.loc, NamesOf(L)});
     InstanceData data{&L, VarId(flat_.variables.size()), ParamId(flat_.parameters.size()),
                       static_cast<uint32_t>(slot_instance_.size())};
     instance_data_.push_back(data);
@@ -1911,12 +1941,13 @@ class Flattener {
       const LocalParam& lp = L.params[k];
       const ParameterDecl& d = *lp.decl;
       FlatParameter fp;
-      fp.name = path + "." + lp.name;
+      const TextRef local{TextRef::kType, inst.value(), static_cast<uint32_t>(k)};
+      fp.name = local;
       fp.type = d.type;
       fp.min = d.min;
       fp.max = d.max;
-      fp.unit = d.unit;
-      fp.doc = d.doc;
+      if (!d.unit.empty()) fp.unit = local;
+      if (!d.doc.empty()) fp.doc = local;
       fp.instance = instance_of(lp.sub);
       if (const Modifier* m = param_mod[k]) {
         fp.binding = ModelExpr(*ModifierValue(*m, d, path), m->value_text, m->loc, index, false);
@@ -1932,12 +1963,12 @@ class Flattener {
     for (size_t k = 0; k < L.vars.size(); ++k) {
       const LocalVar& lv = L.vars[k];
       FlatVariable fv;
-      fv.name = path + "." + lv.name;
+      fv.name = {TextRef::kType, inst.value(), static_cast<uint32_t>(k)};
       fv.type = lv.type;
       fv.is_flow = lv.is_flow;
       fv.is_input = lv.is_input;
       fv.instance = instance_of(lv.sub);
-      fv.unit = lv.unit;
+      if (!lv.unit.empty()) fv.unit = fv.name;
       fv.loc = lv.loc.known() ? lv.loc : loc_of(lv.sub);
       if (lv.decl) {
         fv.fixed = lv.decl->fixed;
@@ -1960,19 +1991,19 @@ class Flattener {
     }
     // Equations.
     auto add_equations = [&](const std::vector<Template>& templates, const std::vector<PartInfo>& info,
-                             std::vector<FlatEquation>* out) {
+                             uint32_t first_text, std::vector<FlatEquation>* out) {
       for (size_t k = 0; k < templates.size(); ++k) {
         const PartInfo& d = info[k];
         FlatEquation eq;
         eq.residual = Instantiate(templates[k], data.first_var, data.first_param, path, d.text, c.loc);
         eq.origin = d.origin;
         eq.instance = d.origin == EquationOrigin::kConnection ? InstanceId() : instance_of(d.sub);
-        eq.text = WithPath(d.text, path);
+        eq.text = {TextRef::kType, inst.value(), first_text + static_cast<uint32_t>(k)};
         eq.loc = d.loc;
         out->push_back(std::move(eq));
       }
     };
-    add_equations(L.equations, L.equation_info, &flat_.equations);
+    add_equations(L.equations, L.equation_info, 0, &flat_.equations);
     // When-clauses and impacts.
     auto inst_expr = [&](const Template& t, const std::string& text) {
       return Instantiate(t, data.first_var, data.first_param, path, text, c.loc);
@@ -1986,7 +2017,7 @@ class Flattener {
       for (const auto& [target, value] : wt.assigns) w.assigns.emplace_back(var_of(target), inst_expr(value, ""));
       for (const auto& [target, value] : wt.reinits) w.reinits.emplace_back(var_of(target), inst_expr(value, ""));
       w.instance = instance_of(info.sub);
-      w.text = info.text;
+      w.text = {TextRef::kType, inst.value(), static_cast<uint32_t>(k)};
       w.loc = info.loc;
       flat_.whens.push_back(std::move(w));
     }
@@ -2013,13 +2044,14 @@ class Flattener {
       eq.residual = p.If(p.Var(im.contact), dvel, p.Var(im.force));
       eq.origin = EquationOrigin::kComponent;
       eq.instance = im.instance;
-      eq.text = "0 = if " + d.contact + " then der(" + d.velocity_text + ") else " + d.force + " (impact)";
+      eq.text = flat_.Own("0 = if " + d.contact + " then der(" + d.velocity_text + ") else " + d.force + " (impact)");
       eq.loc = d.loc;
       im.mode_equation = static_cast<uint32_t>(flat_.equations.size());
       flat_.equations.push_back(std::move(eq));
       flat_.impacts.push_back(std::move(im));
     }
-    add_equations(L.initial_equations, L.initial_info, &flat_.initial_equations);
+    add_equations(L.initial_equations, L.initial_info, static_cast<uint32_t>(L.equations.size()),
+                  &flat_.initial_equations);
   }
 
   /// An instance's tables: each element a parameter `path.table[i,j]`, row by row, from the
@@ -2036,11 +2068,12 @@ class Flattener {
       if (m) given = TableElements(m->value, d, m->loc, path + "." + d.name, &table.rows, &table.cols);
       const Shape shape = d.shape.size() == 1 ? Shape{static_cast<int>(table.rows)}
                                               : Shape{static_cast<int>(table.rows), static_cast<int>(table.cols)};
+      const TextRef unit = flat_.Own(d.unit), doc = flat_.Own(d.doc);  // one for all elements
       for (size_t e = 0; e < static_cast<size_t>(table.rows) * table.cols; ++e) {
         FlatParameter fp;
-        fp.name = path + "." + ElementName(d.name, shape, e);
-        fp.unit = d.unit;
-        fp.doc = d.doc;
+        fp.name = flat_.Own(path + "." + ElementName(d.name, shape, e));
+        fp.unit = unit;
+        fp.doc = doc;
         fp.min = d.min;  // every element: a table of friction forces has min: 0
         fp.max = d.max;
         fp.instance = inst;
@@ -2056,22 +2089,6 @@ class Flattener {
       flat_.tables.push_back({path + "." + d.name, table.first, table.rows, table.cols, inst, m ? m->loc : c.loc, {}});
       instance_tables_.push_back(table);
     }
-  }
-
-  /// A layout's equation text with its placeholders ('\x01': a connector relative to the
-  /// instance) replaced by the instance's path.
-  static std::string WithPath(const std::string& text, const std::string& path) {
-    if (text.find('\x01') == std::string::npos) return text;
-    std::string r;
-    for (char ch : text) {
-      if (ch == '\x01') {
-        r += path;
-        r += '.';
-      } else {
-        r += ch;
-      }
-    }
-    return r;
   }
 
   // -------------------------------------------------------------------------------------------
@@ -2209,14 +2226,17 @@ class Flattener {
           eq.residual = p.Var(f);
           eq.origin = EquationOrigin::kUnconnectedFlow;
           eq.instance = InstanceId(slot_instance_[s0]);
-          eq.text = name_of(s0) + "." + c0.type->flows[k].name + " = 0 (unconnected)";
+          eq.text = {TextRef::kUnconnected, f.value(), 0};  // "<connector>.<flow> = 0 (unconnected)"
           eq.loc = flat_.instances[slot_instance_[s0]].loc;
           flat_.equations.push_back(std::move(eq));
         }
         continue;
       }
-      std::string members;
-      for (uint32_t s : set) members += (members.empty() ? "" : ", ") + name_of(s);
+      auto members = [&] {
+        std::string list;
+        for (uint32_t s : set) list += (list.empty() ? "" : ", ") + name_of(s);
+        return list;
+      };
       SourceLoc loc;
       for (uint32_t s : set) {
         if (slot_loc[s].known()) {
@@ -2224,7 +2244,7 @@ class Flattener {
           break;
         }
       }
-      auto add = [&](ExprId residual, const std::string& text) {
+      auto add = [&](ExprId residual, TextRef text) {
         FlatEquation eq;
         eq.residual = residual;
         eq.origin = EquationOrigin::kConnection;
@@ -2232,6 +2252,8 @@ class Flattener {
         eq.loc = loc;
         flat_.equations.push_back(std::move(eq));
       };
+      // "<a> = <b> (connection)": the connectors' variables are named <connector>.<potential>.
+      auto equal = [&](VarId a, VarId b) { add(p.Sub(p.Var(a), p.Var(b)), {TextRef::kEqual, a.value(), b.value()}); };
       if (c0.type->is_signal) {
         // Exactly one output drives the set; every input equals it.
         std::vector<uint32_t> outputs;
@@ -2240,7 +2262,7 @@ class Flattener {
           if (!d.layout->connectors[s - d.first_slot].type->is_input) outputs.push_back(s);
         }
         if (outputs.empty()) {
-          throw ModelError(loc, "the signals " + members + " are joined but no output drives them; connect an output (e.g. a Constant block's y)");
+          throw ModelError(loc, "the signals " + members() + " are joined but no output drives them; connect an output (e.g. a Constant block's y)");
         }
         if (outputs.size() > 1) {
           throw ModelError(loc, "the outputs " + name_of(outputs[0]) + " and " + name_of(outputs[1]) +
@@ -2249,23 +2271,24 @@ class Flattener {
         for (uint32_t s : set) {
           if (s == outputs[0]) continue;
           CheckConnectedUnits(var_of(s, 0), name_of(s), var_of(outputs[0], 0), name_of(outputs[0]), loc);
-          add(p.Sub(p.Var(var_of(s, 0)), p.Var(var_of(outputs[0], 0))),
-              name_of(s) + " = " + name_of(outputs[0]) + " (connection)");
+          equal(var_of(s, 0), var_of(outputs[0], 0));
         }
         continue;
       }
       for (size_t k = 0; k < c0.type->potentials.size(); ++k) {
         for (size_t j = 1; j < set.size(); ++j) {
-          add(p.Sub(p.Var(var_of(set[j], static_cast<uint32_t>(k))), p.Var(var_of(s0, static_cast<uint32_t>(k)))),
-              name_of(set[j]) + "." + c0.type->potentials[k].name + " = " + name_of(s0) + "." +
-                  c0.type->potentials[k].name + " (connection)");
+          equal(var_of(set[j], static_cast<uint32_t>(k)), var_of(s0, static_cast<uint32_t>(k)));
         }
       }
       for (size_t k = 0; k < c0.type->flows.size(); ++k) {
         uint32_t local = static_cast<uint32_t>(c0.type->potentials.size() + k);
         ExprId sum = p.Var(var_of(s0, local));
         for (size_t j = 1; j < set.size(); ++j) sum = p.Add(sum, p.Var(var_of(set[j], local)));
-        add(sum, "sum of " + c0.type->flows[k].name + " over {" + members + "} = 0 (connection)");
+        // "sum of <flow> over {<connectors>} = 0 (connection)", named from the flow variables.
+        const TextRef text{TextRef::kFlowSum, static_cast<uint32_t>(flat_.connection_vars.size()),
+                           static_cast<uint32_t>(set.size())};
+        for (uint32_t s : set) flat_.connection_vars.push_back(var_of(s, local));
+        add(sum, text);
       }
     }
   }
@@ -2274,8 +2297,8 @@ class Flattener {
   /// the cost per connection is small).
   void CheckConnectedUnits(VarId a, const std::string& a_name, VarId b, const std::string& b_name,
                            const SourceLoc& loc) {
-    const std::string& ua = flat_.variables[a.value()].unit;
-    const std::string& ub = flat_.variables[b.value()].unit;
+    const std::string& ua = flat_.VariableUnit(a);
+    const std::string& ub = flat_.VariableUnit(b);
     if (ua.empty() || ub.empty() || ua == ub) return;
     std::optional<Dimension> da = ModelUnits().DimensionOf(ua), db = ModelUnits().DimensionOf(ub);
     if (da && db && *da != *db) {
@@ -2294,7 +2317,7 @@ class Flattener {
       ExprId r = ModelExpr(*d.ast.rhs, d.text, d.loc, nullptr, true);
       eq.residual = pool().Sub(l, r);
       eq.origin = origin;
-      eq.text = d.text;
+      eq.text = flat_.Own(d.text);
       eq.loc = d.loc;
       out->push_back(std::move(eq));
     };
@@ -2317,7 +2340,7 @@ class Flattener {
           flat_.variables[v.value()].discrete = true;
         }
       }
-      fw.text = w.text;
+      fw.text = flat_.Own(w.text);
       fw.loc = w.loc;
       flat_.whens.push_back(std::move(fw));
       ModelUnits().CheckExpression(*w.condition, w.text, w.loc);
@@ -2332,8 +2355,8 @@ class Flattener {
       model_units_.emplace("model " + spec_.name, [this](const std::string& path) -> std::string {
         try {
           ExprId e = ModelExpr(*ParseName(path, SourceLoc()), path, SourceLoc(), nullptr, true);
-          if (pool().op(e) == Op::kVar) return flat_.variables[pool().node(e).a].unit;
-          if (pool().op(e) == Op::kParam) return flat_.parameters[pool().node(e).a].unit;
+          if (pool().op(e) == Op::kVar) return flat_.VariableUnit(VarId(pool().node(e).a));
+          if (pool().op(e) == Op::kParam) return flat_.ParameterUnit(ParamId(pool().node(e).a));
         } catch (const ModelError&) {
           // time, pi, a loop index: not a variable or parameter.
         }
@@ -2373,7 +2396,7 @@ class Flattener {
         uint32_t q = pool().node(deps.back()).a;
         deps.pop_back();
         if (state[q] == 1) {
-          throw ModelError(flat_.parameters[q].loc, "the parameters' bindings form a cycle through " + flat_.parameters[q].name);
+          throw ModelError(flat_.parameters[q].loc, "the parameters' bindings form a cycle through " + flat_.ParameterName(ParamId(q)));
         }
         if (state[q] == 0) {
           state[q] = 1;
@@ -2386,14 +2409,12 @@ class Flattener {
   /// Every -p name must be a parameter: a usage error (exit 2) naming it, with the closest names,
   /// and for an element of a component array the indices it has.
   void CheckOverrides() {
-    std::unordered_map<std::string, size_t> names;
-    for (size_t k = 0; k < flat_.parameters.size(); ++k) names[flat_.parameters[k].name] = k;
     for (const auto& [name, value] : overrides_) {
-      if (names.count(name)) continue;
+      if (flat_.FindParameter(name)) continue;
       std::vector<std::string> model_names;
       for (const auto& p : spec_.parameters) model_names.push_back(p.name);
       std::vector<std::string> all;
-      for (const auto& p : flat_.parameters) all.push_back(p.name);
+      for (uint32_t k = 0; k < flat_.parameters.size(); ++k) all.push_back(flat_.ParameterName(ParamId(k)));
       auto close = ClosestNames(name, all);
       std::string range;
       if (size_t open = name.find('['); open != std::string::npos && open > 0) {
@@ -2422,6 +2443,7 @@ class Flattener {
   double planned_bytes_ = 0;                ///< estimated memory of the components so far
   std::optional<MemoryBudget> budget_;      ///< read when the first count is checked
   std::unordered_map<const ComponentType*, std::unique_ptr<TypeLayout>> layouts_;
+  std::unordered_map<const TypeLayout*, int32_t> names_of_;  ///< index in flat_.type_names
   std::vector<InstanceData> instance_data_;
   std::vector<uint32_t> slot_instance_;  ///< connector slot -> instance
   std::vector<uint32_t> parent_;         ///< union-find over connector slots
@@ -2480,12 +2502,10 @@ std::vector<double> EvaluateParameters(const FlatSystem& flat, const ParameterOv
   std::vector<double> values(flat.parameters.size(), 0.0);
   std::vector<const double*> override_of(flat.parameters.size(), nullptr);
   if (!overrides.empty()) {
-    std::unordered_map<std::string, size_t> names;
-    for (size_t k = 0; k < flat.parameters.size(); ++k) names[flat.parameters[k].name] = k;
     for (const auto& [name, value] : overrides) {
-      auto it = names.find(name);
-      if (it == names.end()) throw ModelError(flat.file + ": -p " + name + ": no parameter of that name");
-      override_of[it->second] = &value;
+      std::optional<ParamId> id = flat.FindParameter(name);
+      if (!id) throw ModelError(flat.file + ": -p " + name + ": no parameter of that name");
+      override_of[id->value()] = &value;
     }
   }
   // A parameter that shaped the structure (count:, indices) keeps the value it was built with.
@@ -2506,61 +2526,33 @@ std::vector<double> EvaluateParameters(const FlatSystem& flat, const ParameterOv
     double v = override_of[id.value()] ? *override_of[id.value()]
                : pool.IsConst(p.binding) ? pool.ConstValue(p.binding)
                                          : Evaluate(pool, p.binding, lv);
-    std::string where = override_of[id.value()] ? flat.file + ": -p " + p.name : "";
+    // The messages below name it; the names are made only for them.
+    auto where = [&] { return override_of[id.value()] ? flat.file + ": -p " + flat.ParameterName(id) : ""; };
     auto fail = [&](const std::string& msg) {
-      if (!where.empty()) throw ModelError(where + ": " + msg);
+      if (!where().empty()) throw ModelError(where() + ": " + msg);
       throw ModelError(p.loc, msg);
     };
-    std::string what = p.name;
-    if (p.instance.valid()) {
+    auto what = [&] {
+      const std::string name = flat.ParameterName(id);
+      if (!p.instance.valid()) return name;
       const FlatInstance& inst = flat.instances[p.instance.value()];
-      what += " (" + inst.type->name + "." + p.name.substr(inst.path.size() + 1) +
-              (p.doc.empty() ? "" : ": " + p.doc) + (p.unit.empty() ? "" : " [" + p.unit + "]") + ")";
-    }
-    if (!std::isfinite(v)) fail(what + " is " + std::to_string(v) + "; a parameter must be a finite number");
+      const std::string& doc = flat.ParameterDoc(id);
+      const std::string& unit = flat.ParameterUnit(id);
+      return name + " (" + inst.type->name + "." + name.substr(inst.path.size() + 1) + (doc.empty() ? "" : ": " + doc) +
+             (unit.empty() ? "" : " [" + unit + "]") + ")";
+    };
+    if (!std::isfinite(v)) fail(what() + " is " + std::to_string(v) + "; a parameter must be a finite number");
     auto num = [](double x) {
       std::ostringstream s;
       s << x;
       return s.str();
     };
-    if (p.min && v < *p.min) fail(what + " = " + num(v) + " is below its minimum " + num(*p.min));
-    if (p.max && v > *p.max) fail(what + " = " + num(v) + " is above its maximum " + num(*p.max));
+    if (p.min && v < *p.min) fail(what() + " = " + num(v) + " is below its minimum " + num(*p.min));
+    if (p.max && v > *p.max) fail(what() + " = " + num(v) + " is above its maximum " + num(*p.max));
     values[id.value()] = v;
   }
   CheckTables(flat, values);
   return values;
-}
-
-ExprNamer FlatSystem::Namer() const {
-  ExprNamer n;
-  n.var = [this](uint32_t v) { return variables[v].name; };
-  n.param = [this](uint32_t p) { return parameters[p].name; };
-  return n;
-}
-
-std::string FlatSystem::DescribeEquation(const FlatEquation& eq) const {
-  std::string s;
-  if (eq.instance.valid() && eq.origin != EquationOrigin::kUnconnectedFlow) {
-    const FlatInstance& inst = instances[eq.instance.value()];
-    s = inst.path + " (" + inst.type->name + ", " + inst.loc.ToString() + "): '" + eq.text + "'";
-  } else {
-    s = "'" + eq.text + "'";
-    if (eq.loc.known()) s += " (" + eq.loc.ToString() + ")";
-  }
-  if (eq.differentiations == 1) s += ", differentiated once";
-  if (eq.differentiations == 2) s += ", differentiated twice";
-  if (eq.differentiations > 2) s += ", differentiated " + std::to_string(eq.differentiations) + " times";
-  return s;
-}
-
-std::string FlatSystem::DescribeVariable(VarId v) const {
-  const FlatVariable& var = variables[v.value()];
-  std::string s = var.name;
-  if (var.instance.valid()) {
-    const FlatInstance& inst = instances[var.instance.value()];
-    s += " (" + inst.type->name + ", " + inst.loc.ToString() + ")";
-  }
-  return s;
 }
 
 }  // namespace momenta

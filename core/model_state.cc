@@ -40,7 +40,7 @@ void ModelState::SetParameters(const ParameterOverrides& overrides) {
         msg << m.flat->file << ": with these parameter values, " << m.guard_text[k] << " = "
             << values[k] << ", so the equation "
             << m.flat->DescribeEquation(m.flat->equations[g.equation])
-            << " cannot be solved for " << m.flat->variables[g.variable.value()].name
+            << " cannot be solved for " << m.flat->VariableName(g.variable)
             << "; give the parameters nonzero values";
         throw ModelError(msg.str());
       }

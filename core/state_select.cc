@@ -28,18 +28,19 @@ void CheckStateSelect(const EquationSystem& sys, const Structure& st, std::vecto
   for (uint32_t v = 0; v < sys.role.size(); ++v) {
     const FlatVariable& fv = flat.variables[v];
     if (fv.state_priority == kStateAlways && !IsStateOrAlias(sys, st, v)) {
+      const std::string name = flat.VariableName(VarId(v));
       std::string why;
       switch (sys.role[v]) {
         case VarRole::kConstant: why = "it is a constant (an equation fixes it to a parameter expression)"; break;
         case VarRole::kConstrained: why = "a constraint determines it from other states"; break;
         case VarRole::kAlias: why = "it is an alias of a variable that is not a state"; break;
-        default: why = "der(" + fv.name + ") appears in no equation (states are chosen among the variables that appear differentiated)";
+        default: why = "der(" + name + ") appears in no equation (states are chosen among the variables that appear differentiated)";
       }
-      throw ModelError(fv.loc, "stateSelect: always on " + fv.name + " cannot be honoured: " + why +
-                                   ". Use stateSelect: prefer (or default) on " + fv.name + ".");
+      throw ModelError(fv.loc, "stateSelect: always on " + name + " cannot be honoured: " + why +
+                                   ". Use stateSelect: prefer (or default) on " + name + ".");
     }
     if (fv.state_priority == kStateNever && sys.role[v] == VarRole::kUnknown && st.is_state[v]) {
-      warnings->push_back(fv.loc.ToString() + ": stateSelect: never on " + fv.name +
+      warnings->push_back(fv.loc.ToString() + ": stateSelect: never on " + flat.VariableName(VarId(v)) +
                           ", but it is a state: no other variable can carry its degree of freedom");
     }
   }

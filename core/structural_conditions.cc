@@ -77,7 +77,7 @@ size_t FoldStructuralConditions(EquationSystem* sys, const std::vector<double>& 
   sys->initial.swap(initial);
   for (auto& o : sys->outputs) o = fold(o);
   FlatSystem& f = sys->MutableFlat();
-  for (uint32_t q : structural) f.structural[f.parameters[q].name] = params[q];
+  for (uint32_t q : structural) f.structural[f.ParameterName(ParamId(q))] = params[q];
   return fixed.size();
 }
 

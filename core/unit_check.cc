@@ -278,7 +278,7 @@ std::vector<std::string> OutputUnits(const FlatSystem& flat,
   std::unordered_map<std::string, std::string> unit_of;
   for (const auto& o : flat.outputs) unit_of.emplace(o.text, o.unit);
   if (unit_of.size() < output_names.size()) {  // the default outputs: states, by name
-    for (const auto& v : flat.variables) unit_of.emplace(v.name, v.unit);
+    for (uint32_t v = 0; v < flat.variables.size(); ++v) unit_of.emplace(flat.VariableName(VarId(v)), flat.VariableUnit(VarId(v)));
   }
   std::vector<std::string> units;
   for (const auto& name : output_names) {

@@ -24,7 +24,7 @@ class HandSystem {
   ExprPool& pool() { return *flat_->pool; }
   ExprId Var(const std::string& name, int priority = 0, bool flow = false) {
     FlatVariable v;
-    v.name = name;
+    v.name = flat_->Own(name);
     v.state_priority = priority;
     v.is_flow = flow;
     flat_->variables.push_back(v);
@@ -32,7 +32,7 @@ class HandSystem {
   }
   ExprId Param(const std::string& name, double value) {
     FlatParameter p;
-    p.name = name;
+    p.name = flat_->Own(name);
     p.binding = pool().Const(value);
     flat_->parameters.push_back(p);
     flat_->parameter_order.push_back(ParamId(flat_->parameters.size() - 1));
@@ -42,7 +42,7 @@ class HandSystem {
     FlatEquation e;
     e.residual = pool().Sub(lhs, rhs);
     e.origin = EquationOrigin::kModel;
-    e.text = text;
+    e.text = flat_->Own(text);
     flat_->equations.push_back(e);
   }
   void Output(ExprId e, const std::string& text) { flat_->outputs.push_back({text, e, {}}); }
@@ -270,7 +270,7 @@ outputs: ["rod[n].flange_b.s", "rod[1].flange_a.f"]
     ExprPool& P = *sys.pool;
     uint32_t ms = 0;
     for (uint32_t k = 0; k < flat->variables.size(); ++k) {
-      if (flat->variables[k].name == "m.s") ms = k;
+      if (flat->VariableName(VarId(k)) == "m.s") ms = k;
     }
     EXPECT_EQ(CollectLeaves(P, sys.outputs[0], kHasVar), std::vector<ExprId>{P.Var(VarId(ms))});
     AffineForm form;
@@ -320,7 +320,7 @@ outputs: [m.s, spring.flange_a.s, wall.flange.f]
   EquationSystem sys = EliminateAliases(MakeEquationSystem(flat), &stats);
   EXPECT_GE(stats.constants, 2u);
   for (uint32_t k = 0; k < flat->variables.size(); ++k) {
-    const std::string& name = flat->variables[k].name;
+    const std::string& name = flat->VariableName(VarId(k));
     if (name == "wall.flange.s" || name == "spring.flange_a.s") {
       EXPECT_EQ(sys.role[k], VarRole::kConstant) << name;
     }

@@ -199,7 +199,7 @@ connections:
   FlatSystem flat = Flatten(spec, lib, {});
   std::vector<std::string> texts;
   for (const auto& e : flat.equations) {
-    if (e.origin == EquationOrigin::kConnection || e.origin == EquationOrigin::kUnconnectedFlow) texts.push_back(e.text);
+    if (e.origin == EquationOrigin::kConnection || e.origin == EquationOrigin::kUnconnectedFlow) texts.push_back(flat.EquationText(e));
   }
   EXPECT_EQ(texts, (std::vector<std::string>{
                        "probe.frame.r[1] = anchor.frame.r[1] (connection)",
@@ -210,7 +210,7 @@ connections:
                        "probe.frame_b.f[2] = 0 (unconnected)"}));
   std::vector<double> values = EvaluateParameters(flat, {});
   std::vector<std::string> names;
-  for (const auto& p : flat.parameters) names.push_back(p.name);
+  for (uint32_t k = 0; k < flat.parameters.size(); ++k) names.push_back(flat.ParameterName(ParamId(k)));
   EXPECT_EQ(names, (std::vector<std::string>{"anchor.r0[1]", "anchor.r0[2]"}));
   EXPECT_EQ(values, (std::vector<double>{3, 4}));
 

@@ -198,7 +198,7 @@ TEST(BuildTest, CompiledModelIsConsistent) {
   // Every state named in the report, in y order.
   ASSERT_EQ(b.report.states.size(), m.num_states());
   for (uint32_t s = 0; s < m.num_states(); ++s) {
-    EXPECT_EQ(b.report.states[s], m.flat->variables[m.unknowns[m.state_y[s]].value()].name);
+    EXPECT_EQ(b.report.states[s], m.flat->VariableName(VarId(m.unknowns[m.state_y[s]].value())));
   }
 }
 

@@ -42,7 +42,7 @@ TEST(CausalizationTest, SpringDamperChainLeavesTwoStatesPerMass) {
   for (size_t y = 0; y < b.model->num_unknowns(); ++y) {
     ExprId der = b.model->pool->Der(b.model->unknowns[y]);
     EXPECT_TRUE(ContainsLeaf(*b.model->pool, b.model->residual_exprs[y], der))
-        << b.model->flat->variables[b.model->unknowns[y].value()].name;
+        << b.model->flat->VariableName(VarId(b.model->unknowns[y].value()));
   }
 }
 

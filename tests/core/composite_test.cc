@@ -105,8 +105,8 @@ TEST(CompositeTest, NamesAreFullPaths) {
   testing::Built b = testing::BuildYaml(kNested);
   const FlatSystem& flat = *b.model->flat;
   std::set<std::string> vars, params, instances;
-  for (const auto& v : flat.variables) vars.insert(v.name);
-  for (const auto& p : flat.parameters) params.insert(p.name);
+  for (uint32_t k = 0; k < flat.variables.size(); ++k) vars.insert(flat.VariableName(VarId(k)));
+  for (uint32_t k = 0; k < flat.parameters.size(); ++k) params.insert(flat.ParameterName(ParamId(k)));
   for (const auto& i : flat.instances) instances.insert(i.path + " " + i.type->name);
   EXPECT_TRUE(vars.count("rig.pair.a.spring.flange_b.f"));
   EXPECT_TRUE(vars.count("rig.pair.flange.s"));
@@ -114,6 +114,30 @@ TEST(CompositeTest, NamesAreFullPaths) {
   EXPECT_TRUE(instances.count("rig.pair.b.mass Mass"));
   EXPECT_TRUE(instances.count("rig.pair.a Cell"));
   EXPECT_EQ(instances.size(), 9u);  // rig, rig.wall, rig.pair, rig.pair.a and its mass and spring, b alike
+}
+
+// Names and texts are made on demand from each type's names (FlatSystem::VariableName, ...): the
+// parts' names carry their paths at every depth, every parameter is found by its name, and the
+// inner connections of a part name the part's connectors from the model's component down.
+TEST(CompositeTest, NamesMadeOnDemandCarryEveryPath) {
+  testing::Built b = testing::BuildYaml(kNested);
+  const FlatSystem& flat = *b.model->flat;
+  std::set<std::string> vars;
+  for (uint32_t k = 0; k < flat.variables.size(); ++k) vars.insert(flat.VariableName(VarId(k)));
+  EXPECT_EQ(vars.size(), flat.variables.size());  // no two alike
+  for (uint32_t k = 0; k < flat.parameters.size(); ++k) {
+    EXPECT_EQ(flat.FindParameter(flat.ParameterName(ParamId(k))), ParamId(k)) << flat.ParameterName(ParamId(k));
+  }
+  for (const char* none : {"rig.pair.a.mass", "rig.pair.a.mass.mm", "rig", "rig.", "pair.a.mass.m", ""}) {
+    EXPECT_FALSE(flat.FindParameter(none)) << none;
+  }
+  const ParamId m = *flat.FindParameter("rig.pair.a.mass.m");
+  EXPECT_EQ(flat.ParameterUnit(m), "kg");
+  EXPECT_EQ(flat.ParameterDoc(m), "mass of the sliding mass");
+  std::set<std::string> texts;
+  for (const FlatEquation& eq : flat.equations) texts.insert(flat.EquationText(eq));
+  EXPECT_TRUE(texts.count("rig.pair.a.spring.flange_b.s = rig.pair.a.mass.flange_a.s (connection)"));
+  EXPECT_TRUE(texts.count("rig.pair.b.mass.flange_b.f = 0 (unconnected)"));
 }
 
 std::string BuildError(const std::string& yaml, const ParameterOverrides& overrides = {}) {
@@ -224,8 +248,8 @@ outputs: ["chain.m[3].s", "chain.s[2].c"]
   const FlatSystem& flat = *b.model->flat;
   std::vector<double> values = EvaluateParameters(flat, {});
   for (size_t k = 0; k < flat.parameters.size(); ++k) {
-    if (flat.parameters[k].name == "chain.m[2].m") EXPECT_EQ(values[k], 2);
-    if (flat.parameters[k].name == "chain.s[3].c") EXPECT_EQ(values[k], 30);
+    if (flat.ParameterName(ParamId(k)) == "chain.m[2].m") EXPECT_EQ(values[k], 2);
+    if (flat.ParameterName(ParamId(k)) == "chain.s[3].c") EXPECT_EQ(values[k], 30);
   }
   EXPECT_EQ(b.model->num_states(), 6u);
   const char* bad = R"(model: Bad

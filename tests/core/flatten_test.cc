@@ -32,7 +32,7 @@ std::string FlattenError(const std::string& yaml, const ParameterOverrides& over
 
 VarId FindVar(const FlatSystem& flat, const std::string& name) {
   for (size_t k = 0; k < flat.variables.size(); ++k) {
-    if (flat.variables[k].name == name) return VarId(k);
+    if (flat.VariableName(VarId(k)) == name) return VarId(k);
   }
   ADD_FAILURE() << "no variable " << name;
   return VarId();
@@ -40,7 +40,7 @@ VarId FindVar(const FlatSystem& flat, const std::string& name) {
 
 ParamId FindParam(const FlatSystem& flat, const std::string& name) {
   for (size_t k = 0; k < flat.parameters.size(); ++k) {
-    if (flat.parameters[k].name == name) return ParamId(k);
+    if (flat.ParameterName(ParamId(k)) == name) return ParamId(k);
   }
   ADD_FAILURE() << "no parameter " << name;
   return ParamId();
@@ -60,7 +60,7 @@ std::map<std::string, double> Terms(const FlatSystem& flat, ExprId residual) {
   EXPECT_TRUE(DecomposeAffine(flat.pool.get(), residual, 1000, &form));
   EXPECT_EQ(form.offset, flat.pool->Zero());
   std::map<std::string, double> out;
-  for (auto& [leaf, c] : form.terms) out[flat.variables[flat.pool->node(leaf).a].name] = c;
+  for (auto& [leaf, c] : form.terms) out[flat.VariableName(VarId(flat.pool->node(leaf).a))] = c;
   return out;
 }
 
@@ -92,12 +92,12 @@ connections:
         coefs.push_back(c);
       }
       EXPECT_EQ(coefs[0] * coefs[1], -1.0);
-      EXPECT_NE(e->text.find("(connection)"), std::string::npos);
+      EXPECT_NE(flat.EquationText(*e).find("(connection)"), std::string::npos);
     } else {
       ++flows;
       EXPECT_EQ(terms, (std::map<std::string, double>{
                            {"A.flange_b.f", 1}, {"B.flange_a.f", 1}, {"C.flange_a.f", 1}}));
-      EXPECT_NE(e->text.find("sum of f"), std::string::npos) << e->text;
+      EXPECT_NE(flat.EquationText(*e).find("sum of f"), std::string::npos) << flat.EquationText(*e);
     }
   }
   EXPECT_EQ(potentials, 2);
@@ -164,9 +164,9 @@ connections:
   auto open = WithOrigin(flat, EquationOrigin::kUnconnectedFlow);
   std::set<std::string> zero;
   for (const FlatEquation* e : open) {
-    ASSERT_EQ(flat.pool->op(e->residual), Op::kVar) << e->text;
-    zero.insert(flat.variables[flat.pool->node(e->residual).a].name);
-    EXPECT_NE(e->text.find("= 0 (unconnected)"), std::string::npos) << e->text;
+    ASSERT_EQ(flat.pool->op(e->residual), Op::kVar) << flat.EquationText(*e);
+    zero.insert(flat.VariableName(VarId(flat.pool->node(e->residual).a)));
+    EXPECT_NE(flat.EquationText(*e).find("= 0 (unconnected)"), std::string::npos) << flat.EquationText(*e);
   }
   EXPECT_EQ(zero, (std::set<std::string>{"A.flange_a.f", "S.flange_b.f"}));
   // Every variable counted: Mass 3 + 2*2 connector, Spring 2 + 2*2 connector.
@@ -190,7 +190,7 @@ connections:
   ASSERT_EQ(conn.size(), 2u);
   std::set<std::string> texts;
   for (const FlatEquation* e : conn) {
-    texts.insert(e->text);
+    texts.insert(flat.EquationText(*e));
     auto terms = Terms(flat, e->residual);
     ASSERT_EQ(terms.size(), 2u);
     EXPECT_EQ(terms.at("k.y"), -1.0);
@@ -266,7 +266,7 @@ connections:
   // R[1].p is open.
   auto open = WithOrigin(flat, EquationOrigin::kUnconnectedFlow);
   ASSERT_EQ(open.size(), 1u);
-  EXPECT_EQ(flat.variables[flat.pool->node(open[0]->residual).a].name, "R[1].p.i");
+  EXPECT_EQ(flat.VariableName(VarId(flat.pool->node(open[0]->residual).a)), "R[1].p.i");
   // The count follows an override of n (a structural parameter).
   FlatSystem six = FlattenYaml(R"(
 model: Ladder
@@ -354,9 +354,9 @@ components:
   std::vector<int> position(flat.parameters.size(), -1);
   for (size_t k = 0; k < flat.parameter_order.size(); ++k) position[flat.parameter_order[k].value()] = static_cast<int>(k);
   for (size_t k = 0; k < flat.parameters.size(); ++k) {
-    ASSERT_GE(position[k], 0) << flat.parameters[k].name;
+    ASSERT_GE(position[k], 0) << flat.ParameterName(ParamId(k));
     for (ExprId leaf : CollectLeaves(*flat.pool, flat.parameters[k].binding, kHasParam)) {
-      EXPECT_LT(position[flat.pool->node(leaf).a], position[k]) << flat.parameters[k].name;
+      EXPECT_LT(position[flat.pool->node(leaf).a], position[k]) << flat.ParameterName(ParamId(k));
     }
   }
   // Overriding a parameter changes those that depend on it, not the override itself.

@@ -22,7 +22,7 @@ struct Reduced {
   IndexStats index;
   uint32_t Var(const std::string& name) const {
     for (uint32_t k = 0; k < flat->variables.size(); ++k) {
-      if (flat->variables[k].name == name) return k;
+      if (flat->VariableName(VarId(k)) == name) return k;
     }
     ADD_FAILURE() << "no variable " << name;
     return 0;
@@ -115,7 +115,7 @@ TEST(IndexReductionTest, SpringDamperBetweenTwoMassesConstrainsAState) {
   AffineForm form;
   ASSERT_TRUE(DecomposeAffine(&P, m2s, 4, &form));
   std::map<std::string, double> terms;
-  for (auto& [leaf, c] : form.terms) terms[r.flat->variables[P.node(leaf).a].name] = c;
+  for (auto& [leaf, c] : form.terms) terms[r.flat->VariableName(VarId(P.node(leaf).a))] = c;
   EXPECT_EQ(terms, (std::map<std::string, double>{{"m1.s", 1}, {"sd.s_rel", 1}}));
   // Built: four states (m1.s, m1.v, s_rel and one velocity), no more.
   testing::Built b = testing::BuildYaml(kTwoMasses);

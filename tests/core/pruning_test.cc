@@ -124,7 +124,7 @@ TEST(PruningTest, ThePrunePassKeepsTheClosureOfTheOutputs) {
     EXPECT_EQ(st.equation_of_var[v], static_cast<int32_t>(k));
   }
   for (uint32_t v = 0; v < sys.role.size(); ++v) {
-    const std::string& name = flat->variables[v].name;
+    const std::string& name = flat->VariableName(VarId(v));
     if (roles_before[v] != VarRole::kUnknown) {
       EXPECT_EQ(sys.role[v], roles_before[v]) << name << ": only unknowns are pruned";
       continue;
@@ -135,7 +135,7 @@ TEST(PruningTest, ThePrunePassKeepsTheClosureOfTheOutputs) {
   }
   for (const char* name : {"osc.s", "osc.v"}) {
     for (uint32_t v = 0; v < sys.role.size(); ++v) {
-      if (flat->variables[v].name == name) EXPECT_EQ(sys.role[v], VarRole::kUnknown) << name;
+      if (flat->VariableName(VarId(v)) == name) EXPECT_EQ(sys.role[v], VarRole::kUnknown) << name;
     }
   }
   EXPECT_EQ(st.num_states, 2u);

@@ -49,13 +49,13 @@ connections:
     // A state's equation holds its derivative; an algebraic variable's equation holds it.
     ExprPool& P = *sys.pool;
     ExprId leaf = st.is_state[v] ? P.Der(VarId(static_cast<uint32_t>(v))) : P.Var(VarId(static_cast<uint32_t>(v)));
-    EXPECT_TRUE(ContainsLeaf(P, sys.equations[k].residual, leaf)) << flat->variables[v].name;
+    EXPECT_TRUE(ContainsLeaf(P, sys.equations[k].residual, leaf)) << flat->VariableName(VarId(v));
   }
   size_t states = 0;
   for (uint32_t v = 0; v < st.is_state.size(); ++v) {
     if (!st.is_state[v]) continue;
     ++states;
-    EXPECT_TRUE(flat->variables[v].name == "m.s" || flat->variables[v].name == "m.v") << flat->variables[v].name;
+    EXPECT_TRUE(flat->VariableName(VarId(v)) == "m.s" || flat->VariableName(VarId(v)) == "m.v") << flat->VariableName(VarId(v));
   }
   EXPECT_EQ(states, 2u);
 }

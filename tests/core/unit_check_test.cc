@@ -185,7 +185,7 @@ connections:
   std::vector<double> values = EvaluateParameters(flat, {});
   auto value = [&](const std::string& name) {
     for (size_t k = 0; k < flat.parameters.size(); ++k) {
-      if (flat.parameters[k].name == name) return values[k];
+      if (flat.ParameterName(ParamId(k)) == name) return values[k];
     }
     ADD_FAILURE() << "no parameter " << name;
     return std::nan("");
@@ -196,7 +196,7 @@ connections:
   EXPECT_DOUBLE_EQ(value("mass.m"), 40);
   EXPECT_DOUBLE_EQ(value("mass.L"), 1);
   EXPECT_DOUBLE_EQ(value("spring.c"), 10000);
-  EXPECT_EQ(flat.parameters[0].unit, "g");
+  EXPECT_EQ(flat.ParameterUnit(ParamId(0)), "g");
 }
 
 TEST(UnitCheckTest, AValueInAnIncompatibleUnitIsReported) {
