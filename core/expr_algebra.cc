@@ -155,22 +155,9 @@ uint8_t MaskOfLeaf(Op op) {
 }  // namespace
 
 bool ContainsLeaf(const ExprPool& pool, ExprId e, ExprId leaf) {
-  uint8_t mask = MaskOfLeaf(pool.op(leaf));
+  const uint8_t mask = MaskOfLeaf(pool.op(leaf));
   if (!(pool.mask(e) & mask)) return false;
-  std::unordered_set<uint32_t> seen;
-  std::vector<uint32_t> stack{e.value()};
-  while (!stack.empty()) {
-    uint32_t id = stack.back();
-    stack.pop_back();
-    if (id == leaf.value()) return true;
-    const Node& n = pool.node(ExprId(id));
-    if (!(n.mask & mask) || !seen.insert(id).second) continue;
-    int arity = Arity(n.op);
-    if (arity >= 1) stack.push_back(n.a);
-    if (arity >= 2) stack.push_back(n.b);
-    if (arity >= 3) stack.push_back(n.c);
-  }
-  return false;
+  return VisitLeaves(pool, e, mask, [&](ExprId l) { return l == leaf; });
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -268,8 +255,12 @@ ExprId Substitution::Apply(ExprId root) {
   return result(root.value());
 }
 
-ExprId ReplaceNodes(ExprPool* pool, ExprId root, const std::unordered_map<uint32_t, ExprId>& map,
-                    uint8_t mask) {
+namespace {
+
+/// `root` with each node for which `replacement(id)` is valid replaced by it; only subtrees whose
+/// leaf mask meets `mask` are visited.
+template <class Replacement>
+ExprId Replace(ExprPool* pool, ExprId root, uint8_t mask, Replacement replacement) {
   ExprPool& p = *pool;
   thread_local NodeMemo memo;
   thread_local std::vector<uint32_t> stack;
@@ -281,10 +272,10 @@ ExprId ReplaceNodes(ExprPool* pool, ExprId root, const std::unordered_map<uint32
       stack.pop_back();
       continue;
     }
-    auto hit = map.find(id);
+    const ExprId hit = replacement(id);
     const Node n = p.node(ExprId(id));
-    if (hit != map.end() || !(n.mask & mask) || IsLeaf(n.op)) {
-      memo.Insert(id, hit != map.end() ? hit->second : ExprId(id));
+    if (hit.valid() || !(n.mask & mask) || IsLeaf(n.op)) {
+      memo.Insert(id, hit.valid() ? hit : ExprId(id));
       stack.pop_back();
       continue;
     }
@@ -308,8 +299,20 @@ ExprId ReplaceNodes(ExprPool* pool, ExprId root, const std::unordered_map<uint32
   return memo.Find(root.value());
 }
 
+}  // namespace
+
+ExprId ReplaceNodes(ExprPool* pool, ExprId root, const std::unordered_map<uint32_t, ExprId>& map,
+                    uint8_t mask) {
+  return Replace(pool, root, mask, [&](uint32_t id) {
+    auto hit = map.find(id);
+    return hit != map.end() ? hit->second : ExprId();
+  });
+}
+
 ExprId ReplaceLeaf(ExprPool* pool, ExprId root, ExprId leaf, ExprId value) {
-  return ReplaceNodes(pool, root, {{leaf.value(), value}}, MaskOfLeaf(pool->op(leaf)));
+  // One leaf: compared directly, no map to build per call (solving an equation calls this).
+  return Replace(pool, root, MaskOfLeaf(pool->op(leaf)),
+                 [&](uint32_t id) { return id == leaf.value() ? value : ExprId(); });
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -382,8 +385,8 @@ ExprId ChainRule(ExprPool& p, const Node& n, ExprId self, ExprId da, ExprId db, 
 
 /// Generic derivative: `leaf_rule` gives the derivative of each leaf; `relevant` says whether a
 /// subtree can have a nonzero derivative (by its leaf mask) so the rest is skipped.
-ExprId Derive(ExprPool* pool, ExprId root, const std::function<ExprId(const Node&, ExprId)>& leaf_rule,
-              uint8_t relevant_mask, bool* failed) {
+template <class LeafRule>
+ExprId Derive(ExprPool* pool, ExprId root, LeafRule leaf_rule, uint8_t relevant_mask, bool* failed) {
   ExprPool& p = *pool;
   thread_local NodeMemo memo;
   thread_local std::vector<uint32_t> stack;
