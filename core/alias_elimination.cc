@@ -29,7 +29,8 @@ class AliasForest {
   Link Find(uint32_t x) {
     ExprPool& p = *pool_;
     // Walk to the root, then compress.
-    std::vector<uint32_t> path;
+    std::vector<uint32_t>& path = path_;
+    path.clear();
     uint32_t r = x;
     while (r != kConstantRoot && links_[r].parent != r) {
       path.push_back(r);
@@ -56,6 +57,7 @@ class AliasForest {
  private:
   ExprPool* pool_;
   std::vector<Link> links_;
+  std::vector<uint32_t> path_;  ///< Find's scratch
 };
 
 }  // namespace
@@ -83,6 +85,7 @@ EquationSystem EliminateAliases(EquationSystem sys, AliasStats* stats) {
   constexpr size_t kMaxTerms = 6;
   std::vector<SystemEquation> pending = std::move(sys.equations), kept;
   AffineForm form;
+  std::vector<std::pair<uint32_t, double>> roots;  // scratch: a_r per root of one equation
   for (int pass = 0; pass < 10; ++pass) {
     kept.clear();
     kept.reserve(pending.size());
@@ -96,7 +99,7 @@ EquationSystem EliminateAliases(EquationSystem sys, AliasStats* stats) {
         bool discrete = false;
         for (const auto& t : form.terms) discrete = discrete || flat.variables[p.node(t.first).a].discrete;
         // sum c_k x_k + offset with x_k = s_k r_k + o_k: collect a_r per root and the constant d.
-        std::vector<std::pair<uint32_t, double>> roots;
+        roots.clear();
         ExprId d = form.offset;
         for (const auto& [leaf, c] : form.terms) {
           Link l = forest.Find(p.node(leaf).a);

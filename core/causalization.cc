@@ -12,11 +12,13 @@ EquationSystem Causalize(EquationSystem sys, Structure* st, CausalStats* stats) 
   // Dependency graph among equations that determine algebraic unknowns.
   std::vector<uint32_t> start{0}, adj;
   std::vector<bool> algebraic_eq(ne, false);
+  std::vector<ExprId> leaves;  // scratch
   for (size_t k = 0; k < ne; ++k) {
     uint32_t v = static_cast<uint32_t>(st->var_of_equation[k]);
     algebraic_eq[k] = !st->is_state[v];
     if (algebraic_eq[k]) {
-      for (ExprId leaf : CollectLeaves(p, sys.equations[k].residual, kHasVar)) {
+      CollectLeaves(p, sys.equations[k].residual, kHasVar, &leaves);
+      for (ExprId leaf : leaves) {
         uint32_t w = p.node(leaf).a;
         if (w == v || sys.role[w] != VarRole::kUnknown || st->is_state[w] || st->equation_of_var[w] < 0) {
           continue;  // known here: states, discrete values
@@ -56,7 +58,8 @@ EquationSystem Causalize(EquationSystem sys, Structure* st, CausalStats* stats) 
     if (sys.flat->variables[v].type != ValueType::kReal || keep[v]) continue;
     uint64_t v_weight = 0;
     uint32_t v_depth = 0;
-    for (ExprId leaf : CollectLeaves(p, sys.equations[k].residual, kHasVar)) {
+    CollectLeaves(p, sys.equations[k].residual, kHasVar, &leaves);
+    for (ExprId leaf : leaves) {
       const uint32_t w = p.node(leaf).a;
       if (w == v) continue;
       v_weight = std::min<uint64_t>(v_weight + weight[w], kMaxInlineCost + 1);

@@ -58,10 +58,12 @@ std::vector<ExprId> PropagatedStartGuesses(ExprPool* pool, const EquationSystem&
   std::vector<std::vector<uint32_t>> rows_of_y(n);
   std::vector<uint32_t> missing;
   std::vector<uint32_t> ready;
+  std::vector<ExprId> leaves;  // scratch
   auto add_row = [&](ExprId e) {
     if (p.node(e).mask & kOther) return;
     std::vector<uint32_t> ys;
-    for (ExprId leaf : CollectLeaves(p, e, kHasVar)) {
+    CollectLeaves(p, e, kHasVar, &leaves);
+    for (ExprId leaf : leaves) {
       const int32_t y = slots.y_of_var[p.node(leaf).a];
       if (y < 0) return;  // a discrete value: not known before the start values
       ys.push_back(static_cast<uint32_t>(y));
@@ -80,6 +82,7 @@ std::vector<ExprId> PropagatedStartGuesses(ExprPool* pool, const EquationSystem&
   };
   for (ExprId e : m.residual_exprs) add_row(e);
   for (ExprId e : m.initial_exprs) add_row(e);
+  std::unordered_map<uint32_t, ExprId> map;  // known unknowns -> their guesses, for one row
   for (size_t k = 0, next_open = 0;; ++k) {
     if (k == ready.size()) {
       // No explicit equation left: the first variable still open takes its start value.
@@ -95,7 +98,7 @@ std::vector<ExprId> PropagatedStartGuesses(ExprPool* pool, const EquationSystem&
     const uint32_t r = ready[k];
     if (missing[r] != 1) continue;
     uint32_t target = n;
-    std::unordered_map<uint32_t, ExprId> map;
+    map.clear();
     for (uint32_t y : row_ys[r]) {
       if (!known[y]) {
         target = y;
@@ -250,9 +253,10 @@ std::shared_ptr<CompiledModel> CompileModel(EquationSystem sys, const Structure&
   // Discrete start values; initial equations `pre(d) = expr` set them instead.
   std::vector<ExprId> discrete_start(nd);
   for (uint32_t k = 0; k < nd; ++k) discrete_start[k] = sys.guess[m->discrete_vars[k].value()];
+  std::vector<ExprId> pres, vars;  // scratch
   for (const auto& e : sys.initial) {
-    std::vector<ExprId> pres = CollectLeaves(p, e.residual, kHasPre);
-    std::vector<ExprId> vars = CollectLeaves(p, e.residual, kHasVar | kHasDer);
+    CollectLeaves(p, e.residual, kHasPre, &pres);
+    CollectLeaves(p, e.residual, kHasVar | kHasDer, &vars);
     if (pres.size() == 1 && vars.empty() && slots.disc_of_var[p.node(pres[0]).a] >= 0) {
       ExprId value = SolveFor(&p, e.residual, pres[0], true, nullptr);
       if (value.valid() && p.IsParamOnly(value)) {
@@ -357,9 +361,11 @@ std::shared_ptr<CompiledModel> CompileModel(EquationSystem sys, const Structure&
   // partials (columns: y, then the states' y').
   m->residual = compiler.Compile(m->residual_exprs);
   std::vector<Entry> entries, init_entries;
+  std::vector<ExprId> leaves;  // scratch
   for (uint32_t i = 0; i < n; ++i) {
     ExprId r = m->residual_exprs[i];
-    for (ExprId leaf : CollectLeaves(p, r, kHasVar | kHasDer)) {
+    CollectLeaves(p, r, kHasVar | kHasDer, &leaves);
+    for (ExprId leaf : leaves) {
       const Node nd_leaf = p.node(leaf);  // a copy: new nodes may move the pool
       int32_t y = slots.y_of_var[nd_leaf.a];
       if (y < 0) continue;
@@ -396,7 +402,8 @@ std::shared_ptr<CompiledModel> CompileModel(EquationSystem sys, const Structure&
     for (size_t gi = 0; gi < m->initial_exprs.size(); ++gi) {
       ExprId r = m->initial_exprs[gi];
       int32_t row = static_cast<int32_t>(n + gi);
-      for (ExprId leaf : CollectLeaves(p, r, kHasVar | kHasDer)) {
+      CollectLeaves(p, r, kHasVar | kHasDer, &leaves);
+      for (ExprId leaf : leaves) {
         const Node nd_leaf = p.node(leaf);  // a copy: new nodes may move the pool
         int32_t y = slots.y_of_var[nd_leaf.a];
         if (y < 0) continue;

@@ -9,7 +9,9 @@ namespace {
 /// The first variable of `absent` that `e` names (its value, derivative or left limit), if any.
 VarId NamedAbsent(const ExprPool& p, ExprId e, const std::vector<bool>& absent) {
   if (!(p.mask(e) & (kHasVar | kHasDer | kHasPre))) return VarId();
-  for (ExprId leaf : CollectLeaves(p, e, kHasVar | kHasDer | kHasPre)) {
+  thread_local std::vector<ExprId> leaves;  // one buffer for every equation
+  CollectLeaves(p, e, kHasVar | kHasDer | kHasPre, &leaves);
+  for (ExprId leaf : leaves) {
     const Node& n = p.node(leaf);
     if ((n.op == Op::kVar || n.op == Op::kDer || n.op == Op::kPre) && absent[n.a]) return VarId(n.a);
   }

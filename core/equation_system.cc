@@ -66,7 +66,11 @@ void EquationSystem::ApplyEliminations() { ApplySubstitution(eliminated.get()); 
 
 void EquationSystem::ApplySubstitution(Substitution* subst) {
   Substitution& s = *subst;
-  for (auto& e : equations) e.residual = s.Apply(e.residual);
+  // Most equations hold no replaced leaf when a later round or pass adds a few replacements to
+  // many: checking first spares those the rewrite's memo writes (the result is the same).
+  for (auto& e : equations) {
+    if (s.Touches(e.residual)) e.residual = s.Apply(e.residual);
+  }
   for (auto& e : initial) e.residual = s.Apply(e.residual);
   for (auto& o : outputs) o = s.Apply(o);
   for (auto& w : whens) {
@@ -115,9 +119,11 @@ EquationSystem MakeEquationSystem(std::shared_ptr<const FlatSystem> flat) {
 
 std::vector<bool> DifferentiatedVariables(const EquationSystem& sys) {
   std::vector<bool> diff(sys.role.size(), false);
+  std::vector<ExprId> ders;
   for (const auto& e : sys.equations) {
     if (!(sys.pool->mask(e.residual) & kHasDer)) continue;
-    for (ExprId leaf : CollectLeaves(*sys.pool, e.residual, kHasDer)) {
+    CollectLeaves(*sys.pool, e.residual, kHasDer, &ders);
+    for (ExprId leaf : ders) {
       diff[sys.pool->node(leaf).a] = true;
     }
   }

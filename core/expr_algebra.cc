@@ -77,7 +77,12 @@ class NodeMemo {
 
 }  // namespace
 
-std::vector<ExprId> CollectLeaves(const ExprPool& pool, ExprId e, uint8_t mask) {
+namespace {
+
+/// Calls `on_leaf(id)` once for each distinct leaf (kVar, kDer, kPre, kParam) below `e` in a
+/// subtree whose leaf mask meets `mask`, until it returns true; returns whether one did.
+template <class OnLeaf>
+bool VisitLeaves(const ExprPool& pool, ExprId e, uint8_t mask, OnLeaf on_leaf) {
   // Most expressions are small: a linear scan of what was seen beats a hash set until it grows.
   // Scratch reused across calls (these run once per equation in every pass).
   thread_local std::vector<uint32_t> seen_small, stack;
@@ -85,7 +90,6 @@ std::vector<ExprId> CollectLeaves(const ExprPool& pool, ExprId e, uint8_t mask) 
   seen_small.clear();
   ResetScratch(&seen_large);
   stack.clear();
-  std::vector<ExprId> out;
   auto first_visit = [&](uint32_t id) {
     if (seen_large.empty()) {
       for (uint32_t s : seen_small) {
@@ -109,7 +113,7 @@ std::vector<ExprId> CollectLeaves(const ExprPool& pool, ExprId e, uint8_t mask) 
       case Op::kDer:
       case Op::kPre:
       case Op::kParam:
-        out.push_back(ExprId(id));
+        if (on_leaf(ExprId(id))) return true;
         continue;
       default:
         break;
@@ -119,6 +123,22 @@ std::vector<ExprId> CollectLeaves(const ExprPool& pool, ExprId e, uint8_t mask) 
     if (arity >= 2) stack.push_back(n.b);
     if (arity >= 3) stack.push_back(n.c);
   }
+  return false;
+}
+
+}  // namespace
+
+void CollectLeaves(const ExprPool& pool, ExprId e, uint8_t mask, std::vector<ExprId>* out) {
+  out->clear();
+  VisitLeaves(pool, e, mask, [&](ExprId leaf) {
+    out->push_back(leaf);
+    return false;
+  });
+}
+
+std::vector<ExprId> CollectLeaves(const ExprPool& pool, ExprId e, uint8_t mask) {
+  std::vector<ExprId> out;
+  CollectLeaves(pool, e, mask, &out);
   return out;
 }
 
@@ -135,22 +155,9 @@ uint8_t MaskOfLeaf(Op op) {
 }  // namespace
 
 bool ContainsLeaf(const ExprPool& pool, ExprId e, ExprId leaf) {
-  uint8_t mask = MaskOfLeaf(pool.op(leaf));
+  const uint8_t mask = MaskOfLeaf(pool.op(leaf));
   if (!(pool.mask(e) & mask)) return false;
-  std::unordered_set<uint32_t> seen;
-  std::vector<uint32_t> stack{e.value()};
-  while (!stack.empty()) {
-    uint32_t id = stack.back();
-    stack.pop_back();
-    if (id == leaf.value()) return true;
-    const Node& n = pool.node(ExprId(id));
-    if (!(n.mask & mask) || !seen.insert(id).second) continue;
-    int arity = Arity(n.op);
-    if (arity >= 1) stack.push_back(n.a);
-    if (arity >= 2) stack.push_back(n.b);
-    if (arity >= 3) stack.push_back(n.c);
-  }
-  return false;
+  return VisitLeaves(pool, e, mask, [&](ExprId l) { return l == leaf; });
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -160,7 +167,18 @@ void Substitution::Set(ExprId leaf, ExprId replacement) {
   if (map_.size() <= leaf.value()) map_.resize(leaf.value() + 1);
   if (!map_[leaf.value()].valid()) ++num_entries_;
   map_[leaf.value()] = replacement;
+  // A leaf's mask is its kind; a constant has none, and then no subtree can be skipped.
+  const uint8_t kind = pool_->mask(leaf);
+  mapped_kinds_ |= kind != 0 ? kind : 0xff;
   ++gen_;  // invalidates the memo
+}
+
+bool Substitution::Touches(ExprId e) const {
+  // Only leaves of the four kinds VisitLeaves reports are ever mapped (the passes map variables,
+  // derivatives and pre-values); any other mapped kind makes the answer a conservative yes.
+  if (mapped_kinds_ & ~(kHasVar | kHasDer | kHasPre | kHasParam)) return true;
+  if (num_entries_ == 0) return false;
+  return VisitLeaves(*pool_, e, mapped_kinds_, [&](ExprId leaf) { return Has(leaf); });
 }
 
 bool Substitution::Has(ExprId leaf) const {
@@ -169,9 +187,16 @@ bool Substitution::Has(ExprId leaf) const {
 
 ExprId Substitution::Apply(ExprId root) {
   ExprPool& pool = *pool_;
-  std::vector<uint32_t> stack{root.value()};
-  auto done = [&](uint32_t id) { return id < memo_gen_.size() && memo_gen_[id] == gen_; };
-  auto result = [&](uint32_t id) -> ExprId { return memo_[id]; };
+  // A subtree without a leaf of a mapped kind is unchanged: it is neither walked nor memoised.
+  const bool by_kind = mapped_kinds_ != 0xff;  // false once a constant is mapped
+  if (by_kind && !(pool.mask(root) & mapped_kinds_)) return root;
+  thread_local std::vector<uint32_t> stack;
+  stack.assign(1, root.value());
+  auto unchanged = [&](uint32_t id) { return by_kind && !(pool.node(ExprId(id)).mask & mapped_kinds_); };
+  auto done = [&](uint32_t id) {
+    return (id < memo_gen_.size() && memo_gen_[id] == gen_) || unchanged(id);
+  };
+  auto result = [&](uint32_t id) -> ExprId { return unchanged(id) ? ExprId(id) : memo_[id]; };
   auto store = [&](uint32_t id, ExprId r) {
     if (memo_.size() <= id) {
       memo_.resize(id + 1 + id / 2);
@@ -205,7 +230,7 @@ ExprId Substitution::Apply(ExprId root) {
       }
       continue;
     }
-    // Leaves and parameter-only subtrees without mapped leaves are unchanged: skip them quickly.
+    // Children without a mapped kind of leaf count as done (unchanged).
     int arity = Arity(n.op);
     bool ready = true;
     if (arity >= 1 && !done(n.a)) { stack.push_back(n.a); ready = false; }
@@ -230,8 +255,12 @@ ExprId Substitution::Apply(ExprId root) {
   return result(root.value());
 }
 
-ExprId ReplaceNodes(ExprPool* pool, ExprId root, const std::unordered_map<uint32_t, ExprId>& map,
-                    uint8_t mask) {
+namespace {
+
+/// `root` with each node for which `replacement(id)` is valid replaced by it; only subtrees whose
+/// leaf mask meets `mask` are visited.
+template <class Replacement>
+ExprId Replace(ExprPool* pool, ExprId root, uint8_t mask, Replacement replacement) {
   ExprPool& p = *pool;
   thread_local NodeMemo memo;
   thread_local std::vector<uint32_t> stack;
@@ -243,10 +272,10 @@ ExprId ReplaceNodes(ExprPool* pool, ExprId root, const std::unordered_map<uint32
       stack.pop_back();
       continue;
     }
-    auto hit = map.find(id);
+    const ExprId hit = replacement(id);
     const Node n = p.node(ExprId(id));
-    if (hit != map.end() || !(n.mask & mask) || IsLeaf(n.op)) {
-      memo.Insert(id, hit != map.end() ? hit->second : ExprId(id));
+    if (hit.valid() || !(n.mask & mask) || IsLeaf(n.op)) {
+      memo.Insert(id, hit.valid() ? hit : ExprId(id));
       stack.pop_back();
       continue;
     }
@@ -270,8 +299,20 @@ ExprId ReplaceNodes(ExprPool* pool, ExprId root, const std::unordered_map<uint32
   return memo.Find(root.value());
 }
 
+}  // namespace
+
+ExprId ReplaceNodes(ExprPool* pool, ExprId root, const std::unordered_map<uint32_t, ExprId>& map,
+                    uint8_t mask) {
+  return Replace(pool, root, mask, [&](uint32_t id) {
+    auto hit = map.find(id);
+    return hit != map.end() ? hit->second : ExprId();
+  });
+}
+
 ExprId ReplaceLeaf(ExprPool* pool, ExprId root, ExprId leaf, ExprId value) {
-  return ReplaceNodes(pool, root, {{leaf.value(), value}}, MaskOfLeaf(pool->op(leaf)));
+  // One leaf: compared directly, no map to build per call (solving an equation calls this).
+  return Replace(pool, root, MaskOfLeaf(pool->op(leaf)),
+                 [&](uint32_t id) { return id == leaf.value() ? value : ExprId(); });
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -344,8 +385,8 @@ ExprId ChainRule(ExprPool& p, const Node& n, ExprId self, ExprId da, ExprId db, 
 
 /// Generic derivative: `leaf_rule` gives the derivative of each leaf; `relevant` says whether a
 /// subtree can have a nonzero derivative (by its leaf mask) so the rest is skipped.
-ExprId Derive(ExprPool* pool, ExprId root, const std::function<ExprId(const Node&, ExprId)>& leaf_rule,
-              uint8_t relevant_mask, bool* failed) {
+template <class LeafRule>
+ExprId Derive(ExprPool* pool, ExprId root, LeafRule leaf_rule, uint8_t relevant_mask, bool* failed) {
   ExprPool& p = *pool;
   thread_local NodeMemo memo;
   thread_local std::vector<uint32_t> stack;

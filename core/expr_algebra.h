@@ -19,6 +19,10 @@ std::vector<ExprId> CollectLeaves(const ExprPool& pool, ExprId e, uint8_t mask);
 /// True when the leaf `leaf` occurs below `e`.
 bool ContainsLeaf(const ExprPool& pool, ExprId e, ExprId leaf);
 
+/// The distinct leaves of kinds in `mask` below `e`, appended to `out` (cleared first): the form
+/// for loops over many equations, which then reuse one buffer.
+void CollectLeaves(const ExprPool& pool, ExprId e, uint8_t mask, std::vector<ExprId>* out);
+
 /// Replaces leaves by expressions. A replacement is itself rewritten (so chains x->y->z resolve),
 /// which requires the map to be acyclic. Results are memoised until the map changes.
 class Substitution {
@@ -26,7 +30,12 @@ class Substitution {
   explicit Substitution(ExprPool* pool) : pool_(pool) {}
   void Set(ExprId leaf, ExprId replacement);
   bool Has(ExprId leaf) const;
+  /// `e` with every mapped leaf replaced; `e` itself, and no new node, when none occurs in it.
   ExprId Apply(ExprId e);
+  /// True when some mapped leaf occurs below `e`, i.e. Apply(e) may differ from `e`. A walk
+  /// without the memo's writes: passes that rewrite many equations of which few hold a
+  /// replaced leaf check first.
+  bool Touches(ExprId e) const;
   size_t size() const { return num_entries_; }
 
  private:
@@ -36,6 +45,8 @@ class Substitution {
   std::vector<uint32_t> memo_gen_;
   uint32_t gen_ = 1;
   size_t num_entries_ = 0;
+  /// The LeafMask kinds of the mapped leaves: a subtree without any of them is unchanged.
+  uint8_t mapped_kinds_ = 0;
 };
 
 /// `e` with the nodes in `map` (node id -> replacement) replaced; only subtrees whose leaf mask

@@ -8,25 +8,44 @@ namespace momenta {
 
 namespace {
 
+/// How many equations hold each derivative leaf: by variable for first derivatives (nearly all of
+/// them; a flat array), in a map for higher ones.
+class DerivativeUses {
+ public:
+  DerivativeUses(const ExprPool& pool, size_t num_variables) : pool_(pool), first_(num_variables, 0) {}
+  uint32_t& operator[](ExprId der) {
+    const Node& n = pool_.node(der);
+    return n.b == 0 ? first_[n.a] : higher_[der.value()];
+  }
+
+ private:
+  const ExprPool& pool_;
+  std::vector<uint32_t> first_;                    ///< der(x), by x
+  std::unordered_map<uint32_t, uint32_t> higher_;  ///< by node id
+};
+
 /// Step 1: der(s) -> expression of v, from a defining equation v = c*der(s) + offset. With
 /// `to_states`, only where v is differentiated itself (a state: known to the causal order).
 void DerivativeAliases(EquationSystem* sys, IndexStats* stats, bool to_states = false) {
   ExprPool& p = *sys->pool;
   const std::vector<bool> diff = to_states ? DifferentiatedVariables(*sys) : std::vector<bool>();
-  // How many equations hold each der(s).
-  std::unordered_map<uint32_t, uint32_t> uses;
-  std::vector<std::vector<ExprId>> ders(sys->equations.size());
+  // How many equations hold each der(s), and the one der(s) of each equation that holds exactly
+  // one (invalid otherwise).
+  DerivativeUses uses(p, sys->role.size());
+  std::vector<ExprId> only_der(sys->equations.size());
+  std::vector<ExprId> ders;
   for (size_t k = 0; k < sys->equations.size(); ++k) {
     if (!(p.mask(sys->equations[k].residual) & kHasDer)) continue;
-    ders[k] = CollectLeaves(p, sys->equations[k].residual, kHasDer);
-    for (ExprId d : ders[k]) ++uses[d.value()];
+    CollectLeaves(p, sys->equations[k].residual, kHasDer, &ders);
+    for (ExprId d : ders) ++uses[d];
+    if (ders.size() == 1) only_der[k] = ders[0];
   }
   Substitution rewrite(&p);
   std::vector<bool> defining(sys->equations.size(), false);
   AffineForm form;
   for (size_t k = 0; k < sys->equations.size(); ++k) {
-    if (ders[k].size() != 1 || uses[ders[k][0].value()] < 2) continue;
-    ExprId der = ders[k][0];
+    if (!only_der[k].valid() || uses[only_der[k]] < 2) continue;
+    ExprId der = only_der[k];
     if (rewrite.Has(der)) continue;
     ExprId r = sys->equations[k].residual;
     if (p.mask(r) & (kHasPre | kHasTime | kHasInitial)) continue;
@@ -45,7 +64,8 @@ void DerivativeAliases(EquationSystem* sys, IndexStats* stats, bool to_states = 
   }
   if (rewrite.size() == 0) return;
   for (size_t k = 0; k < sys->equations.size(); ++k) {
-    if (!defining[k]) sys->equations[k].residual = rewrite.Apply(sys->equations[k].residual);
+    ExprId& r = sys->equations[k].residual;
+    if (!defining[k] && rewrite.Touches(r)) r = rewrite.Apply(r);
   }
   for (auto& e : sys->initial) e.residual = rewrite.Apply(e.residual);
   for (auto& o : sys->outputs) o = rewrite.Apply(o);
@@ -60,8 +80,10 @@ void ConstrainedStates(EquationSystem* sys, IndexStats* stats) {
   Substitution& s = *sys->eliminated;
   std::vector<bool> diff = DifferentiatedVariables(*sys);
   // Equations that define a variable as the derivative of another, u = c*der(x) + offset (a
-  // body's v = der(r)), by the der(x) leaf: a constrained x with such a u can stay an unknown.
-  std::unordered_map<uint32_t, uint32_t> derivative_definition;  // der(x) node -> equation
+  // body's v = der(r)), by x (the first such equation): a constrained x with such a u can stay
+  // an unknown.
+  constexpr int32_t kNone = -1;
+  std::vector<int32_t> derivative_definition(sys->role.size(), kNone);
   {
     AffineForm form;
     for (uint32_t k = 0; k < sys->equations.size(); ++k) {
@@ -73,7 +95,8 @@ void ConstrainedStates(EquationSystem* sys, IndexStats* stats) {
       const bool d0 = p.op(t0.first) == Op::kDer && p.DerOrder(t0.first) == 1 && p.op(t1.first) == Op::kVar;
       const bool d1 = p.op(t1.first) == Op::kDer && p.DerOrder(t1.first) == 1 && p.op(t0.first) == Op::kVar;
       if (d0 == d1) continue;
-      derivative_definition.emplace((d0 ? t0 : t1).first.value(), k);
+      int32_t& definition = derivative_definition[p.node((d0 ? t0 : t1).first).a];
+      if (definition == kNone) definition = static_cast<int32_t>(k);
       // A velocity that should be a state (MSL's v_rel = der(s_rel) with stateSelect prefer)
       // takes part in constraints among states as if it were differentiated: a constraint
       // v_b = v_a + v_rel then eliminates the mass's v_b (default) and der(v_b) becomes
@@ -88,10 +111,11 @@ void ConstrainedStates(EquationSystem* sys, IndexStats* stats) {
   // constraint keeps every substitution local; eliminating one shared by two (a mass between two
   // spring-dampers) would make each mass position a sum over the chain: dense expressions.
   std::vector<uint32_t> constraint_count(sys->role.size(), 0);
+  std::vector<ExprId> vars, original_vars;  // scratch for the loops below
   for (const SystemEquation& eq : sys->equations) {
     const uint8_t m = p.mask(eq.residual);
     if ((m & (kHasDer | kHasPre | kHasInitial)) || !(m & kHasVar)) continue;
-    std::vector<ExprId> vars = CollectLeaves(p, eq.residual, kHasVar);
+    CollectLeaves(p, eq.residual, kHasVar, &vars);
     if (!std::all_of(vars.begin(), vars.end(), [&](ExprId v) { return diff[p.node(v).a]; })) continue;
     for (ExprId v : vars) ++constraint_count[p.node(v).a];
   }
@@ -103,11 +127,12 @@ void ConstrainedStates(EquationSystem* sys, IndexStats* stats) {
   for (size_t k = 0; k < sys->equations.size(); ++k) {
     SystemEquation& eq = sys->equations[k];
     const ExprId original = eq.residual;
-    ExprId r = changed ? s.Apply(eq.residual) : eq.residual;
+    // Rewritten by what this pass replaced so far (only if it holds some of it: the same result).
+    ExprId r = changed && s.Touches(eq.residual) ? s.Apply(eq.residual) : eq.residual;
     eq.residual = r;
     const uint8_t m = p.mask(r);
     if ((m & (kHasDer | kHasPre | kHasInitial)) || !(m & kHasVar)) continue;
-    std::vector<ExprId> vars = CollectLeaves(p, r, kHasVar);
+    CollectLeaves(p, r, kHasVar, &vars);
     bool all_states = std::all_of(vars.begin(), vars.end(), [&](ExprId v) { return diff[p.node(v).a]; });
     if (!all_states) continue;
     // Eliminate a `stateSelect: never` variable first, then the variable in the fewest
@@ -133,14 +158,15 @@ void ConstrainedStates(EquationSystem* sys, IndexStats* stats) {
       uint32_t v = p.node(x).a;
       ExprId der = p.Der(VarId(v));
       if (!p.IsConst(coefficient)) sys->guards.push_back({coefficient, eq.origin, VarId(v)});
-      auto def = derivative_definition.find(der.value());
+      const int32_t def = derivative_definition[v];
       auto nests = [&] {
-        for (ExprId w : CollectLeaves(p, original, kHasVar)) {
+        CollectLeaves(p, original, kHasVar, &original_vars);
+        for (ExprId w : original_vars) {
           if (shared_solution[p.node(w).a]) return true;
         }
         return false;
       };
-      if (constraint_count[v] >= 2 && def != derivative_definition.end() && nests()) {
+      if (constraint_count[v] >= 2 && def != kNone && nests()) {
         // x is shared with another constraint (a frame between two bars of a chain), and its
         // constraint holds a variable already replaced so: replacing x too would nest every such
         // solution into the next one, so that the position of the k-th link of a chain becomes a
@@ -150,7 +176,7 @@ void ConstrainedStates(EquationSystem* sys, IndexStats* stats) {
         // u = c*der(x) + offset names, and that definition becomes the differentiated constraint
         // (der(x) replaced by the time derivative of the solution). Every equation stays local.
         // u is left to the next round: its new equation is a constraint on velocities.
-        SystemEquation& definition = sys->equations[def->second];
+        SystemEquation& definition = sys->equations[def];
         ExprId u_eq = s.Apply(definition.residual);
         ExprId der_value;  // der(x) from the definition: c*der(x) + c_u*u + offset = 0
         ExprId unused;
@@ -158,7 +184,7 @@ void ConstrainedStates(EquationSystem* sys, IndexStats* stats) {
         if (der_value.valid() && !(p.mask(der_value) & kHasDer)) {
           definition.residual = ReplaceLeaf(&p, u_eq, der, dvalue);
           s.Set(der, der_value);
-          derivative_definition.erase(def);
+          derivative_definition[v] = kNone;
           ++stats->kept_constraints;
           changed = true;
           break;

@@ -21,8 +21,7 @@ class DerivativeGraph {
 
   /// Column of der^k(v), created (with the lower orders it implies) on first use.
   uint32_t Column(uint32_t v, uint32_t k) {
-    auto it = index_.find(Key(v, k));
-    if (it != index_.end()) return it->second;
+    if (const int32_t known = Find(v, k); known >= 0) return static_cast<uint32_t>(known);
     int32_t lower = k > 0 ? static_cast<int32_t>(Column(v, k - 1)) : -1;
     uint32_t c = static_cast<uint32_t>(var_.size());
     var_.push_back(v);
@@ -31,7 +30,13 @@ class DerivativeGraph {
     assign_.push_back(-1);
     colour_col_.push_back(0);
     if (lower >= 0) derivative_[lower] = static_cast<int32_t>(c);
-    index_.emplace(Key(v, k), c);
+    if (k <= 1) {
+      std::vector<int32_t>& by_var = k == 0 ? value_column_ : derivative_column_;
+      if (by_var.size() <= v) by_var.resize(sys_.role.size() > v ? sys_.role.size() : v + 1, -1);
+      by_var[v] = static_cast<int32_t>(c);
+    } else {
+      higher_column_.emplace(Key(v, k), c);
+    }
     return c;
   }
 
@@ -40,7 +45,8 @@ class DerivativeGraph {
     if (rows_.size() <= e) rows_.resize(e + 1);
     std::vector<uint32_t>& row = rows_[e];
     row.clear();
-    for (ExprId leaf : CollectLeaves(p_, sys_.equations[e].residual, kHasVar | kHasDer)) {
+    CollectLeaves(p_, sys_.equations[e].residual, kHasVar | kHasDer, &leaves_);
+    for (ExprId leaf : leaves_) {
       const Node& n = p_.node(leaf);
       if (!IsContinuousUnknown(n.a)) continue;
       row.push_back(Column(n.a, n.op == Op::kDer ? n.b + 1 : 0));
@@ -57,11 +63,10 @@ class DerivativeGraph {
   /// no recursion); colours what it visits. On success the matching is extended.
   bool Augment(uint32_t root) {
     ++colour_;
-    struct Frame {
-      uint32_t eq, pos;
-    };
-    std::vector<Frame> stack{{root, 0}};
-    std::vector<uint32_t> path;  // column taken from each frame to the next
+    std::vector<Frame>& stack = stack_;
+    stack.assign(1, {root, 0});
+    std::vector<uint32_t>& path = path_;  // column taken from each frame to the next
+    path.clear();
     colour_eq_[root] = colour_;
     visited_eqs_.assign(1, root);
     visited_cols_.clear();
@@ -111,11 +116,28 @@ class DerivativeGraph {
   void Assign(uint32_t c, int32_t e) { assign_[c] = e; }
 
  private:
+  struct Frame {
+    uint32_t eq, pos;
+  };
   static uint64_t Key(uint32_t v, uint32_t k) { return (static_cast<uint64_t>(v) << 32) | k; }
+  /// The column of der^k(v), or -1.
+  int32_t Find(uint32_t v, uint32_t k) const {
+    if (k <= 1) {
+      const std::vector<int32_t>& by_var = k == 0 ? value_column_ : derivative_column_;
+      return v < by_var.size() ? by_var[v] : -1;
+    }
+    auto it = higher_column_.find(Key(v, k));
+    return it != higher_column_.end() ? static_cast<int32_t>(it->second) : -1;
+  }
 
   EquationSystem& sys_;
   const ExprPool& p_;
-  std::unordered_map<uint64_t, uint32_t> index_;
+  // Columns by variable for v and der(v) (nearly all of them: flat arrays), in a map above.
+  std::vector<int32_t> value_column_, derivative_column_;
+  std::unordered_map<uint64_t, uint32_t> higher_column_;
+  std::vector<ExprId> leaves_;  // AddRow's scratch
+  std::vector<Frame> stack_;    // Augment's scratch
+  std::vector<uint32_t> path_;
   std::vector<uint32_t> var_, order_;
   std::vector<int32_t> derivative_, assign_;
   std::vector<std::vector<uint32_t>> rows_;

@@ -212,6 +212,29 @@ TEST_F(ExprAlgebraTest, SubstitutionOf100000LongChain) {
   EXPECT_TRUE(pool.IsConst(form.offset, static_cast<double>(n)));
 }
 
+TEST_F(ExprAlgebraTest, SubstitutionLeavesExpressionsWithoutAMappedLeafAsTheyAre) {
+  // Only der(x) is mapped: expressions without it keep their id, are reported untouched, and
+  // cost no new node (passes skip them; the result must be what Apply gives).
+  ExprId dx = pool.Der(VarId(0u));
+  Substitution s(&pool);
+  EXPECT_FALSE(s.Touches(x));
+  s.Set(dx, pool.Mul(C(2), y));
+  ExprId without = pool.Add(pool.Mul(x, F(Op::kSin, y)), pool.Div(p, q));
+  ExprId with = pool.Sub(dx, pool.Mul(x, z));
+  const size_t nodes = pool.size();
+  EXPECT_FALSE(s.Touches(without));
+  EXPECT_EQ(s.Apply(without), without);
+  EXPECT_EQ(pool.size(), nodes);
+  EXPECT_TRUE(s.Touches(with));
+  EXPECT_TRUE(s.Touches(pool.Mul(with, without)));
+  EXPECT_EQ(s.Apply(with), pool.Sub(pool.Mul(C(2), y), pool.Mul(x, z)));
+  // A variable mapped later: the skipped kinds follow.
+  s.Set(z, C(3));
+  EXPECT_TRUE(s.Touches(pool.Add(z, p)));
+  EXPECT_EQ(s.Apply(with), pool.Sub(pool.Mul(C(2), y), pool.Mul(x, C(3))));
+  EXPECT_FALSE(s.Touches(pool.Add(y, pool.Pre(VarId(2u)))));
+}
+
 TEST_F(ExprAlgebraTest, ReplaceLeaf) {
   ExprId e = pool.Add(pool.Mul(x, y), pool.Unary(Op::kSin, x));
   ExprId r = ReplaceLeaf(&pool, e, x, C(2));

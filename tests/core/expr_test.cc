@@ -49,6 +49,32 @@ TEST_F(ExprTest, SameStructureIsSameNode) {
   EXPECT_EQ(pool.size(), before);
 }
 
+TEST_F(ExprTest, LeavesFoundByVariableAreTheInternedOnes) {
+  // FindLeaf answers for x, pre(x), der(x) from tables by variable: exactly the leaves made.
+  EXPECT_EQ(pool.FindLeaf(Op::kVar, 1), y);
+  EXPECT_FALSE(pool.FindLeaf(Op::kVar, 7).valid());
+  EXPECT_FALSE(pool.FindLeaf(Op::kDer, 0).valid());
+  EXPECT_FALSE(pool.FindLeaf(Op::kPre, 1).valid());
+  const size_t nodes = pool.size();
+  ExprId dx = pool.Der(VarId(0u)), ddx = pool.Der(VarId(0u), 2), pre = pool.Pre(VarId(1u));
+  EXPECT_EQ(pool.size(), nodes + 3);
+  EXPECT_EQ(pool.Der(VarId(0u)), dx);
+  EXPECT_EQ(pool.Der(VarId(0u), 2), ddx);
+  EXPECT_NE(dx, ddx);
+  EXPECT_EQ(pool.DerOrder(ddx), 2u);
+  EXPECT_EQ(pool.Pre(VarId(1u)), pre);
+  EXPECT_EQ(pool.Var(VarId(1u)), y);
+  EXPECT_EQ(pool.size(), nodes + 3);
+  EXPECT_EQ(pool.FindLeaf(Op::kDer, 0), dx);
+  EXPECT_EQ(pool.FindLeaf(Op::kPre, 1), pre);
+  EXPECT_EQ(pool.FindLeaf(Op::kParam, 0), p);
+  EXPECT_FALSE(pool.FindLeaf(Op::kPre, 0).valid());
+  // A variable far beyond those seen so far.
+  ExprId far = pool.Var(VarId(100000u));
+  EXPECT_EQ(pool.FindLeaf(Op::kVar, 100000), far);
+  EXPECT_EQ(pool.node(far).a, 100000u);
+}
+
 TEST_F(ExprTest, CommutativeOperationsHaveOneCanonicalOrder) {
   EXPECT_EQ(pool.Add(x, y), pool.Add(y, x));
   EXPECT_EQ(pool.Mul(x, y), pool.Mul(y, x));
