@@ -234,26 +234,7 @@ ExprId ExprPool::Intern(const Node& n) {
   return ExprId(id);
 }
 
-ExprId* ExprPool::LeafSlot(Op op, uint32_t payload, uint32_t order_minus_one) {
-  std::vector<ExprId>* by_var = op == Op::kVar                            ? &var_leaf_
-                                : op == Op::kPre                          ? &pre_leaf_
-                                : op == Op::kDer && order_minus_one == 0 ? &der_leaf_
-                                                                          : nullptr;
-  if (by_var == nullptr) return nullptr;
-  if (by_var->size() <= payload) by_var->resize(payload + 1 + payload / 2);
-  return &(*by_var)[payload];
-}
-
-const ExprId* ExprPool::FindLeafSlot(Op op, uint32_t payload) const {
-  const std::vector<ExprId>* by_var = op == Op::kVar ? &var_leaf_ : op == Op::kPre ? &pre_leaf_ : op == Op::kDer ? &der_leaf_ : nullptr;
-  if (by_var == nullptr) return nullptr;
-  static const ExprId kNone;
-  return payload < by_var->size() ? &(*by_var)[payload] : &kNone;
-}
-
 ExprId ExprPool::FindLeaf(Op op, uint32_t payload) const {
-  // Every kVar, kPre and first kDer leaf is made through LeafSlot: its table is complete.
-  if (const ExprId* slot = FindLeafSlot(op, payload)) return *slot;
   Node n;
   n.op = op;
   n.a = payload;
@@ -276,26 +257,18 @@ ExprId ExprPool::FindLeaf(Op op, uint32_t payload) const {
 
 ExprId ExprPool::Der(VarId v, uint32_t order) {
   MOMENTA_CHECK_MSG(order >= 1, "a derivative has order 1 or more");
-  ExprId* slot = LeafSlot(Op::kDer, v.value(), order - 1);
-  if (slot != nullptr && slot->valid()) return *slot;
   Node n;
   n.op = Op::kDer;
   n.a = v.value();
   n.b = order - 1;
-  const ExprId id = Intern(n);
-  if (slot != nullptr) *slot = id;
-  return id;
+  return Intern(n);
 }
 
 ExprId ExprPool::Leaf(Op op, uint32_t payload) {
-  ExprId* slot = LeafSlot(op, payload, 0);
-  if (slot != nullptr && slot->valid()) return *slot;
   Node n;
   n.op = op;
   n.a = payload;
-  const ExprId id = Intern(n);
-  if (slot != nullptr) *slot = id;
-  return id;
+  return Intern(n);
 }
 
 ExprId ExprPool::Table(ParamId first, uint32_t rows, uint32_t cols, uint32_t column) {

@@ -140,15 +140,7 @@ class ExprPool {
   ExprId Intern(const Node& n);
   void Grow();
 
-  /// The leaf of kind `op` for `payload` when it is one of those looked up by variable (kVar, kPre,
-  /// and kDer of order 1): its slot in leaf_by_var_, else nullptr.
-  ExprId* LeafSlot(Op op, uint32_t payload, uint32_t order_minus_one);
-  const ExprId* FindLeafSlot(Op op, uint32_t payload) const;
-
   std::vector<Node, HugePageAllocator<Node>> nodes_;
-  /// x, pre(x) and der(x) of each variable, found without hashing: the passes ask for these by
-  /// variable far more often than they make new ones (invalid: not made yet).
-  std::vector<ExprId> var_leaf_, pre_leaf_, der_leaf_;
   /// Open-addressing hash table: each slot holds (hash tag << 32) | node id, or kEmptySlot. The
   /// tag spares a probe the node comparison (a cache miss) unless it is a likely match.
   std::vector<uint64_t, HugePageAllocator<uint64_t>> table_;
