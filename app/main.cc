@@ -33,7 +33,8 @@ int main(int argc, char** argv) {
   number("--atol", &sim.options.atol, "absolute tolerance (scaled by each variable's nominal)");
   number("--interval", &sim.options.interval, "output interval [s]");
   number("--max-order", &sim.options.max_order,
-         "IDA's maximum BDF order, 1 to 5 (default 5; 2 or 3 for lightly damped oscillations)");
+         "IDA's maximum BDF order, 1 to 5 (default: the experiment's max_order, else 5; 2 or 3 for lightly "
+         "damped oscillations)");
   simulate->add_option("-o,--out", sim.out, "results file (CSV; '-' for standard output)");
   simulate->add_option("--linear-solver", sim.options.linear_solver, "auto, dense or klu")
       ->check(CLI::IsMember({"auto", "dense", "klu"}));
@@ -79,7 +80,7 @@ int main(int argc, char** argv) {
   sweep_number("--rtol", &swp.options.rtol, "relative tolerance");
   sweep_number("--atol", &swp.options.atol, "absolute tolerance (scaled by each variable's nominal)");
   sweep_number("--interval", &swp.options.interval, "output interval [s]");
-  sweep_number("--max-order", &swp.options.max_order, "IDA's maximum BDF order, 1 to 5 (default 5)");
+  sweep_number("--max-order", &swp.options.max_order, "IDA's maximum BDF order, 1 to 5 (default: the experiment's max_order, else 5)");
   sweep->add_option("--linear-solver", swp.options.linear_solver, "auto, dense or klu")
       ->check(CLI::IsMember({"auto", "dense", "klu"}));
   sweep->add_option("--codegen", swp.options.codegen,

@@ -21,6 +21,9 @@ struct ExperimentSpec {
   double start = 0, stop = 1, tolerance = 1e-6;
   double interval = 0;  ///< 0: not given, (stop - start)/500
   std::string linear_solver = "auto";
+  /// IDA's maximum BDF order, 1 to 5: a lightly damped model (a long chain of masses) may take
+  /// fewer steps at 3 (docs/FORMAT.md; `--max-order` overrides it).
+  int max_order = 5;
   SourceLoc loc;
 };
 

@@ -660,12 +660,20 @@ class Reader {
     if (root["experiment"]) {
       const YamlNode& e = root["experiment"];
       ExpectMap(e, "experiment");
-      CheckKeys(e, "experiment", {"start", "stop", "tolerance", "interval", "linear_solver"});
+      CheckKeys(e, "experiment", {"start", "stop", "tolerance", "interval", "linear_solver", "max_order"});
       m.experiment.loc = Loc(e);
       if (e["start"]) m.experiment.start = Number(e["start"], "experiment.start");
       if (e["stop"]) m.experiment.stop = Number(e["stop"], "experiment.stop");
       if (e["tolerance"]) m.experiment.tolerance = Number(e["tolerance"], "experiment.tolerance");
       if (e["interval"]) m.experiment.interval = Number(e["interval"], "experiment.interval");
+      if (e["max_order"]) {
+        const double k = Number(e["max_order"], "experiment.max_order");
+        if (!(k >= 1 && k <= 5 && k == std::floor(k))) {
+          Fail(e["max_order"], "experiment.max_order must be a whole number from 1 to 5 (IDA's maximum BDF order; "
+                               "the default is 5), found '" + e["max_order"].Scalar() + "'");
+        }
+        m.experiment.max_order = static_cast<int>(k);
+      }
       if (e["linear_solver"]) {
         m.experiment.linear_solver = Scalar(e["linear_solver"], "experiment.linear_solver");
         const std::string& s = m.experiment.linear_solver;

@@ -1240,6 +1240,7 @@ SimulationOptions OptionsFromExperiment(const ExperimentSpec& e) {
   o.interval = e.interval;
   o.rtol = e.tolerance;
   o.linear_solver = e.linear_solver;
+  o.max_order = e.max_order;
   return o;
 }
 

@@ -211,6 +211,21 @@ components:
        "experiment: {tolerance: 1e-300}\n",
        {},
        {"@:4:25: experiment.tolerance must lie between 1e-15 and 1", "found '1e-300'"}},
+      {"experiment_max_order_above_five",
+       "model: Bad\n"
+       "components:\n"
+       "  A: {type: Mass, m: 1}\n"
+       "experiment: {max_order: 6}\n",
+       {},
+       {"@:4:25: experiment.max_order must be a whole number from 1 to 5 (IDA's maximum BDF order; the default "
+        "is 5), found '6'"}},
+      {"experiment_max_order_not_whole",
+       "model: Bad\n"
+       "components:\n"
+       "  A: {type: Mass, m: 1}\n"
+       "experiment: {max_order: 2.5}\n",
+       {},
+       {"@:4:25: experiment.max_order must be a whole number from 1 to 5", "found '2.5'"}},
       {"experiment_stop_before_start",
        "model: Bad\n"
        "components:\n"

@@ -156,6 +156,37 @@ TEST_F(CliValuesTest, MaxOrderReachesIda) {
   EXPECT_GT(order1, 5 * order5) << first.out << fifth.out;
 }
 
+TEST_F(CliValuesTest, ExperimentMaxOrderReachesIdaAndTheCommandLineOverridesIt) {
+  // The decay of MaxOrderReachesIda with `max_order: 1` in its experiment: as many steps as
+  // --max-order 1 (the same run), and --max-order 5 gives IDA's full order back.
+  dir_.Write("decay.yaml", kDecay);
+  std::string capped = kDecay;
+  const size_t at = capped.find("experiment: {");
+  ASSERT_NE(at, std::string::npos);
+  capped.insert(at + std::string("experiment: {").size(), "max_order: 1, ");
+  dir_.Write("capped.yaml", capped);
+  const std::vector<std::string> run = {"--stop", "2", "--rtol", "1e-8", "--atol", "1e-10"};
+  auto with = [&](std::vector<std::string> extra) {
+    std::vector<std::string> args = run;
+    args.insert(args.end(), extra.begin(), extra.end());
+    return args;
+  };
+  CliResult by_option = Simulate("decay.yaml", with({"--max-order", "1"}));
+  CliResult by_model = Simulate("capped.yaml", run);
+  CliResult overridden = Simulate("capped.yaml", with({"--max-order", "5"}));
+  CliResult full = Simulate("decay.yaml", run);
+  for (const CliResult* r : {&by_option, &by_model, &overridden, &full}) ASSERT_EQ(r->exit_code, kExitOk) << r->err;
+  // The solver line (steps, evaluations, failures): the two order-1 runs and the two order-5
+  // runs agree, and the orders differ.
+  auto summary = [](const std::string& out) {
+    const size_t at = out.find("IDA with");
+    return at == std::string::npos ? out : out.substr(at, out.find('\n', at) - at);
+  };
+  EXPECT_EQ(summary(by_model.out), summary(by_option.out));
+  EXPECT_EQ(summary(overridden.out), summary(full.out));
+  EXPECT_NE(summary(by_model.out), summary(full.out));
+}
+
 TEST_F(CliValuesTest, ValidValuesAreUsedNotReplaced) {
   // The smallest accepted tolerances run, and --stop and --interval shape the grid exactly.
   dir_.Write("decay.yaml", kDecay);
