@@ -64,8 +64,7 @@ void Restart(char** argv) {
   // unmapped and faulted anew (the RC ladder at n = 50 000: a quarter less CPU, 7 % more peak).
   value += "glibc.malloc.hugetlb=1:glibc.malloc.mmap_max=0:glibc.malloc.trim_threshold=4294967295";
   if (setenv("GLIBC_TUNABLES", value.c_str(), 1) != 0) return;
-  std::cout.flush();
-  std::cerr.flush();
+  std::cout.flush();  // (std::cerr is unit-buffered)
   std::fflush(nullptr);
   execv("/proc/self/exe", argv);
   // Not restarted (no /proc, say): go on with ordinary pages. The variable stays set, which only

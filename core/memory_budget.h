@@ -28,8 +28,10 @@ double EstimatedComponentBytes(size_t num_variables, size_t num_parameters,
                                size_t num_expression_nodes);
 
 /// Builds planned above this many bytes (sizes given by the model's `count:`) are large: their
-/// time goes largely to page faults and TLB misses (bench/RESULTS.md: huge pages take a quarter
-/// off the RC ladder's build from n = 2 500 on, about 40 MB).
+/// time goes largely to page faults and TLB misses. Huge pages took 0.28 → 0.23 s of CPU off the
+/// RC ladder at n = 2 500 (about 40 MB at its peak), 0.91 → 0.70 s at n = 10 000 and 5.2 → 3.4 s
+/// at n = 50 000 (3 interleaved runs each, medians); this estimate (core/flatten.cc) reaches
+/// 32 MiB near n = 4 000.
 constexpr double kLargeBuildBytes = 32.0 * 1024 * 1024;
 
 /// While one lives, a build on this thread whose planned size passes kLargeBuildBytes calls

@@ -155,15 +155,18 @@ TEST_F(CliTest, OutDashWritesOnlyTheCsvToStandardOutput) {
   }
 }
 
+/// Transparent huge pages can be asked for ("always" or "madvise"): the restart tests need them.
+bool HugePagesAvailable() {
+  std::ifstream thp("/sys/kernel/mm/transparent_hugepage/enabled");
+  std::string mode;
+  return std::getline(thp, mode) && mode.find("[never]") == std::string::npos;
+}
+
 // A large model file makes momenta restart once with glibc's malloc on transparent huge pages
 // (app/huge_pages.h); check says so on its total line. A small one, or MOMENTA_HUGE_PAGES=0,
 // keeps ordinary pages.
 TEST_F(CliTest, LargeModelFileRunsOnHugePages) {
-  std::ifstream thp("/sys/kernel/mm/transparent_hugepage/enabled");
-  std::string mode;
-  if (!std::getline(thp, mode) || mode.find("[never]") != std::string::npos) {
-    GTEST_SKIP() << "transparent huge pages are off on this machine";
-  }
+  if (!HugePagesAvailable()) GTEST_SKIP() << "transparent huge pages are off on this machine";
   // The pushed mass with a megabyte of comment lines: a file over the threshold.
   std::string large = kPushedMass;
   const std::string comment = "# " + std::string(98, 'x') + "\n";
@@ -192,11 +195,7 @@ TEST_F(CliTest, LargeModelFileRunsOnHugePages) {
 }
 
 TEST_F(CliTest, LargeArrayBuildRunsOnHugePages) {
-  std::ifstream thp("/sys/kernel/mm/transparent_hugepage/enabled");
-  std::string mode;
-  if (!std::getline(thp, mode) || mode.find("[never]") != std::string::npos) {
-    GTEST_SKIP() << "transparent huge pages are off on this machine";
-  }
+  if (!HugePagesAvailable()) GTEST_SKIP() << "transparent huge pages are off on this machine";
   // A small file whose count makes a large build: 8 000 masses plan about 40 MB, past
   // kLargeBuildBytes (32 MiB); momenta restarts on huge pages once the count is known.
   dir_.Write("masses.yaml", R"(model: Masses
