@@ -52,9 +52,10 @@ const std::vector<std::string> kStraightLineFlags = {"-O1", "-fno-tree-dse", "-f
                                                      "-fno-tree-pta"};
 const std::vector<std::string> kLoopFlags = {"-O2"};
 const std::vector<std::string> kRequiredFlags = {"-fPIC", "-shared", "-ffp-contract=off", "-fno-fast-math", "-w"};
-/// A unit with a loop gets kLoopFlags up to this many instructions in its C (statements): -O2
-/// takes twice -O1's time on straight-line code (0.6 against 0.3 s for 1 400 statements).
-constexpr size_t kMaxLoopUnit = 2000;
+/// A unit with a loop gets kLoopFlags when it holds at most this many straight-line instructions
+/// (statements outside loops): -O2 takes twice -O1's time on straight-line code (0.6 against
+/// 0.3 s of CPU for pendulum_chain's 1 400 statements at n = 10) and runs it no faster.
+constexpr size_t kMaxStraightInLoopUnit = 500;
 
 /// The optimisation flags: $MOMENTA_CC_FLAGS (split at spaces) for every unit, else kLoopFlags or
 /// kStraightLineFlags; then the ones the loading and the bit-equality need.
@@ -162,7 +163,7 @@ std::string KeyOf(const CompiledModel& model, const NativeCodeOptions& options, 
   for (bool loop_unit : {false, true}) {
     for (const std::string& f : CompileFlags(loop_unit)) h.Add(f);
   }
-  h.Add(kMaxLoopUnit);
+  h.Add(kMaxStraightInLoopUnit);
   h.Add(options.max_function_len);
   h.Add(options.loops ? 1u : 0u);
   const RegisterLayout& L = model.layout;
@@ -302,15 +303,21 @@ size_t EmittedSize(const CodegenProgram& p) {
   return n;
 }
 
-/// Whether a translation unit is compiled with kLoopFlags: it holds a loop and is small.
+/// Whether a translation unit is compiled with kLoopFlags: it holds a loop and little
+/// straight-line code.
 bool IsLoopUnit(const std::vector<CodegenProgram>& unit) {
-  size_t emitted = 0;
+  size_t straight = 0;
   bool loop = false;
   for (const CodegenProgram& p : unit) {
-    emitted += EmittedSize(p);
-    for (const CodeSegment& s : p.segments) loop = loop || s.count > 1;
+    for (const CodeSegment& s : p.segments) {
+      if (s.count > 1) {
+        loop = true;
+      } else {
+        straight += s.len;
+      }
+    }
   }
-  return loop && emitted <= kMaxLoopUnit;
+  return loop && straight <= kMaxStraightInLoopUnit;
 }
 
 /// The programs in `parts` groups of about equal emitted size (largest first into the lightest
