@@ -75,7 +75,7 @@ class ModelState {
   /// Loads (t, y, y') and runs `which` into `out`.
   void RunAt(ModelProgram which, double t, const double* y, const double* yp, double* out);
   /// RunAt for the solver's hot calls (residual, Jacobian): native code reads y and y' where they
-  /// are, without the copy into the registers (at the 10 000-mass chain the copy was a fifth of
+  /// are, without the copy into the registers (at the 10 000-mass chain the copy was a quarter of
   /// the residual's time), so their registers keep what an earlier call loaded.
   void RunInPlace(ModelProgram which, double t, const double* y, const double* yp, double* out);
   void LoadZ(double t, const double* z);
