@@ -3,6 +3,9 @@
 # chain and the RC ladder, the same options as bench/run.sh. Per size: one run compiling into an
 # empty cache (code_compile_s), then K runs each of native (from the cache), interpreted and
 # hand-written; medians of CPU times. Prints a Markdown table; raw outputs go to $BENCH_OUT.
+# The last two columns (chain only): the hand-written program reading each spring-damper's and
+# mass's parameters from arrays (`--params arrays`), as momenta's code must (parameters are data),
+# its residual and simulate CPU time, and native's ratios to it.
 #
 # usage: bench/codegen.sh [CASE...]   CASE = chain:N or rc:N (default chain:1000 chain:10000 rc:10000 rc:100000)
 # environment: MOMENTA_BUILD_DIR (default <repo>/build), BENCH_OUT, BENCH_REPEAT (default 3)
@@ -23,8 +26,8 @@ fmt() { if [[ -z ${1:-} ]]; then echo "—"; else awk -v x="$1" 'BEGIN { printf 
 ratio() { if [[ -z ${1:-} || -z ${2:-} ]]; then echo "—"; else awk -v a="$1" -v b="$2" 'BEGIN { if (b > 0) printf "%.2f", a / b; else print "—" }'; fi; }
 sum() { awk -v a="${1:-0}" -v b="${2:-0}" 'BEGIN { printf "%.6f", a + b }'; }
 
-echo "| model | n | native instr | compile s | cache hit ms | residual ns interp / native / hand | ratio native / hand | simulate CPU s interp / native / hand | ratio native / hand | steps momenta / hand |"
-echo "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"
+echo "| model | n | native instr | compile s | cache hit ms | residual ns interp / native / hand | ratio native / hand | simulate CPU s interp / native / hand | ratio native / hand | steps momenta / hand | hand, params from arrays: residual ns / simulate CPU s | native / it: residual, simulate |"
+echo "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"
 for c in "${CASES[@]}"; do
   kind=${c%%:*}
   n=${c#*:}
@@ -44,6 +47,13 @@ for c in "${CASES[@]}"; do
   "$MB" --model "$model" -p n="$n" "${opts[@]}" --codegen interp --repeat "$K" --build-repeat 1 >"$OUT/${c/:/_}_interp.txt"
   "${hand[@]}" --repeat "$K" >"$OUT/${c/:/_}_hand.txt"
   f=$OUT/${c/:/_}
+  arrays="— | —"
+  if [[ $kind == chain ]]; then
+    "${hand[@]}" --params arrays --repeat "$K" >"${f}_hand_arrays.txt"
+    ares=$(awk -F= '/^res_eval_ns=/ { print $2 }' "${f}_hand_arrays.txt")
+    acpu=$(sum "$(get "${f}_hand_arrays.txt" setup_cpu_s)" "$(get "${f}_hand_arrays.txt" solve_cpu_s)")
+    arrays="$(fmt "$ares") / $(fmt "$acpu") | $(ratio "$(get "${f}_native.txt" res_eval_ns)" "$ares"), $(ratio "$(get "${f}_native.txt" simulate_cpu_s)" "$acpu")"
+  fi
   hres=$(awk -F= '/^res_eval_ns=/ { print $2 }' "${f}_hand.txt")
   hcpu=$(sum "$(get "${f}_hand.txt" setup_cpu_s)" "$(get "${f}_hand.txt" solve_cpu_s)")
   echo "| $kind | $n | $(run1 "${f}_compile.txt" code_instr) | $(fmt "$(run1 "${f}_compile.txt" code_compile_s)") |" \
@@ -52,7 +62,7 @@ for c in "${CASES[@]}"; do
     "$(ratio "$(get "${f}_native.txt" res_eval_ns)" "$hres") |" \
     "$(fmt "$(get "${f}_interp.txt" simulate_cpu_s)") / $(fmt "$(get "${f}_native.txt" simulate_cpu_s)") / $(fmt "$hcpu") |" \
     "$(ratio "$(get "${f}_native.txt" simulate_cpu_s)" "$hcpu") |" \
-    "$(get "${f}_native.txt" steps) / $(get "${f}_hand.txt" steps) |"
+    "$(get "${f}_native.txt" steps) / $(get "${f}_hand.txt" steps) | $arrays |"
 done
 echo
 echo "raw outputs: $OUT"

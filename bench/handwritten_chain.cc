@@ -14,7 +14,16 @@
 //                (v_{i-1}) -d, (v_i) d + d[i<n] + cj m, (v_{i+1}) -d
 //
 // usage: handwritten_chain --n N --stop T --rtol R --atol A --linear-solver dense|klu
-//                          --interval DT --repeat K
+//                          --interval DT --repeat K [--params arrays]
+//
+// --params arrays: the residual reads c, d, the unstretched length and m of each spring-damper
+// and mass from arrays (the same values), as momenta's generated code must (its parameters are
+// data: `-p` never recompiles); the default keeps them compile-time constants. The same
+// equations, Jacobian and steps.
+#include <memory>
+#include <string>
+#include <vector>
+
 #include "handwritten_ida.h"
 
 namespace {
@@ -26,7 +35,7 @@ constexpr double kLength = 1.0;
 constexpr double kForceAmplitude = 10.0;
 constexpr double kTwoPi = 6.283185307179586476925286766559;
 
-struct Chain final : hw::Problem {
+struct Chain : hw::Problem {
   explicit Chain(long n_) : n(n_) {}
   long n;
 
@@ -136,17 +145,62 @@ struct Chain final : hw::Problem {
   double final_value(const double* y, int k) const override { return k == 0 ? y[n - 1] : y[2 * n - 1]; }
 };
 
+// The chain with per-instance parameters read from arrays (--params arrays).
+struct ChainArrays final : Chain {
+  explicit ChainArrays(long n_) : Chain(n_), c(n_, kStiffness), d(n_, kDamping), length(n_, kLength), m(n_, kMass) {}
+  std::vector<double> c, d, length, m;  // of spring-damper i and mass i at [i - 1]
+
+  const char* name() const override { return "handwritten_chain (parameters from arrays)"; }
+
+  static int res_arrays(double t, N_Vector yy, N_Vector yyp, N_Vector rr, void* user_data) {
+    const ChainArrays& p = *static_cast<ChainArrays*>(user_data);
+    const long n = p.n;
+    const double* s = N_VGetArrayPointer(yy);
+    const double* v = s + n;
+    const double* sp = N_VGetArrayPointer(yyp);
+    const double* vp = sp + n;
+    double* r = N_VGetArrayPointer(rr);
+    auto force = [&](long i) {  // spring-damper i (1-based); zero for i = n+1
+      if (i > n) return 0.0;
+      const double s_prev = i > 1 ? s[i - 2] : 0.0;
+      const double v_prev = i > 1 ? v[i - 2] : 0.0;
+      return p.c[i - 1] * (s[i - 1] - s_prev - p.length[i - 1]) + p.d[i - 1] * (v[i - 1] - v_prev);
+    };
+    double f_i = force(1);
+    for (long i = 1; i <= n; ++i) {
+      const double f_next = force(i + 1);
+      const double load = i == n ? kForceAmplitude * std::sin(kTwoPi * t) : 0.0;
+      r[i - 1] = sp[i - 1] - v[i - 1];
+      r[n + i - 1] = p.m[i - 1] * vp[i - 1] - (f_next - f_i) - load;
+      f_i = f_next;
+    }
+    return 0;
+  }
+  IDAResFn residual() const override { return &ChainArrays::res_arrays; }
+};
+
 }  // namespace
 
 int main(int argc, char** argv) {
   hw::Options defaults;
   defaults.n = 100;
   defaults.stop = 10.0;
-  const hw::Options opt = hw::parse_options(argc, argv, defaults);
+  // --params arrays is this program's own option; the rest are the shared ones.
+  bool arrays = false;
+  std::vector<char*> args;
+  for (int i = 0; i < argc; ++i) {
+    if (i + 1 < argc && std::string(argv[i]) == "--params" && std::string(argv[i + 1]) == "arrays") {
+      arrays = true;
+      ++i;
+    } else {
+      args.push_back(argv[i]);
+    }
+  }
+  const hw::Options opt = hw::parse_options(static_cast<int>(args.size()), args.data(), defaults);
   try {
-    Chain chain(opt.n);
-    hw::check_dense_size(opt, chain.size());
-    return hw::run_benchmark(opt, chain);
+    std::unique_ptr<Chain> chain = arrays ? std::make_unique<ChainArrays>(opt.n) : std::make_unique<Chain>(opt.n);
+    hw::check_dense_size(opt, chain->size());
+    return hw::run_benchmark(opt, *chain);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "handwritten_chain: error: %s\n", e.what());
     return 1;

@@ -81,6 +81,15 @@ static double m_pow(double x, double y) {
   return pow(x, y);
 }
 
+/* Register k of a loop whose repetitions cross from one array into another: y and y' are read
+   where the caller keeps them, the rest from the register file. */
+static double m_reg(const double* r, const double* y, const double* yp, uint32_t k, uint32_t y_base,
+                    uint32_t yp_base, uint32_t n) {
+  if (k - y_base < n) return y[k - y_base];
+  if (k - yp_base < n) return yp[k - yp_base];
+  return r[k];
+}
+
 static double m_interp(const double* table, uint32_t rows, uint32_t cols, uint32_t column,
                        double x, int slope) {
   const double* y = table + (column - 1);
@@ -101,6 +110,13 @@ static double m_interp(const double* table, uint32_t rows, uint32_t cols, uint32
 }
 
 )";
+
+/// Every generated function's parameters: the register file, y and y' where the caller keeps
+/// them (ModelState passes IDA's vectors to the residual and the Jacobian without copying them
+/// into the registers; the y and y' registers are never read), and the outputs.
+constexpr const char* kParameters =
+    "double* restrict r, const double* restrict y, const double* restrict yp, double* restrict out";
+constexpr const char* kUnused = "  (void)r, (void)y, (void)yp, (void)out;\n";
 
 /// Emits the functions of one program.
 class ProgramEmitter {
@@ -138,7 +154,7 @@ class ProgramEmitter {
     // One function per segment, then the entry point calling them in order.
     for (size_t s = 0; s < segments.size(); ++s) {
       w_ << "static __attribute__((noinline)) void " << p.symbol << "_" << static_cast<uint32_t>(s)
-         << "(double* restrict r, double* restrict out) {\n";
+         << "(" << kParameters << ") {\n";
       // Locals: the live-in ones start from the register file. Temporaries a loop keeps in the
       // register file are none of them (they are there already).
       ++stamp_;
@@ -168,13 +184,13 @@ class ProgramEmitter {
       for (uint32_t t : live_out[s]) {
         if (memory_mark_[t] != stamp_) w_ << "  r[" << (layout_.temp_base + t) << "] = t" << t << ";\n";
       }
-      w_ << "  (void)r;\n  (void)out;\n}\n\n";
+      w_ << kUnused << "}\n\n";
     }
-    w_ << "void " << p.symbol << "(double* restrict r, double* restrict out) {\n";
+    w_ << "void " << p.symbol << "(" << kParameters << ") {\n";
     for (size_t s = 0; s < segments.size(); ++s) {
-      w_ << "  " << p.symbol << "_" << static_cast<uint32_t>(s) << "(r, out);\n";
+      w_ << "  " << p.symbol << "_" << static_cast<uint32_t>(s) << "(r, y, yp, out);\n";
     }
-    w_ << "  (void)r;\n  (void)out;\n}\n\n";
+    w_ << kUnused << "}\n\n";
   }
 
  private:
@@ -235,22 +251,62 @@ class ProgramEmitter {
     }
   }
 
-  /// A register as a C operand: a local for a temporary, the register file otherwise. In a loop
-  /// (`step` not 0) the register of repetition i is reg + i*step modulo 2^32, which is what
-  /// unsigned 32-bit arithmetic in C computes.
+  /// A register as a C operand: a local for a temporary, y[] or yp[] for an unknown or its
+  /// derivative, the register file otherwise. In a loop (`step` not 0) the register of
+  /// repetition i is reg + i*step modulo 2^32, which is what unsigned 32-bit arithmetic in C
+  /// computes.
   std::string Ref(uint32_t reg, uint32_t step = 0) const {
-    if (step != 0) {
-      std::string ref("r[");
-      ref += Affine(reg, step);
+    if (step != 0) return Indexed(reg, step);
+    const bool local = IsTemp(reg) && memory_mark_[reg - layout_.temp_base] != stamp_;
+    if (local) return "t" + std::to_string(reg - layout_.temp_base);
+    const Block b = BlockOf(reg);
+    // Appended piece by piece: `"t" + std::to_string(…)` trips gcc 12's false -Wrestrict.
+    std::string ref(b.array);
+    ref += '[';
+    ref += std::to_string(reg - b.base);
+    ref += ']';
+    return ref;
+  }
+
+  /// A register written: no program writes y or y' (they are inputs), so it is a local or r[].
+  std::string Target(uint32_t reg, uint32_t step) const {
+    const int64_t last = static_cast<int64_t>(reg) + static_cast<int64_t>(static_cast<int32_t>(step)) *
+                                                      (static_cast<int64_t>(count_) - 1);
+    const bool last_in_range = step != 0 && last >= 0 && last <= static_cast<int64_t>(UINT32_MAX);
+    MOMENTA_CHECK_MSG(BlockOf(reg).base == 0 && (!last_in_range || BlockOf(static_cast<uint32_t>(last)).base == 0),
+                      "a program writes an unknown's register");
+    return step != 0 ? "r[" + Affine(reg, step) + "]" : Ref(reg);
+  }
+
+  /// An array the registers are read from: r from 0, y from y_base, yp from yp_base.
+  struct Block {
+    const char* array;
+    uint32_t base;
+  };
+  Block BlockOf(uint32_t reg) const {
+    if (reg - layout_.y_base < layout_.num_unknowns) return {"y", layout_.y_base};
+    if (reg - layout_.yp_base < layout_.num_unknowns) return {"yp", layout_.yp_base};
+    return {"r", 0};
+  }
+
+  /// The register reg + i*step of a loop's repetition i. When the first and the last
+  /// repetition's lie in one array (y, yp or the rest of r) and signed arithmetic reaches the
+  /// last one without wrapping, every repetition's does (the index is monotonic in i); otherwise
+  /// m_reg picks the array at run time.
+  std::string Indexed(uint32_t reg, uint32_t step) const {
+    const int64_t last = static_cast<int64_t>(reg) + static_cast<int64_t>(static_cast<int32_t>(step)) *
+                                                      (static_cast<int64_t>(count_) - 1);
+    const Block first = BlockOf(reg);
+    if (last >= 0 && last <= static_cast<int64_t>(UINT32_MAX) &&
+        BlockOf(static_cast<uint32_t>(last)).base == first.base) {
+      std::string ref(first.array);
+      ref += '[';
+      ref += Affine(reg - first.base, step);
       ref += ']';
       return ref;
     }
-    const bool local = IsTemp(reg) && memory_mark_[reg - layout_.temp_base] != stamp_;
-    // Appended piece by piece: `"t" + std::to_string(…)` trips gcc 12's false -Wrestrict.
-    std::string ref(local ? "t" : "r[");
-    ref += std::to_string(local ? reg - layout_.temp_base : reg);
-    if (!local) ref += ']';
-    return ref;
+    return "m_reg(r, y, yp, " + Affine(reg, step) + ", " + std::to_string(layout_.y_base) + "u, " +
+           std::to_string(layout_.yp_base) + "u, " + std::to_string(layout_.num_unknowns) + "u)";
   }
 
   /// reg + i*step modulo 2^32 as a C index. Where the signed step keeps every repetition's value
@@ -280,7 +336,7 @@ class ProgramEmitter {
          << ";\n";
       return;
     }
-    w_ << indent << Ref(in.dst, st.dst) << " = ";
+    w_ << indent << Target(in.dst, st.dst) << " = ";
     if (in.op == kStoreRegister) {
       w_ << Ref(in.a, st.a) << ";\n";
       return;

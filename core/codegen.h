@@ -1,8 +1,11 @@
 #pragma once
 /// C code for register programs (issue 12, item 1): each Program becomes a C99 function
-/// `void f(double* restrict r, double* restrict out)` that does exactly what Program::Run does —
-/// the same operations on the same registers in the same order — so that, compiled without
-/// floating-point contraction or fast-math, its results are bit-identical to the interpreter's.
+/// `void f(double* restrict r, const double* restrict y, const double* restrict yp,
+/// double* restrict out)` that does exactly what Program::Run does — the same operations on the
+/// same registers in the same order — so that, compiled without floating-point contraction or
+/// fast-math, its results are bit-identical to the interpreter's. The registers of the unknowns
+/// and of their derivatives are read from y[k - y_base] and yp[k - yp_base] instead (programs
+/// only read them), so that the caller need not copy the solver's vectors into the registers.
 ///
 /// A program is emitted as a sequence of segments (CodeSegment); each becomes a function of
 /// bounded size, because the time an optimising C compiler takes grows faster than linearly with

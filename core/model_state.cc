@@ -61,14 +61,23 @@ void ModelState::Load(double t, const double* y, const double* yp) {
   if (yp) CopyDoubles(regs_.data() + L.yp_base, yp, n);
 }
 
+void ModelState::RunInPlace(ModelProgram which, double t, const double* y, const double* yp, double* out) {
+  NativeCode::Function f = native_[static_cast<size_t>(which)];
+  if (!f || !y || !yp) {
+    RunAt(which, t, y, yp, out);
+    return;
+  }
+  regs_[RegisterLayout::kTime] = t;
+  f(regs_.data(), y, yp, out);
+}
+
 void ModelState::Residual(double t, const double* y, const double* yp, double* out) {
-  RunAt(ModelProgram::kResidual, t, y, yp, out);
+  RunInPlace(ModelProgram::kResidual, t, y, yp, out);
 }
 
 void ModelState::Jacobian(double t, double cj, const double* y, const double* yp, double* values) {
-  Load(t, y, yp);
   regs_[RegisterLayout::kCj] = cj;
-  Run(ModelProgram::kJacobian, values);
+  RunInPlace(ModelProgram::kJacobian, t, y, yp, values);
 }
 
 void ModelState::Outputs(double t, const double* y, const double* yp, double* out) {

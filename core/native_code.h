@@ -45,15 +45,18 @@ const Program& ProgramOf(const CompiledModel& model, ModelProgram which);
 bool IsNativeProgram(ModelProgram which);
 
 /// Bumped whenever the generated code's meaning changes, so that old cache entries are not used.
-constexpr uint32_t kCodeFormatVersion = 2;  // 2: loops for rerolled segments
+constexpr uint32_t kCodeFormatVersion = 3;  // 2: loops for rerolled segments; 3: y and yp arguments
 
 /// A loaded shared object holding a model's programs as native functions. Owned through a
 /// shared_ptr by the CompiledModel (and so by every ModelState and thread that uses it); the object
 /// is unloaded when the last owner goes.
 class NativeCode {
  public:
-  /// What Program::Run does: regs is the register file, out the output array.
-  using Function = void (*)(double* regs, double* out);
+  /// What Program::Run does: regs is the register file, out the output array; the unknowns and
+  /// their derivatives are read from y and yp (num_unknowns each), not from their registers, so a
+  /// caller can pass the solver's vectors without copying them (ModelState's residual and
+  /// Jacobian) or the registers themselves (regs + y_base, regs + yp_base).
+  using Function = void (*)(double* regs, const double* y, const double* yp, double* out);
 
   NativeCode(void* handle, const std::array<Function, kNumModelPrograms>& functions)
       : handle_(handle), functions_(functions) {}
