@@ -524,6 +524,7 @@ AstPtr PlainNumber(const std::string& text) {
 AstPtr PlainName(const std::string& text) {
   auto a = std::make_shared<Ast>();
   a->kind = Ast::Kind::kName;
+  a->path.reserve(static_cast<size_t>(std::count(text.begin(), text.end(), '.')) + 1);
   size_t i = 0;
   while (true) {
     if (i >= text.size() || !IsNameStart(text[i])) return nullptr;
