@@ -506,7 +506,8 @@ namespace {
 /// value: most texts of a large model), made without tokens; null for any other text, which the
 /// parser reads. The same tree the parser gives: a number node at column 0.
 AstPtr PlainNumber(const std::string& text) {
-  if (text.empty() || !(IsDigit(text[0]) || (text[0] == '.' && text.size() > 1 && IsDigit(text[1])))) {
+  if (text.empty() ||
+      !(IsDigit(text[0]) || (text[0] == '.' && text.size() > 1 && IsDigit(text[1])))) {
     return nullptr;
   }
   if (DecimalEnd(text, 0) != text.size()) return nullptr;
@@ -538,7 +539,8 @@ AstPtr PlainName(const std::string& text) {
     i = j + 1;
   }
   // A first word the parser reads otherwise: true/false, a keyword.
-  static const char* kWords[] = {"true", "false", "then", "else", "elseif", "and", "or", "not", "if"};
+  static const char* kWords[] = {"true", "false", "then", "else", "elseif",
+                                 "and",  "or",    "not",  "if"};
   for (const char* w : kWords) {
     if (a->path[0].name == w) return nullptr;
   }

@@ -107,10 +107,12 @@ class Reader {
     if (!n.IsMap()) Fail(n, what + " must be a mapping of keys to values");
   }
 
-  void CheckKeys(const YamlNode& n, const What& what, std::initializer_list<std::string_view> allowed) const {
+  void CheckKeys(const YamlNode& n, const What& what,
+                 std::initializer_list<std::string_view> allowed) const {
     CheckKeys(n, what, allowed.begin(), allowed.end());
   }
-  void CheckKeys(const YamlNode& n, const What& what, const std::vector<std::string>& allowed) const {
+  void CheckKeys(const YamlNode& n, const What& what,
+                 const std::vector<std::string>& allowed) const {
     CheckKeys(n, what, allowed.begin(), allowed.end());
   }
   template <typename It>
@@ -131,7 +133,9 @@ class Reader {
     if (!n.IsScalar()) Fail(n, what + " must be a single value, not a list or mapping");
     return n.Scalar();
   }
-  std::string Scalar(const YamlNode& n, const What& what) const { return std::string(ScalarText(n, what)); }
+  std::string Scalar(const YamlNode& n, const What& what) const {
+    return std::string(ScalarText(n, what));
+  }
 
   double Number(const YamlNode& n, const What& what) const {
     std::string s = Scalar(n, what);
@@ -147,8 +151,9 @@ class Reader {
   }
 
   void CheckFinite(const YamlNode& n, std::string_view s, const What& what) const {
-    static const std::string_view kNonFinite[] = {".nan", ".NaN", ".NAN", ".inf", "-.inf", ".Inf", "-.Inf",
-                                                  "nan",  "NaN",  "inf",  "-inf", "Inf",  "-Inf"};
+    static const std::string_view kNonFinite[] = {".nan", ".NaN",  ".NAN", ".inf", "-.inf",
+                                                  ".Inf", "-.Inf", "nan",  "NaN",  "inf",
+                                                  "-inf", "Inf",   "-Inf"};
     if (s.size() < 3 || s.size() > 5) return;  // none of them: the common case, decided at once
     for (std::string_view x : kNonFinite) {
       if (s == x) Fail(n, what + " must be a finite number, found '" + std::string(s) + "'");
@@ -197,7 +202,9 @@ class Reader {
     return shape;
   }
 
-  AstPtr Expression(const YamlNode& n, const What& what) const { return Expression(n, ValueText(n, what), what); }
+  AstPtr Expression(const YamlNode& n, const What& what) const {
+    return Expression(n, ValueText(n, what), what);
+  }
 
   /// The expression of a value whose text (ValueText) is `s`.
   AstPtr Expression(const YamlNode& n, const std::string& s, const What& what) const {
@@ -226,7 +233,8 @@ class Reader {
   /// A value as an expression, from its text (ValueText); a number written with a unit ("40 kg",
   /// "10kN/m") is the number, and `*unit` receives the unit for the caller to convert
   /// (core/units.h).
-  AstPtr ValueExpression(const YamlNode& n, const std::string& text, const What& what, std::string* unit) const {
+  AstPtr ValueExpression(const YamlNode& n, const std::string& text, const What& what,
+                         std::string* unit) const {
     if (n.IsScalar()) {
       std::optional<Quantity> q;
       try {
@@ -257,7 +265,8 @@ class Reader {
     return s;
   }
 
-  std::optional<double> OptionalNumber(const YamlNode& map, const char* key, const What& what) const {
+  std::optional<double> OptionalNumber(const YamlNode& map, const char* key,
+                                       const What& what) const {
     const YamlNode value = map[key];
     if (!value) return std::nullopt;
     return Number(value, what.Plus(".", key));
@@ -268,7 +277,8 @@ class Reader {
     if (s == "Real") return ValueType::kReal;
     if (s == "Integer") return ValueType::kInteger;
     if (s == "Boolean") return ValueType::kBoolean;
-    Fail(n, "unknown type '" + std::string(s) + "' for " + what + " (valid types: Real, Integer, Boolean)");
+    Fail(n, "unknown type '" + std::string(s) + "' for " + what +
+                " (valid types: Real, Integer, Boolean)");
   }
 
   ParameterDecl Parameter(const std::string& name, const YamlNode& n,
@@ -634,9 +644,13 @@ class Reader {
       const YamlNode value = it->second;
       if (value.IsMap()) {
         CheckKeys(value, what, {"start", "fixed", "stateSelect"});
-        if (const YamlNode start = value["start"]) m.start = Expression(start, What{"start of ", name, ".", key});
+        if (const YamlNode start = value["start"]) {
+          m.start = Expression(start, What{"start of ", name, ".", key});
+        }
         if (const YamlNode fixed = value["fixed"]) m.fixed = Bool(fixed, what.Plus(".fixed"));
-        if (const YamlNode choice = value["stateSelect"]) m.state_priority = StateSelect(choice, what);
+        if (const YamlNode choice = value["stateSelect"]) {
+          m.state_priority = StateSelect(choice, what);
+        }
       } else {
         m.value_text = ValueText(value, what);
         m.value = ValueExpression(value, m.value_text, what, &m.value_unit);
@@ -744,8 +758,10 @@ class Reader {
       if (e["max_order"]) {
         const double k = Number(e["max_order"], "experiment.max_order");
         if (!(k >= 1 && k <= 5 && k == std::floor(k))) {
-          Fail(e["max_order"], "experiment.max_order must be a whole number from 1 to 5 (IDA's maximum BDF order; "
-                               "the default is 5), found '" + std::string(e["max_order"].Scalar()) + "'");
+          Fail(e["max_order"],
+               "experiment.max_order must be a whole number from 1 to 5 (IDA's maximum BDF order; "
+               "the default is 5), found '" +
+                   std::string(e["max_order"].Scalar()) + "'");
         }
         m.experiment.max_order = static_cast<int>(k);
       }
@@ -892,8 +908,9 @@ void CheckDuplicateKeys(const YamlDoc& doc, const std::string& file, const std::
         const YAML::Mark at = (*YamlNode::Iterator(node, static_cast<size_t>(before))).first.Mark();
         const std::string path = path_of(here);
         throw ModelError(MarkLoc(file, it->first.Mark()),
-                         "'" + std::string(key) + "' is given twice in " + (path.empty() ? "the " + what : path) +
-                             " (first at line " + std::to_string(at.line + 1) + ", column " +
+                         "'" + std::string(key) + "' is given twice in " +
+                             (path.empty() ? "the " + what : path) + " (first at line " +
+                             std::to_string(at.line + 1) + ", column " +
                              std::to_string(at.column + 1) + "); remove one of them");
       }
       stack.push_back({it->second, here, key, 0});

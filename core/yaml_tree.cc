@@ -16,7 +16,8 @@ namespace momenta {
 
 void YamlNode::CheckValid() const {
   if (!IsDefined()) {
-    throw YAML::InvalidNode(doc_ && missing_key_ != kNoKey ? doc_->missing_keys_[missing_key_] : std::string());
+    throw YAML::InvalidNode(doc_ && missing_key_ != kNoKey ? doc_->missing_keys_[missing_key_]
+                                                           : std::string());
   }
 }
 
@@ -147,7 +148,8 @@ void YamlDoc::Attach(uint32_t id) {
   if (!open_.empty()) pending_.push_back(id);
 }
 
-uint32_t YamlDoc::AddScalar(const YAML::Mark& mark, const std::string& tag, std::string_view value) {
+uint32_t YamlDoc::AddScalar(const YAML::Mark& mark, const std::string& tag,
+                            std::string_view value) {
   return AddScalar(mark, TagIndex(tag), value);
 }
 
@@ -367,19 +369,22 @@ std::unique_ptr<YamlDoc> ParseWithLibyaml(const std::string& text) {
         if (plain && !s.tag && IsNullText(value)) {
           anchor(s.anchor, doc->AddNull(ToMark(ev.start_mark)));
         } else {
-          anchor(s.anchor, doc->AddScalar(ToMark(ev.start_mark), TagOf(doc.get(), s.tag, plain), value));
+          anchor(s.anchor,
+                 doc->AddScalar(ToMark(ev.start_mark), TagOf(doc.get(), s.tag, plain), value));
         }
         break;
       }
       case YAML_SEQUENCE_START_EVENT:
         if (++depth > kLibyamlMaxDepth) return nullptr;
         anchor(ev.data.sequence_start.anchor,
-               doc->Open(YamlDoc::Kind::kSequence, ToMark(ev.start_mark), TagOf(doc.get(), ev.data.sequence_start.tag, true)));
+               doc->Open(YamlDoc::Kind::kSequence, ToMark(ev.start_mark),
+                         TagOf(doc.get(), ev.data.sequence_start.tag, true)));
         break;
       case YAML_MAPPING_START_EVENT:
         if (++depth > kLibyamlMaxDepth) return nullptr;
         anchor(ev.data.mapping_start.anchor,
-               doc->Open(YamlDoc::Kind::kMap, ToMark(ev.start_mark), TagOf(doc.get(), ev.data.mapping_start.tag, true)));
+               doc->Open(YamlDoc::Kind::kMap, ToMark(ev.start_mark),
+                         TagOf(doc.get(), ev.data.mapping_start.tag, true)));
         break;
       case YAML_SEQUENCE_END_EVENT:
       case YAML_MAPPING_END_EVENT:

@@ -63,7 +63,8 @@ class YamlNode {
  private:
   friend class YamlDoc;
   static constexpr uint32_t kZombie = ~0u;
-  YamlNode(const YamlDoc* doc, uint32_t id, uint32_t missing_key) : doc_(doc), id_(id), missing_key_(missing_key) {}
+  YamlNode(const YamlDoc* doc, uint32_t id, uint32_t missing_key)
+      : doc_(doc), id_(id), missing_key_(missing_key) {}
   void CheckValid() const;
 
   const YamlDoc* doc_ = nullptr;

@@ -339,7 +339,8 @@ namespace {
 // at column 0; anything else, keywords and malformed numbers included, is the parser's.
 TEST(ParserTest, PlainNumbersAndNamesGiveTheParsersTrees) {
   const SourceLoc loc{"m.yaml", 3, 7};
-  for (const std::string text : {"0", "1e4", "2.5", ".5", "1.", "1E-3", "7e+2", "12345678901234567890", "4.9e-324"}) {
+  for (const std::string text :
+       {"0", "1e4", "2.5", ".5", "1.", "1E-3", "7e+2", "12345678901234567890", "4.9e-324"}) {
     const AstPtr plain = ParseExpression(text, loc);
     const AstPtr parsed = ParseExpression("(" + text + ")", loc);
     EXPECT_EQ(plain->kind, Ast::Kind::kNumber) << text;

@@ -214,9 +214,11 @@ namespace {
 std::string ChainWithEntry(const std::string& entry) {
   std::string y = "model: Big\ncomponents:\n  wall: {type: Fixed, s0: 0}\n";
   for (int i = 1; i <= 60; ++i) {
-    y += i == 50 ? entry
-                 : "  sd" + std::to_string(i) + ": {type: SpringDamper, c: 1e4, d: 10, s_rel0: 1}\n";
-    y += "  mass" + std::to_string(i) + ": {type: Mass, m: 1, L: 0, s: {start: " + std::to_string(i) +
+    y += i == 50
+             ? entry
+             : "  sd" + std::to_string(i) + ": {type: SpringDamper, c: 1e4, d: 10, s_rel0: 1}\n";
+    y += "  mass" + std::to_string(i) +
+         ": {type: Mass, m: 1, L: 0, s: {start: " + std::to_string(i) +
          ", fixed: true}, v: {start: 0, fixed: true}}\n";
   }
   return y + "connections:\n  - [wall.flange, sd1.flange_a]\n";
@@ -236,31 +238,39 @@ std::string LoadErrorWith(const std::string& yaml, YamlReader reader) {
 TEST(YamlLoaderTest, ErrorInAModifierOfTheHundredthComponentNamesFileLineAndComponent) {
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"  sd50: {type: SpringDamper, c: 1e4 *, d: 10, s_rel0: 1}\n",
-       "test.yaml:102:38: expected a number, a name, '(' or '[', found end of text in '1e4 *' (in sd50.c)"},
+       "test.yaml:102:38: expected a number, a name, '(' or '[', found end of text in '1e4 *' (in "
+       "sd50.c)"},
       {"  sd50: {type: SpringDamper, c: 1e4, d: 10, s_rel0: {start: 1 +, fixed: true}}\n",
-       "test.yaml:102:64: expected a number, a name, '(' or '[', found end of text in '1 +' (in the start of "
+       "test.yaml:102:64: expected a number, a name, '(' or '[', found end of text in '1 +' (in "
+       "the start of "
        "sd50.s_rel0)"},
       {"  sd50: {type: SpringDamper, c: 1e4, d: 10, s_rel0: {start: 1, fixed: maybe}}\n",
        "test.yaml:102:71: sd50.s_rel0.fixed must be true or false, found 'maybe'"},
       {"  sd50: {type: SpringDamper, c: 1e4, d: 10, s_rel0: {begin: 1}}\n",
-       "test.yaml:102:54: unknown key 'begin' in sd50.s_rel0 (valid keys: start, fixed, stateSelect)"},
+       "test.yaml:102:54: unknown key 'begin' in sd50.s_rel0 (valid keys: start, fixed, "
+       "stateSelect)"},
       {"  sd50: {type: SpringDamper, c: 1e4, d: 10, s_rel0: {stateSelect: often}}\n",
-       "test.yaml:102:67: unknown stateSelect 'often' for sd50.s_rel0 (valid choices: never, avoid, default, "
+       "test.yaml:102:67: unknown stateSelect 'often' for sd50.s_rel0 (valid choices: never, "
+       "avoid, default, "
        "prefer, always)"},
       {"  sd50: {type: SpringDamper, c: .inf, d: 10, s_rel0: 1}\n",
        "test.yaml:102:33: sd50.c must be a finite number, found '.inf'"},
       {"  sd50: {type: SpringDamper, c: 1e4 kN/furlong, d: 10, s_rel0: 1}\n",
-       "test.yaml:102:33: unit 'kN/furlong' does not parse: unknown unit 'furlong' at character 4 (write units "
+       "test.yaml:102:33: unit 'kN/furlong' does not parse: unknown unit 'furlong' at character 4 "
+       "(write units "
        "as Modelica does: m/s2, N.m, kg.m2, 1/s, rad/s, degC), in the value of sd50.c"},
       {"  sd50: {type: SpringDamper, c: [], d: 10, s_rel0: 1}\n",
        "test.yaml:102:33: sd50.c is an empty list; an array has at least one element"},
       {"  sd50: {type: SpringDamper, c: 1e400, d: 10, s_rel0: 1}\n",
        "test.yaml:102:33: number out of range '1e400' (in sd50.c)"},
-      {"  sd50: {type: SpringDamper, [c]: 1e4}\n", "test.yaml:102:30: malformed model: bad conversion"},
+      {"  sd50: {type: SpringDamper, [c]: 1e4}\n",
+       "test.yaml:102:30: malformed model: bad conversion"},
       {"  sd49: {type: SpringDamper, c: 1e4, d: 10, s_rel0: 1}\n",
-       "test.yaml:102:3: 'sd49' is given twice in components (first at line 100, column 3); remove one of them"},
+       "test.yaml:102:3: 'sd49' is given twice in components (first at line 100, column 3); remove "
+       "one of them"},
       {"  sd50: {type: SpringDamper, c: 1e4, d: 10, c: 1}\n",
-       "test.yaml:102:45: 'c' is given twice in components.sd50 (first at line 102, column 30); remove one of "
+       "test.yaml:102:45: 'c' is given twice in components.sd50 (first at line 102, column 30); "
+       "remove one of "
        "them"},
   };
   for (const auto& [entry, message] : cases) {
@@ -273,9 +283,10 @@ TEST(YamlLoaderTest, ErrorInAModifierOfTheHundredthComponentNamesFileLineAndComp
 // Plain numbers and names go through the loader without the tokenizer: the same values as the
 // parser's, with their units and places.
 TEST(YamlLoaderTest, PlainValuesOfAWrittenOutModelReadAsTheParserReadsThem) {
-  const ModelSpec spec = LoadModelString(ChainWithEntry("  sd50: {type: SpringDamper, c: 2.5e3, d: .5, s_rel0: 40 "
-                                                        "cm}\n"),
-                                         "test.yaml");
+  const ModelSpec spec =
+      LoadModelString(ChainWithEntry("  sd50: {type: SpringDamper, c: 2.5e3, d: .5, s_rel0: 40 "
+                                     "cm}\n"),
+                      "test.yaml");
   const ComponentSpec& sd50 = spec.components[99];
   ASSERT_EQ(sd50.name, "sd50");
   ASSERT_EQ(sd50.modifiers.size(), 3u);
