@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <map>
 #include <sstream>
+#include <string_view>
 
 namespace momenta {
 
@@ -49,6 +50,33 @@ std::string QuotedCharacter(const std::string& text, size_t at) {
   return "'" + text.substr(at, len) + "' (" + hex + ")";
 }
 
+bool IsDigit(char c) { return std::isdigit(static_cast<unsigned char>(c)) != 0; }
+bool IsNameStart(char c) { return std::isalpha(static_cast<unsigned char>(c)) || c == '_'; }
+bool IsNameChar(char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; }
+
+/// Where the decimal number starting at text[i] ends: digits, a point, digits, an exponent
+/// (strtod alone would take 0x10). An 'e' without digits after it is not part of the number.
+size_t DecimalEnd(std::string_view text, size_t i) {
+  size_t j = i;
+  auto digits = [&] {
+    while (j < text.size() && IsDigit(text[j])) ++j;
+  };
+  digits();
+  if (j < text.size() && text[j] == '.') {
+    ++j;
+    digits();
+  }
+  if (j < text.size() && (text[j] == 'e' || text[j] == 'E')) {
+    size_t k = j + 1;
+    if (k < text.size() && (text[k] == '+' || text[k] == '-')) ++k;
+    if (k < text.size() && IsDigit(text[k])) {
+      j = k;
+      digits();
+    }
+  }
+  return j;
+}
+
 enum class Tok { kEnd, kNumber, kIdent, kOp, kLParen, kRParen, kLBracket, kRBracket, kComma, kDot };
 
 struct Token {
@@ -76,24 +104,7 @@ class Lexer {
       char c = text_[i];
       if (std::isdigit(static_cast<unsigned char>(c)) ||
           (c == '.' && i + 1 < text_.size() && std::isdigit(static_cast<unsigned char>(text_[i + 1])))) {
-        // Decimal only: digits, a point, digits, an exponent (strtod alone would take 0x10).
-        size_t j = i;
-        auto digits = [&] {
-          while (j < text_.size() && std::isdigit(static_cast<unsigned char>(text_[j]))) ++j;
-        };
-        digits();
-        if (j < text_.size() && text_[j] == '.') {
-          ++j;
-          digits();
-        }
-        if (j < text_.size() && (text_[j] == 'e' || text_[j] == 'E')) {
-          size_t k = j + 1;
-          if (k < text_.size() && (text_[k] == '+' || text_[k] == '-')) ++k;
-          if (k < text_.size() && std::isdigit(static_cast<unsigned char>(text_[k]))) {
-            j = k;
-            digits();
-          }
-        }
+        const size_t j = DecimalEnd(text_, i);
         t.kind = Tok::kNumber;
         t.text = text_.substr(i, j - i);
         t.number = std::strtod(t.text.c_str(), nullptr);
@@ -489,7 +500,57 @@ std::string KnownFunctionList() {
   return s;
 }
 
+namespace {
+
+/// The tree of a text that is one decimal number and nothing else (a parameter value, a start
+/// value: most texts of a large model), made without tokens; null for any other text, which the
+/// parser reads. The same tree the parser gives: a number node at column 0.
+AstPtr PlainNumber(const std::string& text) {
+  if (text.empty() ||
+      !(IsDigit(text[0]) || (text[0] == '.' && text.size() > 1 && IsDigit(text[1])))) {
+    return nullptr;
+  }
+  if (DecimalEnd(text, 0) != text.size()) return nullptr;
+  const double value = std::strtod(text.c_str(), nullptr);
+  if (!std::isfinite(value)) return nullptr;  // the parser's "number out of range"
+  auto a = std::make_shared<Ast>();
+  a->kind = Ast::Kind::kNumber;
+  a->number = value;
+  return a;
+}
+
+/// The tree of a text that is a dotted name and nothing else (`mass1.flange_b`: a connection
+/// end, an output), made without tokens; null for any other text (subscripts, spaces, a keyword
+/// first), which the parser reads. The same tree the parser gives: a name node at column 0.
+AstPtr PlainName(const std::string& text) {
+  auto a = std::make_shared<Ast>();
+  a->kind = Ast::Kind::kName;
+  a->path.reserve(static_cast<size_t>(std::count(text.begin(), text.end(), '.')) + 1);
+  size_t i = 0;
+  while (true) {
+    if (i >= text.size() || !IsNameStart(text[i])) return nullptr;
+    size_t j = i;
+    while (j < text.size() && IsNameChar(text[j])) ++j;
+    NameSegment seg;
+    seg.name = text.substr(i, j - i);
+    a->path.push_back(std::move(seg));
+    if (j == text.size()) break;
+    if (text[j] != '.') return nullptr;
+    i = j + 1;
+  }
+  // A first word the parser reads otherwise: true/false, a keyword.
+  static const char* kWords[] = {"true", "false", "then", "else", "elseif",
+                                 "and",  "or",    "not",  "if"};
+  for (const char* w : kWords) {
+    if (a->path[0].name == w) return nullptr;
+  }
+  return a;
+}
+
+}  // namespace
+
 AstPtr ParseExpression(const std::string& text, const SourceLoc& loc) {
+  if (AstPtr number = PlainNumber(text)) return number;
   Parser p(text, loc);
   AstPtr e = p.Expression();
   p.ExpectEnd();
@@ -500,7 +561,10 @@ AstEquation ParseEquation(const std::string& text, const SourceLoc& loc) {
   return Parser(text, loc).Equation();
 }
 
-AstPtr ParseName(const std::string& text, const SourceLoc& loc) { return Parser(text, loc).Name(); }
+AstPtr ParseName(const std::string& text, const SourceLoc& loc) {
+  if (AstPtr name = PlainName(text)) return name;
+  return Parser(text, loc).Name();
+}
 
 std::string Ast::PathText() const {
   std::string s;

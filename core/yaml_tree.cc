@@ -8,13 +8,17 @@
 #include <atomic>
 #include <sstream>
 #include <unordered_map>
+#include <unordered_set>
 
 namespace momenta {
 
 // ---- YamlNode: yaml-cpp's answers, on the flat document ------------------------------------
 
 void YamlNode::CheckValid() const {
-  if (!IsDefined()) throw YAML::InvalidNode(missing_key_ ? *missing_key_ : std::string());
+  if (!IsDefined()) {
+    throw YAML::InvalidNode(doc_ && missing_key_ != kNoKey ? doc_->missing_keys_[missing_key_]
+                                                           : std::string());
+  }
 }
 
 bool YamlNode::IsNull() const {
@@ -34,9 +38,9 @@ bool YamlNode::IsMap() const {
   return doc_->item(id_).kind == YamlDoc::Kind::kMap;
 }
 
-const std::string& YamlNode::Scalar() const {
+std::string_view YamlNode::Scalar() const {
   CheckValid();
-  return IsScalar() ? doc_->scalar(id_) : YamlDoc::EmptyString();
+  return IsScalar() ? doc_->scalar(id_) : std::string_view();
 }
 
 const std::string& YamlNode::Tag() const {
@@ -57,10 +61,10 @@ size_t YamlNode::size() const {
   return 0;
 }
 
-YamlNode YamlNode::operator[](const std::string& key) const {
+YamlNode YamlNode::operator[](std::string_view key) const {
   CheckValid();
   const YamlDoc::Item& it = doc_->item(id_);
-  if (it.kind == YamlDoc::Kind::kScalar) throw YAML::BadSubscript(it.mark, key);
+  if (it.kind == YamlDoc::Kind::kScalar) throw YAML::BadSubscript(it.mark, std::string(key));
   if (it.kind == YamlDoc::Kind::kMap) {
     for (uint32_t k = 0; k < it.count; k += 2) {
       const uint32_t key_id = doc_->child(id_, k);
@@ -86,7 +90,7 @@ template <>
 std::string YamlNode::as<std::string>() const {
   if (IsNull()) return "null";
   if (!IsScalar()) throw YAML::TypedBadConversion<std::string>(Mark());
-  return Scalar();
+  return std::string(Scalar());
 }
 
 YamlNode::Iterator YamlNode::begin() const { return Iterator(*this, 0); }
@@ -112,18 +116,31 @@ YamlNode::Entry YamlNode::Iterator::operator*() const {
 
 YamlDoc::YamlDoc() : tags_{"?", "!"} {}
 
-const std::string& YamlDoc::EmptyString() {
-  static const std::string empty;
-  return empty;
+void YamlDoc::Reserve(size_t text_bytes) {
+  // Model files hold a node per 6.7 bytes (the written-out chain, flow mappings of short values)
+  // to 10 (library files); a denser text only makes the arrays grow. Scalars are never longer
+  // than their text.
+  items_.reserve(text_bytes / 6 + 1);
+  children_.reserve(text_bytes / 6 + 1);
+  texts_.reserve(text_bytes);
 }
 
-uint32_t YamlDoc::TagIndex(const std::string& tag) {
-  if (tag.empty() || tag == "?") return 0;
-  if (tag == "!") return 1;
+YamlNode YamlDoc::Zombie(std::string_view key) const {
+  // The keys missed last are the likeliest to be missed again.
+  for (size_t k = missing_keys_.size(); k-- > 0;) {
+    if (missing_keys_[k] == key) return YamlNode(this, YamlNode::kZombie, static_cast<uint32_t>(k));
+  }
+  missing_keys_.emplace_back(key);
+  return YamlNode(this, YamlNode::kZombie, static_cast<uint32_t>(missing_keys_.size() - 1));
+}
+
+uint32_t YamlDoc::TagIndex(std::string_view tag) {
+  if (tag.empty() || tag == "?") return kUntagged;
+  if (tag == "!") return kNonSpecific;
   for (uint32_t k = 2; k < tags_.size(); ++k) {
     if (tags_[k] == tag) return k;
   }
-  tags_.push_back(tag);
+  tags_.emplace_back(tag);
   return static_cast<uint32_t>(tags_.size() - 1);
 }
 
@@ -131,13 +148,19 @@ void YamlDoc::Attach(uint32_t id) {
   if (!open_.empty()) pending_.push_back(id);
 }
 
-uint32_t YamlDoc::AddScalar(const YAML::Mark& mark, const std::string& tag, std::string value) {
+uint32_t YamlDoc::AddScalar(const YAML::Mark& mark, const std::string& tag,
+                            std::string_view value) {
+  return AddScalar(mark, TagIndex(tag), value);
+}
+
+uint32_t YamlDoc::AddScalar(const YAML::Mark& mark, uint32_t tag, std::string_view value) {
   Item it;
   it.kind = Kind::kScalar;
-  it.tag = TagIndex(tag);
-  it.first = static_cast<uint32_t>(scalars_.size());
+  it.tag = tag;
+  it.first = static_cast<uint32_t>(texts_.size());
+  it.count = static_cast<uint32_t>(value.size());
   it.mark = mark;
-  scalars_.push_back(std::move(value));
+  texts_.append(value);
   const auto id = static_cast<uint32_t>(items_.size());
   items_.push_back(it);
   Attach(id);
@@ -154,9 +177,13 @@ uint32_t YamlDoc::AddNull(const YAML::Mark& mark) {
 }
 
 uint32_t YamlDoc::Open(Kind kind, const YAML::Mark& mark, const std::string& tag) {
+  return Open(kind, mark, TagIndex(tag));
+}
+
+uint32_t YamlDoc::Open(Kind kind, const YAML::Mark& mark, uint32_t tag) {
   Item it;
   it.kind = kind;
-  it.tag = TagIndex(tag);
+  it.tag = tag;
   it.mark = mark;
   const auto id = static_cast<uint32_t>(items_.size());
   items_.push_back(it);
@@ -172,6 +199,35 @@ void YamlDoc::Close() {
   items_[id].count = static_cast<uint32_t>(pending_.size() - start);
   children_.insert(children_.end(), pending_.begin() + static_cast<std::ptrdiff_t>(start), pending_.end());
   pending_.resize(start);
+  if (items_[id].kind == Kind::kMap && !repeated_key_) repeated_key_ = RepeatsAKey(id);
+}
+
+bool YamlDoc::RepeatsAKey(uint32_t map) const {
+  const Item& it = items_[map];
+  auto key = [&](uint32_t k, std::string_view* text) {
+    const uint32_t id = children_[it.first + 2 * k];
+    if (items_[id].kind != Kind::kScalar) return false;
+    *text = scalar(id);
+    return true;
+  };
+  const uint32_t pairs = it.count / 2;
+  std::string_view a, b;
+  // Small mappings (a component's few keys) pairwise, large ones (a model's components) by a table.
+  if (pairs <= 16) {
+    for (uint32_t i = 1; i < pairs; ++i) {
+      if (!key(i, &a)) continue;
+      for (uint32_t j = 0; j < i; ++j) {
+        if (key(j, &b) && a == b) return true;
+      }
+    }
+    return false;
+  }
+  std::unordered_set<std::string_view> seen;
+  seen.reserve(pairs);
+  for (uint32_t i = 0; i < pairs; ++i) {
+    if (key(i, &a) && !seen.insert(a).second) return true;
+  }
+  return false;
 }
 
 // ---- yaml-cpp's event parser -------------------------------------------------------------------
@@ -255,12 +311,12 @@ YAML::Mark ToMark(const yaml_mark_t& m) {
 
 /// yaml-cpp's tag for a node libyaml reports: the explicit tag, or "!" for an untagged quoted or
 /// block scalar, "?" for an untagged plain one.
-std::string TagOf(const yaml_char_t* tag, bool plain) {
-  if (tag) return reinterpret_cast<const char*>(tag);
-  return plain ? "?" : "!";
+uint32_t TagOf(YamlDoc* doc, const yaml_char_t* tag, bool plain) {
+  if (tag) return doc->TagIndex(reinterpret_cast<const char*>(tag));
+  return plain ? YamlDoc::kUntagged : YamlDoc::kNonSpecific;
 }
 
-bool IsNullText(const std::string& s) {
+bool IsNullText(std::string_view s) {
   return s.empty() || s == "~" || s == "null" || s == "Null" || s == "NULL";
 }
 
@@ -283,6 +339,7 @@ std::unique_ptr<YamlDoc> ParseWithLibyaml(const std::string& text) {
   LibyamlParser p;
   yaml_parser_set_input_string(&p.parser, reinterpret_cast<const unsigned char*>(text.data()), text.size());
   auto doc = std::make_unique<YamlDoc>();
+  doc->Reserve(text.size());
   std::unordered_map<std::string, uint32_t> anchors;
   auto anchor = [&](const yaml_char_t* name, uint32_t id) {
     if (name) anchors[reinterpret_cast<const char*>(name)] = id;
@@ -304,7 +361,7 @@ std::unique_ptr<YamlDoc> ParseWithLibyaml(const std::string& text) {
         break;
       case YAML_SCALAR_EVENT: {
         const auto& s = ev.data.scalar;
-        std::string value(reinterpret_cast<const char*>(s.value), s.length);
+        const std::string_view value(reinterpret_cast<const char*>(s.value), s.length);
         const bool plain = s.style == YAML_PLAIN_SCALAR_STYLE;
         // yaml-cpp places an empty value (`key:` and nothing) where the next token starts, libyaml
         // in some places right after the ':': such a file is left to yaml-cpp.
@@ -312,19 +369,22 @@ std::unique_ptr<YamlDoc> ParseWithLibyaml(const std::string& text) {
         if (plain && !s.tag && IsNullText(value)) {
           anchor(s.anchor, doc->AddNull(ToMark(ev.start_mark)));
         } else {
-          anchor(s.anchor, doc->AddScalar(ToMark(ev.start_mark), TagOf(s.tag, plain), std::move(value)));
+          anchor(s.anchor,
+                 doc->AddScalar(ToMark(ev.start_mark), TagOf(doc.get(), s.tag, plain), value));
         }
         break;
       }
       case YAML_SEQUENCE_START_EVENT:
         if (++depth > kLibyamlMaxDepth) return nullptr;
         anchor(ev.data.sequence_start.anchor,
-               doc->Open(YamlDoc::Kind::kSequence, ToMark(ev.start_mark), TagOf(ev.data.sequence_start.tag, true)));
+               doc->Open(YamlDoc::Kind::kSequence, ToMark(ev.start_mark),
+                         TagOf(doc.get(), ev.data.sequence_start.tag, true)));
         break;
       case YAML_MAPPING_START_EVENT:
         if (++depth > kLibyamlMaxDepth) return nullptr;
         anchor(ev.data.mapping_start.anchor,
-               doc->Open(YamlDoc::Kind::kMap, ToMark(ev.start_mark), TagOf(ev.data.mapping_start.tag, true)));
+               doc->Open(YamlDoc::Kind::kMap, ToMark(ev.start_mark),
+                         TagOf(doc.get(), ev.data.mapping_start.tag, true)));
         break;
       case YAML_SEQUENCE_END_EVENT:
       case YAML_MAPPING_END_EVENT:

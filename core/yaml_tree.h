@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace momenta {
@@ -31,8 +32,8 @@ class YamlNode {
   bool IsScalar() const;
   bool IsSequence() const;
   bool IsMap() const;
-  /// The text of a scalar; "" for anything else.
-  const std::string& Scalar() const;
+  /// The text of a scalar; "" for anything else. A view into the document: valid as long as it.
+  std::string_view Scalar() const;
   /// "!" for a quoted scalar or one tagged '!', the explicit tag otherwise, "?" when untagged.
   const std::string& Tag() const;
   YAML::Mark Mark() const;
@@ -40,8 +41,9 @@ class YamlNode {
   size_t size() const;
   /// The value of `key` in a mapping (the first pair with that scalar key); a zombie when there is
   /// none, or when this is null or a sequence. Throws YAML::BadSubscript on a scalar.
-  YamlNode operator[](const std::string& key) const;
-  YamlNode operator[](const char* key) const { return (*this)[std::string(key)]; }
+  YamlNode operator[](std::string_view key) const;
+  YamlNode operator[](const std::string& key) const { return (*this)[std::string_view(key)]; }
+  YamlNode operator[](const char* key) const { return (*this)[std::string_view(key)]; }
   /// Element k of a sequence; a zombie past its end or on anything else but a scalar.
   YamlNode operator[](size_t k) const;
   YamlNode operator[](int k) const { return (*this)[static_cast<size_t>(k)]; }
@@ -61,13 +63,16 @@ class YamlNode {
  private:
   friend class YamlDoc;
   static constexpr uint32_t kZombie = ~0u;
-  YamlNode(const YamlDoc* doc, std::string missing_key)
-      : doc_(doc), id_(kZombie), missing_key_(std::make_shared<std::string>(std::move(missing_key))) {}
+  YamlNode(const YamlDoc* doc, uint32_t id, uint32_t missing_key)
+      : doc_(doc), id_(id), missing_key_(missing_key) {}
   void CheckValid() const;
 
   const YamlDoc* doc_ = nullptr;
   uint32_t id_ = kZombie;
-  std::shared_ptr<const std::string> missing_key_;  ///< for a zombie's InvalidNode message
+  /// A zombie's key, for its InvalidNode message: an index into its document's missing keys
+  /// (kNoKey for none). An index, not a string: looking up an absent key stays free of heap blocks.
+  static constexpr uint32_t kNoKey = ~0u;
+  uint32_t missing_key_ = kNoKey;
 };
 
 struct YamlNode::Entry : YamlNode {
@@ -95,49 +100,70 @@ class YamlNode::Iterator {
   size_t k_;
 };
 
-/// The nodes of one document. Node 0 is the root.
+/// The nodes of one document. Node 0 is the root. The texts of all scalars are kept end to end in
+/// one buffer (a string per scalar cost a heap block each on a 100 000-component file).
 class YamlDoc {
  public:
   enum class Kind : uint8_t { kNull, kScalar, kSequence, kMap };
   struct Item {
     Kind kind = Kind::kNull;
     uint32_t tag = 0;     ///< index into tags_: 0 "?", 1 "!", others explicit tags
-    uint32_t first = 0;   ///< scalar: index into scalars_; collection: first index into children_
-    uint32_t count = 0;   ///< collection: children (a mapping's are key, value, key, value, ...)
+    uint32_t first = 0;   ///< scalar: offset into texts_; collection: first index into children_
+    uint32_t count = 0;   ///< scalar: length of its text; collection: children (a mapping's are
+                          ///< key, value, key, value, ...)
     YAML::Mark mark;
   };
 
   YamlDoc();
+  /// Room for a document parsed from `text_bytes` bytes of YAML, so that the arrays do not move
+  /// while they grow (pages not written to are not used).
+  void Reserve(size_t text_bytes);
   YamlNode root() const { return YamlNode(this, 0); }
   bool empty() const { return items_.empty(); }
+  size_t num_nodes() const { return items_.size(); }
+  /// Whether some mapping has a scalar key twice (found while building, so that a document
+  /// without one is not walked again to look for it).
+  bool has_repeated_key() const { return repeated_key_; }
   const Item& item(uint32_t id) const { return items_[id]; }
-  const std::string& scalar(uint32_t id) const { return scalars_[items_[id].first]; }
+  std::string_view scalar(uint32_t id) const {
+    return std::string_view(texts_.data() + items_[id].first, items_[id].count);
+  }
   const std::string& tag(uint32_t id) const { return tags_[items_[id].tag]; }
   uint32_t child(uint32_t id, size_t k) const { return children_[items_[id].first + k]; }
   static const std::string& EmptyString();
 
   /// Building, in the order of a parser's events. A collection's children are gathered while it
   /// is open and stored together when it closes.
-  uint32_t AddScalar(const YAML::Mark& mark, const std::string& tag, std::string value);
+  uint32_t AddScalar(const YAML::Mark& mark, const std::string& tag, std::string_view value);
+  /// The same with the tag as an index (kUntagged, kNonSpecific or a TagIndex).
+  uint32_t AddScalar(const YAML::Mark& mark, uint32_t tag, std::string_view value);
   uint32_t AddNull(const YAML::Mark& mark);
   uint32_t Open(Kind kind, const YAML::Mark& mark, const std::string& tag);
+  uint32_t Open(Kind kind, const YAML::Mark& mark, uint32_t tag);
+  /// The index of a tag: kUntagged for "?" (and ""), kNonSpecific for "!".
+  uint32_t TagIndex(std::string_view tag);
+  static constexpr uint32_t kUntagged = 0, kNonSpecific = 1;
   void Close();
   /// A reference to an earlier node (an alias) as the next child.
   void AddAlias(uint32_t id) { Attach(id); }
 
  private:
-  uint32_t TagIndex(const std::string& tag);
   void Attach(uint32_t id);
-  YamlNode Zombie(std::string key) const { return YamlNode(this, std::move(key)); }
+  bool RepeatsAKey(uint32_t map) const;
+  YamlNode Zombie(std::string_view key) const;
   friend class YamlNode;
 
   std::vector<Item> items_;
-  std::vector<std::string> scalars_;
+  std::string texts_;
   std::vector<std::string> tags_;
   std::vector<uint32_t> children_;
   /// Open collections, innermost last: (node, where its children start in pending_).
   std::vector<std::pair<uint32_t, size_t>> open_;
   std::vector<uint32_t> pending_;
+  /// The keys looked up and not found (a few distinct ones per document: "shape", "unit", …),
+  /// each kept once for the zombies' messages.
+  mutable std::vector<std::string> missing_keys_;
+  bool repeated_key_ = false;
 };
 
 template <>

@@ -330,3 +330,41 @@ outputs: [time, "2 + $"]
 
 }  // namespace
 }  // namespace momenta
+
+namespace momenta {
+namespace {
+
+// A text that is one number or one dotted name is read without tokens (core/parser.cc): the same
+// tree as the parser's (which the same text in parentheses or after a space still goes through),
+// at column 0; anything else, keywords and malformed numbers included, is the parser's.
+TEST(ParserTest, PlainNumbersAndNamesGiveTheParsersTrees) {
+  const SourceLoc loc{"m.yaml", 3, 7};
+  for (const std::string text :
+       {"0", "1e4", "2.5", ".5", "1.", "1E-3", "7e+2", "12345678901234567890", "4.9e-324"}) {
+    const AstPtr plain = ParseExpression(text, loc);
+    const AstPtr parsed = ParseExpression("(" + text + ")", loc);
+    EXPECT_EQ(plain->kind, Ast::Kind::kNumber) << text;
+    EXPECT_EQ(plain->number, parsed->number) << text;
+    EXPECT_EQ(plain->height, parsed->height) << text;
+    EXPECT_EQ(plain->column, 0) << text;
+  }
+  for (const std::string text : {"a", "mass1.flange_b", "_x.y1._z", "der", "R.p.v"}) {
+    const AstPtr plain = ParseName(text, loc);
+    const AstPtr parsed = ParseName(" " + text, loc);
+    EXPECT_EQ(plain->kind, Ast::Kind::kName) << text;
+    EXPECT_EQ(plain->PathText(), parsed->PathText()) << text;
+    EXPECT_EQ(plain->path.size(), parsed->path.size()) << text;
+    EXPECT_EQ(plain->height, parsed->height) << text;
+    EXPECT_EQ(plain->column, 0) << text;
+  }
+  EXPECT_EQ(ParseError("1e400"), "m.yaml:3:7: number out of range '1e400'");
+  EXPECT_EQ(ParseError("1e"), "m.yaml:3:8: malformed number '1e'");
+  EXPECT_EQ(P("true"), "true");
+  EXPECT_THROW(ParseName("true", loc), ModelError);
+  EXPECT_THROW(ParseName("a..b", loc), ModelError);
+  EXPECT_THROW(ParseName("if.x", loc), ModelError);
+  EXPECT_EQ(ParseName("a.b[2]", loc)->PathText(), "a.b[2]");
+}
+
+}  // namespace
+}  // namespace momenta

@@ -6,8 +6,11 @@
 #include <gtest/gtest.h>
 
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "core/model_spec.h"
+#include "core/yaml_tree.h"
 
 namespace momenta {
 namespace {
@@ -199,6 +202,108 @@ components:
   EXPECT_NE(msg.find("(in the value of P.k)"), std::string::npos) << msg;
   msg = LoadError("model: P\ncomponents:\n  m: {type: Mass, s: {start: \"1 +\"}}\n");
   EXPECT_NE(msg.find("(in the start of m.s)"), std::string::npos) << msg;
+}
+
+}  // namespace
+}  // namespace momenta
+
+namespace momenta {
+namespace {
+
+/// A written-out chain of 60 masses whose 100th component, sd50, is written as `entry`.
+std::string ChainWithEntry(const std::string& entry) {
+  std::string y = "model: Big\ncomponents:\n  wall: {type: Fixed, s0: 0}\n";
+  for (int i = 1; i <= 60; ++i) {
+    y += i == 50
+             ? entry
+             : "  sd" + std::to_string(i) + ": {type: SpringDamper, c: 1e4, d: 10, s_rel0: 1}\n";
+    y += "  mass" + std::to_string(i) +
+         ": {type: Mass, m: 1, L: 0, s: {start: " + std::to_string(i) +
+         ", fixed: true}, v: {start: 0, fixed: true}}\n";
+  }
+  return y + "connections:\n  - [wall.flange, sd1.flange_a]\n";
+}
+
+/// The message of loading `yaml` with each reader (core/yaml_tree.h), or "" when it loads.
+std::string LoadErrorWith(const std::string& yaml, YamlReader reader) {
+  SetDefaultYamlReader(reader);
+  std::string message = LoadError(yaml);
+  SetDefaultYamlReader(YamlReader::kAuto);
+  return message;
+}
+
+// The descriptions of a component's values are put together only for a message (core/
+// yaml_loader.cc, What); plain numbers and names skip the tokenizer (core/parser.cc). The
+// messages are those the loader gave before, on both readers.
+TEST(YamlLoaderTest, ErrorInAModifierOfTheHundredthComponentNamesFileLineAndComponent) {
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"  sd50: {type: SpringDamper, c: 1e4 *, d: 10, s_rel0: 1}\n",
+       "test.yaml:102:38: expected a number, a name, '(' or '[', found end of text in '1e4 *' (in "
+       "sd50.c)"},
+      {"  sd50: {type: SpringDamper, c: 1e4, d: 10, s_rel0: {start: 1 +, fixed: true}}\n",
+       "test.yaml:102:64: expected a number, a name, '(' or '[', found end of text in '1 +' (in "
+       "the start of "
+       "sd50.s_rel0)"},
+      {"  sd50: {type: SpringDamper, c: 1e4, d: 10, s_rel0: {start: 1, fixed: maybe}}\n",
+       "test.yaml:102:71: sd50.s_rel0.fixed must be true or false, found 'maybe'"},
+      {"  sd50: {type: SpringDamper, c: 1e4, d: 10, s_rel0: {begin: 1}}\n",
+       "test.yaml:102:54: unknown key 'begin' in sd50.s_rel0 (valid keys: start, fixed, "
+       "stateSelect)"},
+      {"  sd50: {type: SpringDamper, c: 1e4, d: 10, s_rel0: {stateSelect: often}}\n",
+       "test.yaml:102:67: unknown stateSelect 'often' for sd50.s_rel0 (valid choices: never, "
+       "avoid, default, "
+       "prefer, always)"},
+      {"  sd50: {type: SpringDamper, c: .inf, d: 10, s_rel0: 1}\n",
+       "test.yaml:102:33: sd50.c must be a finite number, found '.inf'"},
+      {"  sd50: {type: SpringDamper, c: 1e4 kN/furlong, d: 10, s_rel0: 1}\n",
+       "test.yaml:102:33: unit 'kN/furlong' does not parse: unknown unit 'furlong' at character 4 "
+       "(write units "
+       "as Modelica does: m/s2, N.m, kg.m2, 1/s, rad/s, degC), in the value of sd50.c"},
+      {"  sd50: {type: SpringDamper, c: [], d: 10, s_rel0: 1}\n",
+       "test.yaml:102:33: sd50.c is an empty list; an array has at least one element"},
+      {"  sd50: {type: SpringDamper, c: 1e400, d: 10, s_rel0: 1}\n",
+       "test.yaml:102:33: number out of range '1e400' (in sd50.c)"},
+      {"  sd50: {type: SpringDamper, [c]: 1e4}\n",
+       "test.yaml:102:30: malformed model: bad conversion"},
+      {"  sd49: {type: SpringDamper, c: 1e4, d: 10, s_rel0: 1}\n",
+       "test.yaml:102:3: 'sd49' is given twice in components (first at line 100, column 3); remove "
+       "one of them"},
+      {"  sd50: {type: SpringDamper, c: 1e4, d: 10, c: 1}\n",
+       "test.yaml:102:45: 'c' is given twice in components.sd50 (first at line 102, column 30); "
+       "remove one of "
+       "them"},
+  };
+  for (const auto& [entry, message] : cases) {
+    const std::string yaml = ChainWithEntry(entry);
+    EXPECT_EQ(LoadErrorWith(yaml, YamlReader::kLibyaml), message) << entry;
+    EXPECT_EQ(LoadErrorWith(yaml, YamlReader::kYamlCpp), message) << entry;
+  }
+}
+
+// Plain numbers and names go through the loader without the tokenizer: the same values as the
+// parser's, with their units and places.
+TEST(YamlLoaderTest, PlainValuesOfAWrittenOutModelReadAsTheParserReadsThem) {
+  const ModelSpec spec =
+      LoadModelString(ChainWithEntry("  sd50: {type: SpringDamper, c: 2.5e3, d: .5, s_rel0: 40 "
+                                     "cm}\n"),
+                      "test.yaml");
+  const ComponentSpec& sd50 = spec.components[99];
+  ASSERT_EQ(sd50.name, "sd50");
+  ASSERT_EQ(sd50.modifiers.size(), 3u);
+  EXPECT_EQ(sd50.modifiers[0].value->number, 2.5e3);
+  EXPECT_EQ(sd50.modifiers[0].value_text, "2.5e3");
+  EXPECT_EQ(sd50.modifiers[0].loc.ToString(), "test.yaml:102:33");
+  EXPECT_EQ(sd50.modifiers[0].key_loc.ToString(), "test.yaml:102:30");
+  EXPECT_EQ(sd50.modifiers[1].value->number, 0.5);
+  EXPECT_EQ(sd50.modifiers[2].value->number, 40);
+  EXPECT_EQ(sd50.modifiers[2].value_unit, "cm");
+  const ComponentSpec& mass50 = spec.components[100];
+  EXPECT_EQ(mass50.modifiers[2].key, "s");
+  EXPECT_EQ(mass50.modifiers[2].start->number, 50);
+  EXPECT_EQ(mass50.modifiers[2].fixed, true);
+  EXPECT_EQ(spec.connections[0].a->PathText(), "wall.flange");
+  EXPECT_EQ(spec.connections[0].a->path.size(), 2u);
+  EXPECT_EQ(spec.connections[0].a_loc.ToString(), "test.yaml:125:6");
 }
 
 }  // namespace

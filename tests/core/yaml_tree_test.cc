@@ -180,6 +180,16 @@ TEST(YamlTreeTest, NodeAnswersAsYamlCppNodes) {
   EXPECT_EQ(root["a"].Scalar(), "");
   EXPECT_EQ(root["c"].size(), 2u);
   EXPECT_EQ(root.size(), 3u);
+  // A missing key keeps its name for yaml-cpp's message (held once by the document).
+  for (const char* key : {"missing", "other", "missing"}) {
+    try {
+      root[key].IsMap();
+      ADD_FAILURE() << key;
+    } catch (const YAML::InvalidNode& e) {
+      EXPECT_EQ(std::string(e.what()), YAML::InvalidNode(key).what());
+      EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
+    }
+  }
 }
 
 }  // namespace
