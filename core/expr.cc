@@ -134,6 +134,12 @@ uint32_t Tag(const Node& n) {
   return static_cast<uint32_t>(h ^ (h >> 32));
 }
 
+/// The slot a tag's probe starts at: the tag scaled to the table's size (any size, not only powers
+/// of two, so the table can grow by half at three quarters full: 11 to 16 bytes per node, where doubling
+/// at half full took 16 to 32).
+size_t HomeSlot(uint32_t tag, size_t size) { return static_cast<size_t>((static_cast<uint64_t>(tag) * size) >> 32); }
+size_t NextSlot(size_t slot, size_t size) { return slot + 1 == size ? 0 : slot + 1; }
+
 bool SameNode(const Node& x, const Node& y) {
   return x.op == y.op && x.a == y.a && x.b == y.b && x.c == y.c && x.flags == y.flags &&
          std::memcmp(&x.value, &y.value, sizeof x.value) == 0;
@@ -167,15 +173,19 @@ ExprPool::ExprPool() {
   time_ = Leaf(Op::kTime, 0);
 }
 
-void ExprPool::Grow() {
+void ExprPool::Reserve(size_t nodes) {
+  if (nodes * 4 > table_.size() * 3) Rehash(nodes / 3 * 4 + 1024);
+}
+
+void ExprPool::Rehash(size_t slots) {
   std::vector<uint64_t, HugePageAllocator<uint64_t>> old;
   old.swap(table_);
-  table_.assign(old.size() * 2, kEmptySlot);
-  const size_t mask = table_.size() - 1;
+  table_.assign(slots, kEmptySlot);
+  const size_t size = table_.size();
   for (uint64_t entry : old) {
     if (entry == kEmptySlot) continue;
-    size_t slot = static_cast<uint32_t>(entry >> 32) & mask;
-    while (table_[slot] != kEmptySlot) slot = (slot + 1) & mask;
+    size_t slot = HomeSlot(static_cast<uint32_t>(entry >> 32), size);
+    while (table_[slot] != kEmptySlot) slot = NextSlot(slot, size);
     table_[slot] = entry;
   }
 }
@@ -188,17 +198,17 @@ ExprId ExprPool::Intern(const Node& n) {
     if (index[n.a] != 0) return ExprId(index[n.a]);
     indexed = &index[n.a];
   }
-  if (indexed == nullptr && (table_used_ + 1) * 2 > table_.size()) Grow();
-  const size_t mask = table_.size() - 1;
+  if (indexed == nullptr && (table_used_ + 1) * 4 > table_.size() * 3) Rehash(table_.size() / 2 * 3);
+  const size_t size = table_.size();
   const uint32_t tag = Tag(n);
-  size_t slot = tag & mask;
+  size_t slot = HomeSlot(tag, size);
   while (indexed == nullptr && table_[slot] != kEmptySlot) {
     const uint64_t entry = table_[slot];
     if (static_cast<uint32_t>(entry >> 32) == tag) {
       const uint32_t id = static_cast<uint32_t>(entry);
       if (SameNode(nodes_[id], n)) return ExprId(id);
     }
-    slot = (slot + 1) & mask;
+    slot = NextSlot(slot, size);
   }
   Node stored = n;
   // The leaf-kind mask of the subtree.
@@ -242,15 +252,15 @@ ExprId ExprPool::FindLeaf(Op op, uint32_t payload) const {
     const std::vector<uint32_t>& index = leaf_index_[kind];
     return payload < index.size() && index[payload] != 0 ? ExprId(index[payload]) : ExprId();
   }
-  const size_t mask = table_.size() - 1;
+  const size_t size = table_.size();
   const uint32_t tag = Tag(n);
-  size_t slot = tag & mask;
+  size_t slot = HomeSlot(tag, size);
   while (table_[slot] != kEmptySlot) {
     const uint64_t entry = table_[slot];
     if (static_cast<uint32_t>(entry >> 32) == tag && SameNode(nodes_[static_cast<uint32_t>(entry)], n)) {
       return ExprId(static_cast<uint32_t>(entry));
     }
-    slot = (slot + 1) & mask;
+    slot = NextSlot(slot, size);
   }
   return ExprId();
 }

@@ -118,6 +118,11 @@ class ExprPool {
   /// Lets passes skip rewriting leaves that occur nowhere, without creating them.
   ExprId FindLeaf(Op op, uint32_t payload) const;
 
+  /// Sizes the hash table for `nodes` nodes now, so that growing to that many does not rehash it
+  /// later (a rehash holds the old and the new table at once: done early, that is not at the
+  /// build's peak).
+  void Reserve(size_t nodes);
+
   const Node& node(ExprId id) const { return nodes_[id.value()]; }
   Op op(ExprId id) const { return nodes_[id.value()].op; }
   size_t size() const { return nodes_.size(); }
@@ -138,11 +143,12 @@ class ExprPool {
  private:
   ExprId Leaf(Op op, uint32_t payload);
   ExprId Intern(const Node& n);
-  void Grow();
+  void Rehash(size_t slots);
 
-  std::vector<Node, HugePageAllocator<Node>> nodes_;
-  /// Open-addressing hash table: each slot holds (hash tag << 32) | node id, or kEmptySlot. The
-  /// tag spares a probe the node comparison (a cache miss) unless it is a likely match.
+  GrowableArray<Node> nodes_;
+  /// Open-addressing hash table with linear probing, grown by half when three quarters full: each
+  /// slot holds (hash tag << 32) | node id, or kEmptySlot. The tag spares a probe the node
+  /// comparison (a cache miss) unless it is a likely match.
   std::vector<uint64_t, HugePageAllocator<uint64_t>> table_;
   size_t table_used_ = 0;
   /// The leaves of variables, parameters, pre() and first derivatives by payload (0: not made
