@@ -273,7 +273,7 @@ class ProgramEmitter {
     const int64_t last = static_cast<int64_t>(reg) + static_cast<int64_t>(static_cast<int32_t>(step)) *
                                                       (static_cast<int64_t>(count_) - 1);
     const bool last_in_range = step != 0 && last >= 0 && last <= static_cast<int64_t>(UINT32_MAX);
-    MOMENTA_CHECK_MSG(BlockOf(reg).base == 0 && (!last_in_range || BlockOf(static_cast<uint32_t>(last)).base == 0),
+    MOMENTA_CHECK_MSG(BlockOf(reg).base == 0 && (!last_in_range || RunOf(static_cast<uint32_t>(last)) == RunOf(reg)),
                       "a program writes an unknown's register");
     return step != 0 ? "r[" + Affine(reg, step) + "]" : Ref(reg);
   }
@@ -283,6 +283,17 @@ class ProgramEmitter {
     const char* array;
     uint32_t base;
   };
+  /// Which run of consecutive registers of one array `reg` lies in: 0 before y, 1 y, 2 between
+  /// y and y' (if anything is), 3 y', 4 after y'. A loop's operand whose first and last
+  /// repetitions lie in one run stays in it (its index is monotonic in i); runs 0 and 4 are both
+  /// r, but a loop from one to the other would pass through y and y'.
+  int RunOf(uint32_t reg) const {
+    if (reg < layout_.y_base) return 0;
+    if (reg - layout_.y_base < layout_.num_unknowns) return 1;
+    if (reg < layout_.yp_base) return 2;
+    if (reg - layout_.yp_base < layout_.num_unknowns) return 3;
+    return 4;
+  }
   Block BlockOf(uint32_t reg) const {
     if (reg - layout_.y_base < layout_.num_unknowns) return {"y", layout_.y_base};
     if (reg - layout_.yp_base < layout_.num_unknowns) return {"yp", layout_.yp_base};
@@ -290,15 +301,15 @@ class ProgramEmitter {
   }
 
   /// The register reg + i*step of a loop's repetition i. When the first and the last
-  /// repetition's lie in one array (y, yp or the rest of r) and signed arithmetic reaches the
-  /// last one without wrapping, every repetition's does (the index is monotonic in i); otherwise
-  /// m_reg picks the array at run time.
+  /// repetition's lie in one run of an array (RunOf) and signed arithmetic reaches the last one
+  /// without wrapping, every repetition's does (the index is monotonic in i); otherwise m_reg
+  /// picks the array at run time.
   std::string Indexed(uint32_t reg, uint32_t step) const {
     const int64_t last = static_cast<int64_t>(reg) + static_cast<int64_t>(static_cast<int32_t>(step)) *
                                                       (static_cast<int64_t>(count_) - 1);
     const Block first = BlockOf(reg);
     if (last >= 0 && last <= static_cast<int64_t>(UINT32_MAX) &&
-        BlockOf(static_cast<uint32_t>(last)).base == first.base) {
+        RunOf(static_cast<uint32_t>(last)) == RunOf(reg)) {
       std::string ref(first.array);
       ref += '[';
       ref += Affine(reg - first.base, step);

@@ -45,7 +45,7 @@ const Program& ProgramOf(const CompiledModel& model, ModelProgram which);
 bool IsNativeProgram(ModelProgram which);
 
 /// Bumped whenever the generated code's meaning changes, so that old cache entries are not used.
-constexpr uint32_t kCodeFormatVersion = 3;  // 2: loops for rerolled segments; 3: y and yp arguments
+constexpr uint32_t kCodeFormatVersion = 4;  // 2: loops for rerolled segments; 3: y and yp arguments; 4: a loop stepping over y and yp reads them there
 
 /// A loaded shared object holding a model's programs as native functions. Owned through a
 /// shared_ptr by the CompiledModel (and so by every ModelState and thread that uses it); the object

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cstring>
 #include <filesystem>
 #include <random>
@@ -218,37 +219,43 @@ TEST_F(CodegenTest, MovingTemporariesCompileToTheInterpretersValues) {
 /// A loop whose operand runs from the unknowns' registers through their derivatives' into the
 /// rest of the register file reads each repetition's value from the right array (y, yp, r).
 TEST_F(CodegenTest, LoopsReadingAcrossTheUnknownsFindEachArray) {
-  CompiledModel model;
-  model.layout.param_base = 3;
-  model.layout.y_base = 3;
-  model.layout.num_unknowns = 20;
-  model.layout.yp_base = 23;
-  model.layout.disc_base = model.layout.pre_base = model.layout.cond_base = 43;
-  model.layout.temp_base = 100;
-  model.layout.size = 141;
-  // t[i+1] = t[i] * 0.5 + r[13 + i], i < 40: registers 13..52 (y, then yp, then the rest).
-  for (uint32_t i = 0; i < 40; ++i) {
-    model.residual.code().push_back({static_cast<uint8_t>(Op::kMul), 101 + i, 100 + i, 60, 0});
-    model.residual.code().push_back({static_cast<uint8_t>(Op::kAdd), 101 + i, 101 + i, 13 + i, 0});
+  // t[i+1] = t[i] * r[90] + r[first + i*step]: with first 13, step 1 and 40 repetitions the
+  // operand runs through y (3..22), then yp (23..42), then the rest; with first 1, step 7 and 10
+  // repetitions it steps from before y through y and yp to after them (its first and last
+  // registers are both in r, some between are not).
+  for (const auto [first, step, count] : {std::array<uint32_t, 3>{13, 1, 40}, std::array<uint32_t, 3>{1, 7, 10}}) {
+    CompiledModel model;
+    model.layout.param_base = 3;
+    model.layout.y_base = 3;
+    model.layout.num_unknowns = 20;
+    model.layout.yp_base = 23;
+    model.layout.disc_base = model.layout.pre_base = model.layout.cond_base = 43;
+    model.layout.temp_base = 100;
+    model.layout.size = 141;
+    for (uint32_t i = 0; i < count; ++i) {
+      model.residual.code().push_back({static_cast<uint8_t>(Op::kMul), 101 + i, 100 + i, 90, 0});
+      model.residual.code().push_back({static_cast<uint8_t>(Op::kAdd), 101 + i, 101 + i, first + i * step, 0});
+    }
+    model.residual.code().push_back({kStore, 0, 100 + count, 0, 0});
+    const std::vector<CodeSegment> segments = LoopSegments(model.residual, 2000);
+    const std::string c = EmitC({{"f", &model.residual, segments}}, model.layout, {});
+    EXPECT_NE(c.find("for (ptrdiff_t i"), std::string::npos) << c;
+    EXPECT_NE(c.find("m_reg(r, y, yp, "), std::string::npos) << c;
+    NativeCodeOptions native;
+    native.mode = CodegenMode::kNative;
+    NativeCodeReport report;
+    std::shared_ptr<const NativeCode> code = LoadNativeCode(model, native, &report);
+    ASSERT_TRUE(code) << report.note;
+    std::vector<double> regs(141);
+    for (uint32_t k = 0; k < regs.size(); ++k) regs[k] = 0.1 * k + 1.0 / (k + 3);
+    std::vector<double> regs_native = regs;
+    const std::vector<double> y(regs.begin() + 3, regs.begin() + 23), yp(regs.begin() + 23, regs.begin() + 43);
+    std::fill(regs_native.begin() + 3, regs_native.begin() + 43, std::nan(""));
+    double out = 0, out_native = 1;
+    model.residual.Run(regs.data(), &out);
+    code->function(ModelProgram::kResidual)(regs_native.data(), y.data(), yp.data(), &out_native);
+    EXPECT_TRUE(SameBits(out, out_native)) << "step " << step << ": " << out << " vs " << out_native;
   }
-  model.residual.code().push_back({kStore, 0, 140, 0, 0});
-  const std::vector<CodeSegment> segments = LoopSegments(model.residual, 2000);
-  const std::string c = EmitC({{"f", &model.residual, segments}}, model.layout, {});
-  EXPECT_NE(c.find("m_reg(r, y, yp, "), std::string::npos) << c;
-  NativeCodeOptions native;
-  native.mode = CodegenMode::kNative;
-  NativeCodeReport report;
-  std::shared_ptr<const NativeCode> code = LoadNativeCode(model, native, &report);
-  ASSERT_TRUE(code) << report.note;
-  std::vector<double> regs(141);
-  for (uint32_t k = 0; k < regs.size(); ++k) regs[k] = 0.1 * k + 1.0 / (k + 3);
-  std::vector<double> regs_native = regs;
-  const std::vector<double> y(regs.begin() + 3, regs.begin() + 23), yp(regs.begin() + 23, regs.begin() + 43);
-  std::fill(regs_native.begin() + 3, regs_native.begin() + 43, std::nan(""));
-  double out = 0, out_native = 1;
-  model.residual.Run(regs.data(), &out);
-  code->function(ModelProgram::kResidual)(regs_native.data(), y.data(), yp.data(), &out_native);
-  EXPECT_TRUE(SameBits(out, out_native)) << out << " vs " << out_native;
 }
 
 // Component names are ASCII identifiers (the loader's rule), so unicode reaches the code only
