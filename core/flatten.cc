@@ -1271,10 +1271,13 @@ class Flattener {
   }
 
   /// Two connectors may be joined when they are of one type, or both signals of one value type.
+  static bool Compatible(const ConnectorType* a, const ConnectorType* b) {
+    return a == b || (a->is_signal && b->is_signal && a->signal_type == b->signal_type);
+  }
+
   static void CheckCompatible(const ConnectorType* a, const std::string& a_text, const ConnectorType* b,
                               const std::string& b_text, const SourceLoc& loc, const std::string& where = "") {
-    bool compatible = a == b || (a->is_signal && b->is_signal && a->signal_type == b->signal_type);
-    if (!compatible) {
+    if (!Compatible(a, b)) {
       auto last = [](const std::string& n) { return n.substr(n.rfind('.') + 1); };
       std::string hint;
       if (last(a->name) == last(b->name)) {
@@ -1781,6 +1784,7 @@ class Flattener {
                          static_cast<uint32_t>(1 + L.subs.size())};
       if (c.count) arr.count = ArrayCount(c, L);
       planned_bytes_ += EstimatedBytes(L);
+      if (arr.is_array) ReserveElements(L, arr.count);
       // Which modifiers set parameters and which set start values.
       std::vector<const Modifier*> param_mod(L.params.size(), nullptr);
       std::vector<const Modifier*> var_mod(L.vars.size(), nullptr);
@@ -1801,6 +1805,24 @@ class Flattener {
       }
       arrays_[c.name] = arr;
     }
+  }
+
+  /// Room in the flat system's arrays for `count` instances of L, made before they are added: a
+  /// large array then takes its memory once, at its size, instead of doubling (which copies the
+  /// records at every step and leaves up to half of the last block unused). It still grows
+  /// geometrically over many small arrays.
+  void ReserveElements(const TypeLayout& L, uint32_t count) {
+    auto room = [count](auto* records, size_t per_element) {
+      const size_t needed = records->size() + size_t{count} * per_element;
+      if (needed > records->capacity()) records->reserve(std::max(needed, records->capacity() + records->capacity() / 2));
+    };
+    room(&flat_.instances, 1 + L.subs.size());
+    room(&instance_data_, 1 + L.subs.size());
+    room(&slot_instance_, L.connectors.size());
+    room(&flat_.variables, L.vars.size());
+    room(&flat_.parameters, L.params.size());  // tables' elements come on top
+    room(&flat_.equations, L.equations.size() + L.impacts.size());
+    room(&flat_.initial_equations, L.initial_equations.size());
   }
 
   [[noreturn]] void UnknownType(const ComponentSpec& c) const {
@@ -2094,12 +2116,18 @@ class Flattener {
   // -------------------------------------------------------------------------------------------
   // Connections
 
+  /// One end of a connection: an instance's connector, and where the end is written.
   struct EndRef {
     uint32_t instance;
     uint32_t connector;
-    std::string text;
     SourceLoc loc;
   };
+
+  /// "R[3].n": a connection end as messages name it (made only for a message).
+  std::string EndText(const EndRef& e) const {
+    return flat_.instances[e.instance].path + "." +
+           instance_data_[e.instance].layout->connectors[e.connector].decl->name;
+  }
 
   EndRef ResolveEnd(const Ast& a, const std::string& text, const SourceLoc& loc,
                     const std::pair<std::string, double>* loop) {
@@ -2131,8 +2159,7 @@ class Flattener {
                                 a.path[1].name + "' (valid connectors: " +
                                 (names.empty() ? std::string("none") : JoinNames(names)) + ")");
     }
-    std::string shown = flat_.instances[inst].path + "." + a.path[1].name;
-    return {inst, c->second, shown, loc};
+    return {inst, c->second, loc};
   }
 
   uint32_t Find(uint32_t x) {
@@ -2170,18 +2197,16 @@ class Flattener {
     parent_.resize(slot_instance_.size());
     for (uint32_t k = 0; k < parent_.size(); ++k) parent_[k] = k;
     std::vector<SourceLoc> slot_loc(slot_instance_.size());
-    std::vector<std::string> slot_text(slot_instance_.size());
     auto join = [&](const EndRef& x, const EndRef& y) {
       const ConnectorSlot& cx = instance_data_[x.instance].layout->connectors[x.connector];
       const ConnectorSlot& cy = instance_data_[y.instance].layout->connectors[y.connector];
-      CheckCompatible(cx.type, x.text, cy.type, y.text, x.loc);
+      if (!Compatible(cx.type, cy.type)) CheckCompatible(cx.type, EndText(x), cy.type, EndText(y), x.loc);
       uint32_t sx = instance_data_[x.instance].first_slot + x.connector;
       uint32_t sy = instance_data_[y.instance].first_slot + y.connector;
-      if (sx == sy) throw ModelError(x.loc, "connection of " + x.text + " to itself");
+      if (sx == sy) throw ModelError(x.loc, "connection of " + EndText(x) + " to itself");
       for (auto [s, e] : {std::pair{sx, &x}, std::pair{sy, &y}}) {
         if (!slot_loc[s].known()) {
           slot_loc[s] = e->loc;
-          slot_text[s] = e->text;
           auto cc = conditional_slot_.find(s);
           if (cc != conditional_slot_.end()) flat_.conditional_connectors[cc->second].connected_at = e->loc;
         }
@@ -2202,6 +2227,7 @@ class Flattener {
     }
     // Group slots into connection sets.
     const std::vector<std::vector<uint32_t>> sets = Classes(parent_.size(), [&](uint32_t x) { return Find(x); });
+    flat_.equations.reserve(flat_.equations.size() + ConnectionEquationCount(sets));
     ExprPool& p = pool();
     for (const auto& set : sets) {
       const uint32_t s0 = set[0];
@@ -2291,6 +2317,22 @@ class Flattener {
         add(sum, text);
       }
     }
+  }
+
+  /// How many equations the connection sets make (below): potentials equal (a signal input
+  /// equals its output), one sum per flow, an unconnected physical connector's flows zero.
+  size_t ConnectionEquationCount(const std::vector<std::vector<uint32_t>>& sets) const {
+    size_t n = 0;
+    for (const auto& set : sets) {
+      const InstanceData& d = instance_data_[slot_instance_[set[0]]];
+      const ConnectorType& ct = *d.layout->connectors[set[0] - d.first_slot].type;
+      if (ct.is_signal) {
+        n += set.size() - 1;
+      } else {
+        n += ct.potentials.size() * (set.size() - 1) + ct.flows.size();
+      }
+    }
+    return n;
   }
 
   /// Connected signals have one dimension when both declare a unit (a string compare first, so
