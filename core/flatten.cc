@@ -438,7 +438,7 @@ class Flattener {
       return pool().Param(ParamId(data.first_param.value() + p->second));
     }
     auto names = data.layout->LocalNames();
-    throw ModelError(loc, flat_.instances[inst].path + " (" + data.layout->type->name +
+    throw ModelError(loc, flat_.InstancePath(InstanceId(inst)) + " (" + data.layout->type->name +
                               ") has no variable or parameter '" + local + "' (valid names: " +
                               JoinNames(names) + ")");
   }
@@ -1619,7 +1619,7 @@ class Flattener {
   }
 
   /// Copies a template into the pool for one instance.
-  ExprId Instantiate(const Template& t, VarId first_var, ParamId first_param, const std::string& path,
+  ExprId Instantiate(const Template& t, VarId first_var, ParamId first_param, InstanceId inst,
                      const std::string& text, const SourceLoc& loc) {
     ExprPool& p = pool();
     scratch_.resize(t.nodes.size());
@@ -1643,7 +1643,7 @@ class Flattener {
           const InstanceTable& table = instance_tables_.at(n.local);
           const auto column = static_cast<uint32_t>(n.c >= 0 ? OptionValue(scratch_[n.c], "column", loc) : n.value);
           if (column < 1 || column > table.cols) {
-            throw ModelError(loc, path + ": interpolate() reads column " + std::to_string(column) + " of a table with " +
+            throw ModelError(loc, flat_.InstancePath(inst) + ": interpolate() reads column " + std::to_string(column) + " of a table with " +
                                       std::to_string(table.cols) + " columns, in '" + Excerpt(text, 0) + "'");
           }
           r = p.Table(table.first, table.rows, table.cols, column);
@@ -1798,13 +1798,48 @@ class Flattener {
         auto [is_param, k] = ModifierTarget(c, L, m);
         (is_param ? param_mod : var_mod)[k] = &m;
       }
+      const int32_t block = arr.is_array ? BeginBlock(c, L) : -1;
+      const int32_t names = NamesOf(L);
       for (uint32_t k = 0; k < arr.count; ++k) {
-        std::string path = arr.is_array ? c.name + "[" + std::to_string(k + 1) + "]" : c.name;
         std::pair<std::string, double> index{"i", static_cast<double>(k + 1)};
-        AddInstance(c, L, path, param_mod, var_mod, arr.is_array ? &index : nullptr);
+        AddInstance(c, L, block, names, param_mod, var_mod, arr.is_array ? &index : nullptr);
       }
+      if (block >= 0) EndBlock(&flat_.blocks[block]);
       arrays_[c.name] = arr;
     }
+  }
+
+  /// The record of a count: array (FlatSystem::blocks), begun before its first element is made;
+  /// its strides are set by EndBlock.
+  int32_t BeginBlock(const ComponentSpec& c, const TypeLayout& L) {
+    FlatBlock b;
+    b.name = c.name;
+    b.type = L.type;
+    b.loc = c.loc;
+    b.first_instance = InstanceId(flat_.instances.size());
+    b.first_var = VarId(flat_.variables.size());
+    b.first_param = ParamId(flat_.parameters.size());
+    b.first_equation = static_cast<uint32_t>(flat_.equations.size());
+    b.first_initial = static_cast<uint32_t>(flat_.initial_equations.size());
+    b.stride = static_cast<uint32_t>(1 + L.subs.size());
+    for (const SubInstance& sub : L.subs) b.part_paths.push_back(sub.path);
+    flat_.blocks.push_back(std::move(b));
+    return static_cast<int32_t>(flat_.blocks.size() - 1);
+  }
+
+  /// A block's count and strides, from what its elements added (every element adds as many).
+  void EndBlock(FlatBlock* b) {
+    b->count = (static_cast<uint32_t>(flat_.instances.size()) - b->first_instance.value()) / b->stride;
+    b->vars_per = (static_cast<uint32_t>(flat_.variables.size()) - b->first_var.value()) / b->count;
+    b->params_per = (static_cast<uint32_t>(flat_.parameters.size()) - b->first_param.value()) / b->count;
+    b->equations_per = (static_cast<uint32_t>(flat_.equations.size()) - b->first_equation) / b->count;
+    b->initials_per = (static_cast<uint32_t>(flat_.initial_equations.size()) - b->first_initial) / b->count;
+  }
+
+  /// Holds a text in the flat system (FlatSystem::texts) and returns its index.
+  uint32_t HeldText(std::string text) {
+    flat_.texts.push_back(std::move(text));
+    return static_cast<uint32_t>(flat_.texts.size() - 1);
   }
 
   /// Room in the flat system's arrays for `count` instances of L, made before they are added: a
@@ -1913,20 +1948,32 @@ class Flattener {
     return at->second;
   }
 
-  void AddInstance(const ComponentSpec& c, const TypeLayout& L, const std::string& path,
+  /// Makes one instance of L: an element of `block` (the `index`-th), or the component alone
+  /// (block -1); `names` are L's (NamesOf).
+  void AddInstance(const ComponentSpec& c, const TypeLayout& L, int32_t block, int32_t names,
                    const std::vector<const Modifier*>& param_mod,
                    const std::vector<const Modifier*>& var_mod,
                    const std::pair<std::string, double>* index) {
     const ComponentType* type = L.type;
     InstanceId inst(flat_.instances.size());
-    flat_.instances.push_back({path, type, c.loc, NamesOf(L)});
+    // An element of a block is named by the block; a component alone holds its path.
+    auto instance = [&](const ComponentType* t, const SourceLoc& loc, int32_t type_names, const std::string* part) {
+      FlatInstance fi;
+      fi.type = t;
+      fi.loc = loc;
+      fi.names = type_names;
+      fi.block = block;
+      if (block < 0) fi.path_text = HeldText(part ? c.name + "." + *part : c.name);
+      flat_.instances.push_back(fi);
+    };
+    instance(type, c.loc, names, nullptr);
     InstanceData data{&L, VarId(flat_.variables.size()), ParamId(flat_.parameters.size()),
                       static_cast<uint32_t>(slot_instance_.size())};
     instance_data_.push_back(data);
     for (size_t k = 0; k < L.connectors.size(); ++k) slot_instance_.push_back(inst.value());
     // A composite's parts, at every depth, are instances of their own (for messages).
     for (const SubInstance& sub : L.subs) {
-      flat_.instances.push_back({path + "." + sub.path, sub.layout->type, sub.loc});
+      instance(sub.layout->type, sub.loc, -1, &sub.path);
       instance_data_.push_back({sub.layout, VarId(data.first_var.value() + sub.first_var),
                                 ParamId(data.first_param.value() + sub.first_param), kNoSlot});
     }
@@ -1972,15 +2019,16 @@ class Flattener {
       if (!d.doc.empty()) fp.doc = local;
       fp.instance = instance_of(lp.sub);
       if (const Modifier* m = param_mod[k]) {
-        fp.binding = ModelExpr(*ModifierValue(*m, d, path), m->value_text, m->loc, index, false);
+        const AstPtr value = m->value_unit.empty() ? m->value : ModifierValue(*m, d, flat_.InstancePath(inst));
+        fp.binding = ModelExpr(*value, m->value_text, m->loc, index, false);
         fp.loc = m->loc;
       } else {
-        fp.binding = Instantiate(L.param_defaults[k], data.first_var, data.first_param, path, d.value_text, d.loc);
+        fp.binding = Instantiate(L.param_defaults[k], data.first_var, data.first_param, inst, d.value_text, d.loc);
         fp.loc = lp.loc.known() ? lp.loc : loc_of(lp.sub);
       }
       flat_.parameters.push_back(std::move(fp));
     }
-    AddTables(c, L, data, inst, path, index);
+    AddTables(c, L, data, inst, index);
     // Variables.
     for (size_t k = 0; k < L.vars.size(); ++k) {
       const LocalVar& lv = L.vars[k];
@@ -2000,7 +2048,7 @@ class Flattener {
       if (lv.fixed) fv.fixed = *lv.fixed;
       if (lv.state_priority) fv.state_priority = *lv.state_priority;
       if (L.starts[k].root >= 0) {
-        fv.start = Instantiate(L.starts[k], data.first_var, data.first_param, path, "", fv.loc);
+        fv.start = Instantiate(L.starts[k], data.first_var, data.first_param, inst, "", fv.loc);
       }
       fv.discrete = L.discrete[k];
       if (const Modifier* m = var_mod[k]) {
@@ -2017,7 +2065,7 @@ class Flattener {
       for (size_t k = 0; k < templates.size(); ++k) {
         const PartInfo& d = info[k];
         FlatEquation eq;
-        eq.residual = Instantiate(templates[k], data.first_var, data.first_param, path, d.text, c.loc);
+        eq.residual = Instantiate(templates[k], data.first_var, data.first_param, inst, d.text, c.loc);
         eq.origin = d.origin;
         eq.instance = d.origin == EquationOrigin::kConnection ? InstanceId() : instance_of(d.sub);
         eq.text = {TextRef::kType, inst.value(), first_text + static_cast<uint32_t>(k)};
@@ -2028,7 +2076,7 @@ class Flattener {
     add_equations(L.equations, L.equation_info, 0, &flat_.equations);
     // When-clauses and impacts.
     auto inst_expr = [&](const Template& t, const std::string& text) {
-      return Instantiate(t, data.first_var, data.first_param, path, text, c.loc);
+      return Instantiate(t, data.first_var, data.first_param, inst, text, c.loc);
     };
     auto var_of = [&](uint32_t local) { return VarId(data.first_var.value() + local); };
     for (size_t k = 0; k < L.whens.size(); ++k) {
@@ -2079,8 +2127,10 @@ class Flattener {
   /// An instance's tables: each element a parameter `path.table[i,j]`, row by row, from the
   /// component's value for it or the type's default; recorded for the check of the abscissas.
   void AddTables(const ComponentSpec& c, const TypeLayout& L, const InstanceData& data, InstanceId inst,
-                 const std::string& path, const std::pair<std::string, double>* index) {
+                 const std::pair<std::string, double>* index) {
     instance_tables_.clear();
+    if (L.tables.empty()) return;
+    const std::string path = flat_.InstancePath(inst);
     for (size_t k = 0; k < L.tables.size(); ++k) {
       const TypeLayout::TableSlot& slot = L.tables[k];
       const ParameterDecl& d = *slot.decl;
@@ -2103,7 +2153,7 @@ class Flattener {
           fp.binding = ModelExpr(*given[e], m->value_text, m->loc, index, false);
           fp.loc = m->loc;
         } else {
-          fp.binding = Instantiate(slot.defaults[e], data.first_var, data.first_param, path, d.value_text, d.loc);
+          fp.binding = Instantiate(slot.defaults[e], data.first_var, data.first_param, inst, d.value_text, d.loc);
           fp.loc = c.loc;
         }
         flat_.parameters.push_back(std::move(fp));
@@ -2125,7 +2175,7 @@ class Flattener {
 
   /// "R[3].n": a connection end as messages name it (made only for a message).
   std::string EndText(const EndRef& e) const {
-    return flat_.instances[e.instance].path + "." +
+    return flat_.InstancePath(InstanceId(e.instance)) + "." +
            instance_data_[e.instance].layout->connectors[e.connector].decl->name;
   }
 
@@ -2155,7 +2205,7 @@ class Flattener {
     if (c == L.connector_index.end()) {
       std::vector<std::string> names;
       for (const auto& s : L.connectors) names.push_back(s.decl->name);
-      throw ModelError(loc, flat_.instances[inst].path + " (" + L.type->name + ") has no connector '" +
+      throw ModelError(loc, flat_.InstancePath(InstanceId(inst)) + " (" + L.type->name + ") has no connector '" +
                                 a.path[1].name + "' (valid connectors: " +
                                 (names.empty() ? std::string("none") : JoinNames(names)) + ")");
     }
@@ -2240,7 +2290,7 @@ class Flattener {
       };
       auto name_of = [&](uint32_t slot) {
         const InstanceData& d = instance_data_[slot_instance_[slot]];
-        return flat_.instances[slot_instance_[slot]].path + "." +
+        return flat_.InstancePath(InstanceId(slot_instance_[slot])) + "." +
                d.layout->connectors[slot - d.first_slot].decl->name;
       };
       if (set.size() == 1) {
@@ -2580,7 +2630,7 @@ std::vector<double> EvaluateParameters(const FlatSystem& flat, const ParameterOv
       const FlatInstance& inst = flat.instances[p.instance.value()];
       const std::string& doc = flat.ParameterDoc(id);
       const std::string& unit = flat.ParameterUnit(id);
-      return name + " (" + inst.type->name + "." + name.substr(inst.path.size() + 1) + (doc.empty() ? "" : ": " + doc) +
+      return name + " (" + inst.type->name + "." + name.substr(flat.InstancePath(p.instance).size() + 1) + (doc.empty() ? "" : ": " + doc) +
              (unit.empty() ? "" : " [" + unit + "]") + ")";
     };
     if (!std::isfinite(v)) fail(what() + " is " + std::to_string(v) + "; a parameter must be a finite number");

@@ -247,7 +247,7 @@ connections:
   - ["R[n].n", g.p]
 )");
   std::vector<std::string> paths;
-  for (const auto& inst : flat.instances) paths.push_back(inst.path);
+  for (uint32_t k = 0; k < flat.instances.size(); ++k) paths.push_back(flat.InstancePath(InstanceId(k)));
   EXPECT_EQ(paths, (std::vector<std::string>{"R[1]", "R[2]", "R[3]", "R[4]", "g"}));
   // R[k].R = 10*k + 1, folded to a number at flatten time.
   for (int k = 1; k <= 4; ++k) {
@@ -276,7 +276,7 @@ components:
   R: {type: Resistor, count: n}
 )", {{"n", 6}});
   EXPECT_EQ(six.instances.size(), 6u);
-  EXPECT_EQ(six.instances.back().path, "R[6]");
+  EXPECT_EQ(six.InstancePath(InstanceId(5)), "R[6]");
 }
 
 TEST(FlattenTest, ArrayIndexErrors) {
@@ -548,7 +548,7 @@ initial_equations:
   int of_a = 0;
   for (const auto& e : flat.equations) {
     if (e.origin == EquationOrigin::kComponent) {
-      EXPECT_EQ(flat.instances[e.instance.value()].path, "A");
+      EXPECT_EQ(flat.InstancePath(e.instance), "A");
       ++of_a;
     }
   }
