@@ -470,9 +470,11 @@ class Flattener {
     }, allow_variables);
   }
 
-  /// Expression building shared by the model scope; `name` resolves a kName node.
-  ExprId BuildExpr(const Ast& a, const std::string& text, const SourceLoc& loc,
-                   const std::function<ExprId(const Ast&)>& name, bool allow_variables) {
+  /// Expression building shared by the model scope; `name` resolves a kName node (a template
+  /// parameter rather than a std::function: a modifier of an array is built once per element).
+  template <class ResolveName>
+  ExprId BuildExpr(const Ast& a, const std::string& text, const SourceLoc& loc, const ResolveName& name,
+                   bool allow_variables) {
     ExprPool& p = pool();
     auto sub = [&](size_t k) { return BuildExpr(*a.args[k], text, loc, name, allow_variables); };
     switch (a.kind) {
