@@ -102,7 +102,10 @@ bool FlatSystem::StartsWithPath(InstanceId i, std::string_view text, size_t* len
 std::string FlatSystem::VariableName(VarId v) const { return Name(*this, variables[v.value()].name, &TypeNames::vars); }
 
 const std::string& FlatSystem::VariableUnit(VarId v) const {
-  return Held(*this, variables[v.value()].unit, &TypeNames::var_units);
+  const TextRef& name = variables[v.value()].name;
+  if (name.kind == TextRef::kType) return Held(*this, name, &TypeNames::var_units);
+  if (v.value() < model_variable_units.size()) return Held(*this, model_variable_units[v.value()], &TypeNames::var_units);
+  return kNoText;
 }
 
 std::string FlatSystem::ParameterName(ParamId p) const {

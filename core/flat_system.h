@@ -52,13 +52,14 @@ struct TypeNames {
 
 // The records below are held per scalar variable, parameter, equation and instance of a model
 // (millions in a large one): their fields are ordered by size so that no padding falls between
-// them (FlatVariable 88 -> 72 bytes, FlatInstance 64 -> 32).
+// them (FlatVariable 88 -> 64 bytes, FlatParameter 104 -> 96, FlatInstance 64 -> 40).
 
 struct FlatVariable {
   SourceLoc loc;          ///< where start/fixed were given, else where declared
   double nominal = 1.0;
-  TextRef name;      ///< full path, e.g. "A.flange_a.s" (FlatSystem::VariableName)
-  TextRef unit;
+  /// Full path, e.g. "A.flange_a.s" (FlatSystem::VariableName); its unit is its type's
+  /// (FlatSystem::VariableUnit).
+  TextRef name;
   ExprId start;      ///< parameter-only start value (invalid: 0)
   InstanceId instance;    ///< owner; invalid for the model's own variables
   /// For a variable that index reduction made for a derivative (a dummy derivative, or a state of
@@ -207,6 +208,9 @@ struct FlatSystem {
   /// The names of each component type instantiated, shared by the copies passes make.
   std::vector<std::shared_ptr<const TypeNames>> type_names;
   std::vector<std::string> texts;          ///< TextRef::kOwned
+  /// The units of the model's own variables, which come first (by variable); a component's
+  /// variable has its type's unit, one a pass adds none.
+  std::vector<TextRef> model_variable_units;
   std::vector<VarId> connection_vars;      ///< TextRef::kFlowSum
 
   /// Holds `text` and returns its reference (an empty text needs none).

@@ -1764,7 +1764,7 @@ class Flattener {
       fv.nominal = v.nominal;
       fv.state_priority = v.state_priority;
       fv.loc = v.loc;
-      fv.unit = flat_.Own(v.unit);
+      flat_.model_variable_units.push_back(flat_.Own(v.unit));
       fv.start = v.start ? ModelExpr(*v.start, AstToString(*v.start), v.loc, nullptr, false) : ExprId();
       fv.discrete = v.type != ValueType::kReal;
       model_var_[v.name] = VarId(flat_.variables.size());
@@ -2040,7 +2040,6 @@ class Flattener {
       fv.is_flow = lv.is_flow;
       fv.is_input = lv.is_input;
       fv.instance = instance_of(lv.sub);
-      if (!lv.unit.empty()) fv.unit = fv.name;
       fv.loc = lv.loc.known() ? lv.loc : loc_of(lv.sub);
       if (lv.decl) {
         fv.fixed = lv.decl->fixed;
