@@ -40,12 +40,14 @@ Scene AddSceneOutputs(ModelSpec* spec, const Library& library,
   const FlatSystem flat = Flatten(*spec, library, overrides);
   std::set<std::string> listed;
   for (const auto& o : spec->outputs) listed.insert(o.text);
-  for (const FlatInstance& inst : flat.instances) {
+  for (uint32_t i = 0; i < flat.instances.size(); ++i) {
+    const FlatInstance& inst = flat.instances[i];
     if (!inst.type || inst.type->animation.empty()) continue;
     // The instance's path as name segments (`R[3].body` -> R[3], body).
-    const AstPtr path = ParseName(inst.path, inst.loc);
+    const std::string inst_path = flat.InstancePath(InstanceId(i));
+    const AstPtr path = ParseName(inst_path, inst.loc);
     for (const ShapeDecl& decl : inst.type->animation) {
-      SceneShape shape{decl.kind, inst.path, {}};
+      SceneShape shape{decl.kind, inst_path, {}};
       for (const ShapeField& f : decl.fields) {
         // A point written as [x, y] is two scalar outputs (columns named after them); anything
         // else is one output, a vector's elements named by the array expansion.

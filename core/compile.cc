@@ -490,7 +490,7 @@ std::shared_ptr<CompiledModel> CompileModel(EquationSystem sys, const Structure&
     for (const auto& im : sys.impacts) {
       const FlatImpact& fi = flat.impacts[im.origin];
       CompiledModel::Impact ci;
-      ci.name = flat.instances[fi.instance.value()].path;
+      ci.name = flat.InstancePath(fi.instance);
       auto row = std::find(residual_source.begin(), residual_source.end(), fi.mode_equation);
       if (row == residual_source.end()) {
         throw ModelError(fi.loc, "the impact of " + ci.name + " lost its contact equation during simplification (an internal limitation; please report the model)");

@@ -2,6 +2,7 @@
 /// Component and connector types as declared in a library file or a model's `define:` section
 /// (docs/FORMAT.md). Declarations only: names are resolved when a type is first instantiated.
 
+#include <cstdint>
 #include <map>
 #include <memory>
 #include <optional>
@@ -13,7 +14,7 @@
 
 namespace momenta {
 
-enum class ValueType { kReal, kInteger, kBoolean };
+enum class ValueType : uint8_t { kReal, kInteger, kBoolean };
 
 /// The fixed shape of an array declaration (docs/FORMAT.md, "Vectors and matrices"): empty for a
 /// scalar, {n} for a vector, {n, m} for a matrix.

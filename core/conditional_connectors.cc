@@ -34,11 +34,12 @@ size_t ResolveConditionalConnectors(EquationSystem* sys, const std::vector<doubl
     const FlatInstance& inst = flat.instances[cc.instance.value()];
     const std::string cond = flat.ParameterName(cc.condition);
     if (cc.connected_at.known()) {
-      throw ModelError(cc.connected_at, "cannot connect " + inst.path + "." + cc.name + ": " + inst.path + " (" +
+      const std::string path = flat.InstancePath(cc.instance);
+      throw ModelError(cc.connected_at, "cannot connect " + path + "." + cc.name + ": " + path + " (" +
                                             inst.type->name + ") has the connector " + cc.name + " only when " +
-                                            cond.substr(inst.path.size() + 1) + " is true, and " + cond +
-                                            " is false; set " + cond.substr(inst.path.size() + 1) + ": true in " +
-                                            inst.path + "'s entry");
+                                            cond.substr(path.size() + 1) + " is true, and " + cond +
+                                            " is false; set " + cond.substr(path.size() + 1) + ": true in " +
+                                            path + "'s entry");
     }
     for (uint32_t k = 0; k < cc.num_potentials + cc.num_flows; ++k) {
       absent[cc.first_var.value() + k] = true;
@@ -53,7 +54,7 @@ size_t ResolveConditionalConnectors(EquationSystem* sys, const std::vector<doubl
   if (gone.empty()) return 0;
   auto absent_text = [&](VarId v) {
     const FlatConditionalConnector& cc = *gone[by_var[v.value()]];
-    const std::string& path = flat.instances[cc.instance.value()].path;
+    const std::string path = flat.InstancePath(cc.instance);
     return flat.VariableName(v) + ", but " + path + " has no connector " + cc.name + " (" +
            flat.ParameterName(cc.condition) + " is false)";
   };

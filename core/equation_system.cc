@@ -92,6 +92,7 @@ EquationSystem MakeEquationSystem(std::shared_ptr<const FlatSystem> flat) {
   sys.role.assign(flat->variables.size(), VarRole::kUnknown);
   sys.guess.resize(flat->variables.size());
   ExprPool& p = *sys.pool;
+  sys.equations.reserve(flat->equations.size());
   for (uint32_t k = 0; k < flat->equations.size(); ++k) {
     sys.equations.push_back({flat->equations[k].residual, k, SystemEquation::Kind::kDynamic});
   }

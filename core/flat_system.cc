@@ -41,16 +41,19 @@ const std::string& Held(const FlatSystem& f, const TextRef& r, NameTable table) 
 /// A full name: the held name, or the instance's path, a dot and the local name from `table`.
 std::string Name(const FlatSystem& f, const TextRef& r, NameTable table) {
   if (r.kind != TextRef::kType) return Held(f, r, table);
-  return f.instances[r.a].path + "." + Held(f, r, table);
+  return f.InstancePath(InstanceId(r.a)) + "." + Held(f, r, table);
 }
 
 /// Whether `r` names `name` (compared in place: a lookup makes no string).
 bool NameIs(const FlatSystem& f, const TextRef& r, NameTable table, std::string_view name) {
   if (r.kind != TextRef::kType) return Held(f, r, table) == name;
-  const std::string& path = f.instances[r.a].path;
-  return name.size() > path.size() && name.compare(0, path.size(), path) == 0 && name[path.size()] == '.' &&
-         name.substr(path.size() + 1) == Held(f, r, table);
+  size_t length = 0;
+  return f.StartsWithPath(InstanceId(r.a), name, &length) && name.size() > length && name[length] == '.' &&
+         name.substr(length + 1) == Held(f, r, table);
 }
+
+/// An element's index as written in its path: "12" in R[12].
+std::string IndexText(uint32_t element) { return std::to_string(element + 1); }
 
 }  // namespace
 
@@ -60,10 +63,49 @@ TextRef FlatSystem::Own(std::string text) {
   return {TextRef::kOwned, static_cast<uint32_t>(texts.size() - 1), 0};
 }
 
+std::string FlatSystem::InstancePath(InstanceId i) const {
+  const FlatInstance& inst = instances[i.value()];
+  if (inst.block < 0) return texts[inst.path_text];
+  const FlatBlock& b = blocks[inst.block];
+  const uint32_t offset = i.value() - b.first_instance.value();
+  std::string path = b.name + "[" + IndexText(offset / b.stride) + "]";
+  if (offset % b.stride != 0) path += "." + b.part_paths[offset % b.stride - 1];
+  return path;
+}
+
+bool FlatSystem::StartsWithPath(InstanceId i, std::string_view text, size_t* length) const {
+  const FlatInstance& inst = instances[i.value()];
+  if (inst.block < 0) {
+    const std::string& path = texts[inst.path_text];
+    *length = path.size();
+    return text.substr(0, path.size()) == path;
+  }
+  // name[index] or name[index].part
+  const FlatBlock& b = blocks[inst.block];
+  const uint32_t offset = i.value() - b.first_instance.value();
+  const std::string index = IndexText(offset / b.stride);
+  size_t at = b.name.size();
+  if (text.substr(0, at) != b.name || text.substr(at, 1) != "[" || text.substr(at + 1, index.size()) != index ||
+      text.substr(at + 1 + index.size(), 1) != "]") {
+    return false;
+  }
+  at += index.size() + 2;
+  if (offset % b.stride != 0) {
+    const std::string& part = b.part_paths[offset % b.stride - 1];
+    if (text.substr(at, 1) != "." || text.substr(at + 1, part.size()) != part) return false;
+    at += 1 + part.size();
+  }
+  *length = at;
+  return true;
+}
+
 std::string FlatSystem::VariableName(VarId v) const { return Name(*this, variables[v.value()].name, &TypeNames::vars); }
 
 const std::string& FlatSystem::VariableUnit(VarId v) const {
-  return Held(*this, variables[v.value()].unit, &TypeNames::var_units);
+  const TextRef& name = variables[v.value()].name;
+  if (name.kind == TextRef::kType) return Held(*this, name, &TypeNames::var_units);
+  if (v.value() < model_variable_units.size()) return Held(*this, model_variable_units[v.value()], &TypeNames::var_units);
+  return kNoText;
 }
 
 std::string FlatSystem::ParameterName(ParamId p) const {
@@ -82,7 +124,7 @@ std::string FlatSystem::EquationText(const FlatEquation& eq) const {
   const TextRef& r = eq.text;
   switch (r.kind) {
     case TextRef::kType:
-      return WithPath(Held(*this, r, &TypeNames::equations), instances[r.a].path);
+      return WithPath(Held(*this, r, &TypeNames::equations), InstancePath(InstanceId(r.a)));
     case TextRef::kEqual:
       return VariableName(VarId(r.a)) + " = " + VariableName(VarId(r.b)) + " (connection)";
     case TextRef::kUnconnected:
@@ -126,7 +168,7 @@ std::string FlatSystem::DescribeEquation(const FlatEquation& eq) const {
   std::string s;
   if (eq.instance.valid() && eq.origin != EquationOrigin::kUnconnectedFlow) {
     const FlatInstance& inst = instances[eq.instance.value()];
-    s = inst.path + " (" + inst.type->name + ", " + inst.loc.ToString() + "): " + quoted;
+    s = InstancePath(eq.instance) + " (" + inst.type->name + ", " + inst.loc.ToString() + "): " + quoted;
   } else {
     s = quoted;
     if (eq.loc.known()) s += " (" + eq.loc.ToString() + ")";

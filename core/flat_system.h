@@ -7,6 +7,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "core/component_type.h"
@@ -49,57 +50,86 @@ struct TypeNames {
   std::vector<std::string> whens;      ///< as written
 };
 
+// The records below are held per scalar variable, parameter, equation and instance of a model
+// (millions in a large one): their fields are ordered by size so that no padding falls between
+// them (FlatVariable 88 -> 64 bytes, FlatParameter 104 -> 96, FlatInstance 64 -> 40).
+
 struct FlatVariable {
-  TextRef name;      ///< full path, e.g. "A.flange_a.s" (FlatSystem::VariableName)
-  ValueType type = ValueType::kReal;
-  ExprId start;      ///< parameter-only start value (invalid: 0)
-  bool fixed = false;
+  SourceLoc loc;          ///< where start/fixed were given, else where declared
   double nominal = 1.0;
-  int state_priority = 0;  ///< stateSelect: never -2, avoid -1, default 0, prefer 1, always 2
+  /// Full path, e.g. "A.flange_a.s" (FlatSystem::VariableName); its unit is its type's
+  /// (FlatSystem::VariableUnit).
+  TextRef name;
+  ExprId start;      ///< parameter-only start value (invalid: 0)
+  InstanceId instance;    ///< owner; invalid for the model's own variables
+  /// For a variable that index reduction made for a derivative (a dummy derivative, or a state of
+  /// the first-order form of der(der(x))): it stands for der^derivative_order(derivative_of).
+  VarId derivative_of;
+  uint32_t derivative_order = 0;
+  int8_t state_priority = 0;  ///< stateSelect: never -2, avoid -1, default 0, prefer 1, always 2
+  ValueType type = ValueType::kReal;
+  bool fixed = false;
   bool is_flow = false;
   bool is_input = false;  ///< an unconnected signal input would be one of these
   /// Constant between events: Boolean and Integer variables, Reals assigned in when-clauses,
   /// impact contact modes.
   bool discrete = false;
-  InstanceId instance;    ///< owner; invalid for the model's own variables
-  SourceLoc loc;          ///< where start/fixed were given, else where declared
-  TextRef unit;
-  /// For a variable that index reduction made for a derivative (a dummy derivative, or a state of
-  /// the first-order form of der(der(x))): it stands for der^derivative_order(derivative_of).
-  VarId derivative_of;
-  uint32_t derivative_order = 0;
 };
 
 struct FlatParameter {
-  TextRef name;      ///< "mA" for a model parameter, "A.m" for a component's (FlatSystem::ParameterName)
-  ExprId binding;    ///< an expression of other parameters and constants
-  ValueType type = ValueType::kReal;
   std::optional<double> min, max;
-  TextRef unit, doc;
   SourceLoc loc;       ///< where its value was set
+  TextRef name;      ///< "mA" for a model parameter, "A.m" for a component's (FlatSystem::ParameterName)
+  TextRef unit, doc;
+  ExprId binding;    ///< an expression of other parameters and constants
   InstanceId instance; ///< invalid for model parameters
+  ValueType type = ValueType::kReal;
 };
 
-enum class EquationOrigin { kComponent, kModel, kConnection, kUnconnectedFlow, kFixedStart, kInitial };
+enum class EquationOrigin : uint8_t { kComponent, kModel, kConnection, kUnconnectedFlow, kFixedStart, kInitial };
 
 struct FlatEquation {
+  SourceLoc loc;
   ExprId residual;  ///< lhs - rhs
-  EquationOrigin origin = EquationOrigin::kComponent;
   InstanceId instance;  ///< the component whose equation it is (kComponent)
   TextRef text;         ///< the equation as written, or a description (FlatSystem::EquationText)
-  SourceLoc loc;
   /// Index reduction: the flat equation this one is the time derivative of (-1: as written).
   int32_t differentiated_from = -1;
   uint32_t differentiations = 0;  ///< how many times the written equation was differentiated
+  EquationOrigin origin = EquationOrigin::kComponent;
 };
 
+/// A component instance. Its path ("A", "R[3]", "R[3].mass") is made on demand
+/// (FlatSystem::InstancePath): from its block's name and its index for an element of a `count:`
+/// array or a part of one, else held (FlatSystem::texts).
 struct FlatInstance {
-  std::string path;  ///< "A", "R[3]"
   const ComponentType* type = nullptr;
   SourceLoc loc;     ///< the component entry in the model file
   /// Its type's names (FlatSystem::type_names), for a component of the model; a composite's
   /// parts are named through the component that holds them (-1).
   int32_t names = -1;
+  int32_t block = -1;  ///< its FlatSystem::blocks entry, or -1
+  uint32_t path_text = 0;  ///< outside a block: its path, FlatSystem::texts[path_text]
+};
+
+/// A `count:` array of components (docs/ARRAY-BUILD.md, step 2): `count` elements of one type,
+/// made one after the other. Element k (0-based) is the instance first_instance + stride·k (a
+/// composite's parts follow it, at the offsets 1 … stride - 1, named part_paths), with the
+/// variables first_var + vars_per·k + local, the parameters first_param + params_per·k + local,
+/// the equations first_equation + equations_per·k + local and the initial equations
+/// first_initial + initials_per·k + local (local: the type's layout, the same for every element).
+struct FlatBlock {
+  std::string name;  ///< the component entry's name: "R"
+  const ComponentType* type = nullptr;
+  SourceLoc loc;     ///< the component entry
+  InstanceId first_instance;
+  VarId first_var;
+  ParamId first_param;
+  uint32_t first_equation = 0, first_initial = 0;
+  uint32_t count = 0;
+  uint32_t stride = 1;
+  uint32_t vars_per = 0, params_per = 0, equations_per = 0, initials_per = 0;
+  std::vector<std::string> part_paths;  ///< a composite's parts, relative: "mass", "arm.joint"
 };
 
 /// A when-clause: at the event where `condition` becomes true, `assigns` set discrete variables and
@@ -166,6 +196,7 @@ struct FlatSystem {
   std::vector<FlatEquation> equations;
   std::vector<FlatEquation> initial_equations;  ///< from initial_equations: (fixed starts are on the variables)
   std::vector<FlatInstance> instances;
+  std::vector<FlatBlock> blocks;  ///< the model's count: arrays, in the order of its components
   std::vector<FlatWhen> whens;
   std::vector<FlatImpact> impacts;
   std::vector<FlatTable> tables;
@@ -177,10 +208,18 @@ struct FlatSystem {
   /// The names of each component type instantiated, shared by the copies passes make.
   std::vector<std::shared_ptr<const TypeNames>> type_names;
   std::vector<std::string> texts;          ///< TextRef::kOwned
+  /// The units of the model's own variables, which come first (by variable); a component's
+  /// variable has its type's unit, one a pass adds none.
+  std::vector<TextRef> model_variable_units;
   std::vector<VarId> connection_vars;      ///< TextRef::kFlowSum
 
   /// Holds `text` and returns its reference (an empty text needs none).
   TextRef Own(std::string text);
+  /// "A", "R[3]", "R[3].mass": made from the instance's block, or the held path.
+  std::string InstancePath(InstanceId i) const;
+  /// Whether `text` starts with instance i's path (compared in place); sets `*length` to the
+  /// path's length when it does.
+  bool StartsWithPath(InstanceId i, std::string_view text, size_t* length) const;
   std::string VariableName(VarId v) const;
   const std::string& VariableUnit(VarId v) const;
   std::string ParameterName(ParamId p) const;

@@ -438,7 +438,7 @@ class Flattener {
       return pool().Param(ParamId(data.first_param.value() + p->second));
     }
     auto names = data.layout->LocalNames();
-    throw ModelError(loc, flat_.instances[inst].path + " (" + data.layout->type->name +
+    throw ModelError(loc, flat_.InstancePath(InstanceId(inst)) + " (" + data.layout->type->name +
                               ") has no variable or parameter '" + local + "' (valid names: " +
                               JoinNames(names) + ")");
   }
@@ -470,9 +470,11 @@ class Flattener {
     }, allow_variables);
   }
 
-  /// Expression building shared by the model scope; `name` resolves a kName node.
-  ExprId BuildExpr(const Ast& a, const std::string& text, const SourceLoc& loc,
-                   const std::function<ExprId(const Ast&)>& name, bool allow_variables) {
+  /// Expression building shared by the model scope; `name` resolves a kName node (a template
+  /// parameter rather than a std::function: a modifier of an array is built once per element).
+  template <class ResolveName>
+  ExprId BuildExpr(const Ast& a, const std::string& text, const SourceLoc& loc, const ResolveName& name,
+                   bool allow_variables) {
     ExprPool& p = pool();
     auto sub = [&](size_t k) { return BuildExpr(*a.args[k], text, loc, name, allow_variables); };
     switch (a.kind) {
@@ -1271,10 +1273,13 @@ class Flattener {
   }
 
   /// Two connectors may be joined when they are of one type, or both signals of one value type.
+  static bool Compatible(const ConnectorType* a, const ConnectorType* b) {
+    return a == b || (a->is_signal && b->is_signal && a->signal_type == b->signal_type);
+  }
+
   static void CheckCompatible(const ConnectorType* a, const std::string& a_text, const ConnectorType* b,
                               const std::string& b_text, const SourceLoc& loc, const std::string& where = "") {
-    bool compatible = a == b || (a->is_signal && b->is_signal && a->signal_type == b->signal_type);
-    if (!compatible) {
+    if (!Compatible(a, b)) {
       auto last = [](const std::string& n) { return n.substr(n.rfind('.') + 1); };
       std::string hint;
       if (last(a->name) == last(b->name)) {
@@ -1616,7 +1621,7 @@ class Flattener {
   }
 
   /// Copies a template into the pool for one instance.
-  ExprId Instantiate(const Template& t, VarId first_var, ParamId first_param, const std::string& path,
+  ExprId Instantiate(const Template& t, VarId first_var, ParamId first_param, InstanceId inst,
                      const std::string& text, const SourceLoc& loc) {
     ExprPool& p = pool();
     scratch_.resize(t.nodes.size());
@@ -1640,7 +1645,7 @@ class Flattener {
           const InstanceTable& table = instance_tables_.at(n.local);
           const auto column = static_cast<uint32_t>(n.c >= 0 ? OptionValue(scratch_[n.c], "column", loc) : n.value);
           if (column < 1 || column > table.cols) {
-            throw ModelError(loc, path + ": interpolate() reads column " + std::to_string(column) + " of a table with " +
+            throw ModelError(loc, flat_.InstancePath(inst) + ": interpolate() reads column " + std::to_string(column) + " of a table with " +
                                       std::to_string(table.cols) + " columns, in '" + Excerpt(text, 0) + "'");
           }
           r = p.Table(table.first, table.rows, table.cols, column);
@@ -1759,7 +1764,7 @@ class Flattener {
       fv.nominal = v.nominal;
       fv.state_priority = v.state_priority;
       fv.loc = v.loc;
-      fv.unit = flat_.Own(v.unit);
+      flat_.model_variable_units.push_back(flat_.Own(v.unit));
       fv.start = v.start ? ModelExpr(*v.start, AstToString(*v.start), v.loc, nullptr, false) : ExprId();
       fv.discrete = v.type != ValueType::kReal;
       model_var_[v.name] = VarId(flat_.variables.size());
@@ -1781,6 +1786,7 @@ class Flattener {
                          static_cast<uint32_t>(1 + L.subs.size())};
       if (c.count) arr.count = ArrayCount(c, L);
       planned_bytes_ += EstimatedBytes(L);
+      if (arr.is_array) ReserveElements(L, arr.count);
       // Which modifiers set parameters and which set start values.
       std::vector<const Modifier*> param_mod(L.params.size(), nullptr);
       std::vector<const Modifier*> var_mod(L.vars.size(), nullptr);
@@ -1794,13 +1800,66 @@ class Flattener {
         auto [is_param, k] = ModifierTarget(c, L, m);
         (is_param ? param_mod : var_mod)[k] = &m;
       }
+      const int32_t block = arr.is_array ? BeginBlock(c, L) : -1;
+      const int32_t names = NamesOf(L);
       for (uint32_t k = 0; k < arr.count; ++k) {
-        std::string path = arr.is_array ? c.name + "[" + std::to_string(k + 1) + "]" : c.name;
         std::pair<std::string, double> index{"i", static_cast<double>(k + 1)};
-        AddInstance(c, L, path, param_mod, var_mod, arr.is_array ? &index : nullptr);
+        AddInstance(c, L, block, names, param_mod, var_mod, arr.is_array ? &index : nullptr);
       }
+      if (block >= 0) EndBlock(&flat_.blocks[block]);
       arrays_[c.name] = arr;
     }
+  }
+
+  /// The record of a count: array (FlatSystem::blocks), begun before its first element is made;
+  /// its strides are set by EndBlock.
+  int32_t BeginBlock(const ComponentSpec& c, const TypeLayout& L) {
+    FlatBlock b;
+    b.name = c.name;
+    b.type = L.type;
+    b.loc = c.loc;
+    b.first_instance = InstanceId(flat_.instances.size());
+    b.first_var = VarId(flat_.variables.size());
+    b.first_param = ParamId(flat_.parameters.size());
+    b.first_equation = static_cast<uint32_t>(flat_.equations.size());
+    b.first_initial = static_cast<uint32_t>(flat_.initial_equations.size());
+    b.stride = static_cast<uint32_t>(1 + L.subs.size());
+    for (const SubInstance& sub : L.subs) b.part_paths.push_back(sub.path);
+    flat_.blocks.push_back(std::move(b));
+    return static_cast<int32_t>(flat_.blocks.size() - 1);
+  }
+
+  /// A block's count and strides, from what its elements added (every element adds as many).
+  void EndBlock(FlatBlock* b) {
+    b->count = (static_cast<uint32_t>(flat_.instances.size()) - b->first_instance.value()) / b->stride;
+    b->vars_per = (static_cast<uint32_t>(flat_.variables.size()) - b->first_var.value()) / b->count;
+    b->params_per = (static_cast<uint32_t>(flat_.parameters.size()) - b->first_param.value()) / b->count;
+    b->equations_per = (static_cast<uint32_t>(flat_.equations.size()) - b->first_equation) / b->count;
+    b->initials_per = (static_cast<uint32_t>(flat_.initial_equations.size()) - b->first_initial) / b->count;
+  }
+
+  /// Holds a text in the flat system (FlatSystem::texts) and returns its index.
+  uint32_t HeldText(std::string text) {
+    flat_.texts.push_back(std::move(text));
+    return static_cast<uint32_t>(flat_.texts.size() - 1);
+  }
+
+  /// Room in the flat system's arrays for `count` instances of L, made before they are added: a
+  /// large array then takes its memory once, at its size, instead of doubling (which copies the
+  /// records at every step and leaves up to half of the last block unused). It still grows
+  /// geometrically over many small arrays.
+  void ReserveElements(const TypeLayout& L, uint32_t count) {
+    auto room = [count](auto* records, size_t per_element) {
+      const size_t needed = records->size() + size_t{count} * per_element;
+      if (needed > records->capacity()) records->reserve(std::max(needed, records->capacity() + records->capacity() / 2));
+    };
+    room(&flat_.instances, 1 + L.subs.size());
+    room(&instance_data_, 1 + L.subs.size());
+    room(&slot_instance_, L.connectors.size());
+    room(&flat_.variables, L.vars.size());
+    room(&flat_.parameters, L.params.size());  // tables' elements come on top
+    room(&flat_.equations, L.equations.size() + L.impacts.size());
+    room(&flat_.initial_equations, L.initial_equations.size());
   }
 
   [[noreturn]] void UnknownType(const ComponentSpec& c) const {
@@ -1891,20 +1950,32 @@ class Flattener {
     return at->second;
   }
 
-  void AddInstance(const ComponentSpec& c, const TypeLayout& L, const std::string& path,
+  /// Makes one instance of L: an element of `block` (the `index`-th), or the component alone
+  /// (block -1); `names` are L's (NamesOf).
+  void AddInstance(const ComponentSpec& c, const TypeLayout& L, int32_t block, int32_t names,
                    const std::vector<const Modifier*>& param_mod,
                    const std::vector<const Modifier*>& var_mod,
                    const std::pair<std::string, double>* index) {
     const ComponentType* type = L.type;
     InstanceId inst(flat_.instances.size());
-    flat_.instances.push_back({path, type, c.loc, NamesOf(L)});
+    // An element of a block is named by the block; a component alone holds its path.
+    auto instance = [&](const ComponentType* t, const SourceLoc& loc, int32_t type_names, const std::string* part) {
+      FlatInstance fi;
+      fi.type = t;
+      fi.loc = loc;
+      fi.names = type_names;
+      fi.block = block;
+      if (block < 0) fi.path_text = HeldText(part ? c.name + "." + *part : c.name);
+      flat_.instances.push_back(fi);
+    };
+    instance(type, c.loc, names, nullptr);
     InstanceData data{&L, VarId(flat_.variables.size()), ParamId(flat_.parameters.size()),
                       static_cast<uint32_t>(slot_instance_.size())};
     instance_data_.push_back(data);
     for (size_t k = 0; k < L.connectors.size(); ++k) slot_instance_.push_back(inst.value());
     // A composite's parts, at every depth, are instances of their own (for messages).
     for (const SubInstance& sub : L.subs) {
-      flat_.instances.push_back({path + "." + sub.path, sub.layout->type, sub.loc});
+      instance(sub.layout->type, sub.loc, -1, &sub.path);
       instance_data_.push_back({sub.layout, VarId(data.first_var.value() + sub.first_var),
                                 ParamId(data.first_param.value() + sub.first_param), kNoSlot});
     }
@@ -1950,15 +2021,16 @@ class Flattener {
       if (!d.doc.empty()) fp.doc = local;
       fp.instance = instance_of(lp.sub);
       if (const Modifier* m = param_mod[k]) {
-        fp.binding = ModelExpr(*ModifierValue(*m, d, path), m->value_text, m->loc, index, false);
+        const AstPtr value = m->value_unit.empty() ? m->value : ModifierValue(*m, d, flat_.InstancePath(inst));
+        fp.binding = ModelExpr(*value, m->value_text, m->loc, index, false);
         fp.loc = m->loc;
       } else {
-        fp.binding = Instantiate(L.param_defaults[k], data.first_var, data.first_param, path, d.value_text, d.loc);
+        fp.binding = Instantiate(L.param_defaults[k], data.first_var, data.first_param, inst, d.value_text, d.loc);
         fp.loc = lp.loc.known() ? lp.loc : loc_of(lp.sub);
       }
       flat_.parameters.push_back(std::move(fp));
     }
-    AddTables(c, L, data, inst, path, index);
+    AddTables(c, L, data, inst, index);
     // Variables.
     for (size_t k = 0; k < L.vars.size(); ++k) {
       const LocalVar& lv = L.vars[k];
@@ -1968,7 +2040,6 @@ class Flattener {
       fv.is_flow = lv.is_flow;
       fv.is_input = lv.is_input;
       fv.instance = instance_of(lv.sub);
-      if (!lv.unit.empty()) fv.unit = fv.name;
       fv.loc = lv.loc.known() ? lv.loc : loc_of(lv.sub);
       if (lv.decl) {
         fv.fixed = lv.decl->fixed;
@@ -1978,7 +2049,7 @@ class Flattener {
       if (lv.fixed) fv.fixed = *lv.fixed;
       if (lv.state_priority) fv.state_priority = *lv.state_priority;
       if (L.starts[k].root >= 0) {
-        fv.start = Instantiate(L.starts[k], data.first_var, data.first_param, path, "", fv.loc);
+        fv.start = Instantiate(L.starts[k], data.first_var, data.first_param, inst, "", fv.loc);
       }
       fv.discrete = L.discrete[k];
       if (const Modifier* m = var_mod[k]) {
@@ -1995,7 +2066,7 @@ class Flattener {
       for (size_t k = 0; k < templates.size(); ++k) {
         const PartInfo& d = info[k];
         FlatEquation eq;
-        eq.residual = Instantiate(templates[k], data.first_var, data.first_param, path, d.text, c.loc);
+        eq.residual = Instantiate(templates[k], data.first_var, data.first_param, inst, d.text, c.loc);
         eq.origin = d.origin;
         eq.instance = d.origin == EquationOrigin::kConnection ? InstanceId() : instance_of(d.sub);
         eq.text = {TextRef::kType, inst.value(), first_text + static_cast<uint32_t>(k)};
@@ -2006,7 +2077,7 @@ class Flattener {
     add_equations(L.equations, L.equation_info, 0, &flat_.equations);
     // When-clauses and impacts.
     auto inst_expr = [&](const Template& t, const std::string& text) {
-      return Instantiate(t, data.first_var, data.first_param, path, text, c.loc);
+      return Instantiate(t, data.first_var, data.first_param, inst, text, c.loc);
     };
     auto var_of = [&](uint32_t local) { return VarId(data.first_var.value() + local); };
     for (size_t k = 0; k < L.whens.size(); ++k) {
@@ -2057,8 +2128,10 @@ class Flattener {
   /// An instance's tables: each element a parameter `path.table[i,j]`, row by row, from the
   /// component's value for it or the type's default; recorded for the check of the abscissas.
   void AddTables(const ComponentSpec& c, const TypeLayout& L, const InstanceData& data, InstanceId inst,
-                 const std::string& path, const std::pair<std::string, double>* index) {
+                 const std::pair<std::string, double>* index) {
     instance_tables_.clear();
+    if (L.tables.empty()) return;
+    const std::string path = flat_.InstancePath(inst);
     for (size_t k = 0; k < L.tables.size(); ++k) {
       const TypeLayout::TableSlot& slot = L.tables[k];
       const ParameterDecl& d = *slot.decl;
@@ -2081,7 +2154,7 @@ class Flattener {
           fp.binding = ModelExpr(*given[e], m->value_text, m->loc, index, false);
           fp.loc = m->loc;
         } else {
-          fp.binding = Instantiate(slot.defaults[e], data.first_var, data.first_param, path, d.value_text, d.loc);
+          fp.binding = Instantiate(slot.defaults[e], data.first_var, data.first_param, inst, d.value_text, d.loc);
           fp.loc = c.loc;
         }
         flat_.parameters.push_back(std::move(fp));
@@ -2094,12 +2167,18 @@ class Flattener {
   // -------------------------------------------------------------------------------------------
   // Connections
 
+  /// One end of a connection: an instance's connector, and where the end is written.
   struct EndRef {
     uint32_t instance;
     uint32_t connector;
-    std::string text;
     SourceLoc loc;
   };
+
+  /// "R[3].n": a connection end as messages name it (made only for a message).
+  std::string EndText(const EndRef& e) const {
+    return flat_.InstancePath(InstanceId(e.instance)) + "." +
+           instance_data_[e.instance].layout->connectors[e.connector].decl->name;
+  }
 
   EndRef ResolveEnd(const Ast& a, const std::string& text, const SourceLoc& loc,
                     const std::pair<std::string, double>* loop) {
@@ -2127,12 +2206,11 @@ class Flattener {
     if (c == L.connector_index.end()) {
       std::vector<std::string> names;
       for (const auto& s : L.connectors) names.push_back(s.decl->name);
-      throw ModelError(loc, flat_.instances[inst].path + " (" + L.type->name + ") has no connector '" +
+      throw ModelError(loc, flat_.InstancePath(InstanceId(inst)) + " (" + L.type->name + ") has no connector '" +
                                 a.path[1].name + "' (valid connectors: " +
                                 (names.empty() ? std::string("none") : JoinNames(names)) + ")");
     }
-    std::string shown = flat_.instances[inst].path + "." + a.path[1].name;
-    return {inst, c->second, shown, loc};
+    return {inst, c->second, loc};
   }
 
   uint32_t Find(uint32_t x) {
@@ -2170,18 +2248,16 @@ class Flattener {
     parent_.resize(slot_instance_.size());
     for (uint32_t k = 0; k < parent_.size(); ++k) parent_[k] = k;
     std::vector<SourceLoc> slot_loc(slot_instance_.size());
-    std::vector<std::string> slot_text(slot_instance_.size());
     auto join = [&](const EndRef& x, const EndRef& y) {
       const ConnectorSlot& cx = instance_data_[x.instance].layout->connectors[x.connector];
       const ConnectorSlot& cy = instance_data_[y.instance].layout->connectors[y.connector];
-      CheckCompatible(cx.type, x.text, cy.type, y.text, x.loc);
+      if (!Compatible(cx.type, cy.type)) CheckCompatible(cx.type, EndText(x), cy.type, EndText(y), x.loc);
       uint32_t sx = instance_data_[x.instance].first_slot + x.connector;
       uint32_t sy = instance_data_[y.instance].first_slot + y.connector;
-      if (sx == sy) throw ModelError(x.loc, "connection of " + x.text + " to itself");
+      if (sx == sy) throw ModelError(x.loc, "connection of " + EndText(x) + " to itself");
       for (auto [s, e] : {std::pair{sx, &x}, std::pair{sy, &y}}) {
         if (!slot_loc[s].known()) {
           slot_loc[s] = e->loc;
-          slot_text[s] = e->text;
           auto cc = conditional_slot_.find(s);
           if (cc != conditional_slot_.end()) flat_.conditional_connectors[cc->second].connected_at = e->loc;
         }
@@ -2202,6 +2278,7 @@ class Flattener {
     }
     // Group slots into connection sets.
     const std::vector<std::vector<uint32_t>> sets = Classes(parent_.size(), [&](uint32_t x) { return Find(x); });
+    flat_.equations.reserve(flat_.equations.size() + ConnectionEquationCount(sets));
     ExprPool& p = pool();
     for (const auto& set : sets) {
       const uint32_t s0 = set[0];
@@ -2214,7 +2291,7 @@ class Flattener {
       };
       auto name_of = [&](uint32_t slot) {
         const InstanceData& d = instance_data_[slot_instance_[slot]];
-        return flat_.instances[slot_instance_[slot]].path + "." +
+        return flat_.InstancePath(InstanceId(slot_instance_[slot])) + "." +
                d.layout->connectors[slot - d.first_slot].decl->name;
       };
       if (set.size() == 1) {
@@ -2291,6 +2368,22 @@ class Flattener {
         add(sum, text);
       }
     }
+  }
+
+  /// How many equations the connection sets make (below): potentials equal (a signal input
+  /// equals its output), one sum per flow, an unconnected physical connector's flows zero.
+  size_t ConnectionEquationCount(const std::vector<std::vector<uint32_t>>& sets) const {
+    size_t n = 0;
+    for (const auto& set : sets) {
+      const InstanceData& d = instance_data_[slot_instance_[set[0]]];
+      const ConnectorType& ct = *d.layout->connectors[set[0] - d.first_slot].type;
+      if (ct.is_signal) {
+        n += set.size() - 1;
+      } else {
+        n += ct.potentials.size() * (set.size() - 1) + ct.flows.size();
+      }
+    }
+    return n;
   }
 
   /// Connected signals have one dimension when both declare a unit (a string compare first, so
@@ -2538,7 +2631,7 @@ std::vector<double> EvaluateParameters(const FlatSystem& flat, const ParameterOv
       const FlatInstance& inst = flat.instances[p.instance.value()];
       const std::string& doc = flat.ParameterDoc(id);
       const std::string& unit = flat.ParameterUnit(id);
-      return name + " (" + inst.type->name + "." + name.substr(inst.path.size() + 1) + (doc.empty() ? "" : ": " + doc) +
+      return name + " (" + inst.type->name + "." + name.substr(flat.InstancePath(p.instance).size() + 1) + (doc.empty() ? "" : ": " + doc) +
              (unit.empty() ? "" : " [" + unit + "]") + ")";
     };
     if (!std::isfinite(v)) fail(what() + " is " + std::to_string(v) + "; a parameter must be a finite number");

@@ -107,7 +107,9 @@ TEST(CompositeTest, NamesAreFullPaths) {
   std::set<std::string> vars, params, instances;
   for (uint32_t k = 0; k < flat.variables.size(); ++k) vars.insert(flat.VariableName(VarId(k)));
   for (uint32_t k = 0; k < flat.parameters.size(); ++k) params.insert(flat.ParameterName(ParamId(k)));
-  for (const auto& i : flat.instances) instances.insert(i.path + " " + i.type->name);
+  for (uint32_t k = 0; k < flat.instances.size(); ++k) {
+    instances.insert(flat.InstancePath(InstanceId(k)) + " " + flat.instances[k].type->name);
+  }
   EXPECT_TRUE(vars.count("rig.pair.a.spring.flange_b.f"));
   EXPECT_TRUE(vars.count("rig.pair.flange.s"));
   EXPECT_TRUE(params.count("rig.pair.b.spring.c"));

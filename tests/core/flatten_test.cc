@@ -247,7 +247,7 @@ connections:
   - ["R[n].n", g.p]
 )");
   std::vector<std::string> paths;
-  for (const auto& inst : flat.instances) paths.push_back(inst.path);
+  for (uint32_t k = 0; k < flat.instances.size(); ++k) paths.push_back(flat.InstancePath(InstanceId(k)));
   EXPECT_EQ(paths, (std::vector<std::string>{"R[1]", "R[2]", "R[3]", "R[4]", "g"}));
   // R[k].R = 10*k + 1, folded to a number at flatten time.
   for (int k = 1; k <= 4; ++k) {
@@ -276,7 +276,85 @@ components:
   R: {type: Resistor, count: n}
 )", {{"n", 6}});
   EXPECT_EQ(six.instances.size(), 6u);
-  EXPECT_EQ(six.instances.back().path, "R[6]");
+  EXPECT_EQ(six.InstancePath(InstanceId(5)), "R[6]");
+}
+
+TEST(FlattenTest, BlocksNameTheirElementsOnDemand) {
+  // A count: array of a composite type is one block: its elements' paths, their variables'
+  // and equations' numbers and their locations follow from the block's record alone.
+  FlatSystem flat = FlattenYaml(R"(model: Cells
+define:
+  Cell:
+    parameters: {m: 1, k: 100}
+    connectors: {flange: Flange}
+    components:
+      mass: {type: Mass, m: m}
+      spring: {type: Spring, c: k}
+    connections:
+      - [flange, spring.flange_a]
+      - [spring.flange_b, mass.flange_a]
+components:
+  wall: {type: Fixed}
+  cells: {type: Cell, count: 3, k: 50*i, mass.s: {start: i}}
+connections:
+  - for: j in 1:3
+    connect: [wall.flange, "cells[j].flange"]
+)");
+  ASSERT_EQ(flat.blocks.size(), 1u);
+  const FlatBlock& b = flat.blocks[0];
+  EXPECT_EQ(b.name, "cells");
+  EXPECT_EQ(b.type->name, "Cell");
+  EXPECT_EQ(b.count, 3u);
+  EXPECT_EQ(b.stride, 3u);  // the cell, its mass and its spring
+  EXPECT_EQ(b.part_paths, (std::vector<std::string>{"mass", "spring"}));
+  std::vector<std::string> paths;
+  for (uint32_t k = 0; k < flat.instances.size(); ++k) paths.push_back(flat.InstancePath(InstanceId(k)));
+  EXPECT_EQ(paths, (std::vector<std::string>{"wall", "cells[1]", "cells[1].mass", "cells[1].spring", "cells[2]",
+                                             "cells[2].mass", "cells[2].spring", "cells[3]", "cells[3].mass",
+                                             "cells[3].spring"}));
+  // Element k's variables, parameters and equations are numbered from the block's firsts with its
+  // strides, and name themselves after the element.
+  EXPECT_EQ(b.first_var.value() + b.vars_per * b.count, flat.variables.size());
+  EXPECT_EQ(b.first_param.value() + b.params_per * b.count, flat.parameters.size());
+  for (uint32_t k = 0; k < b.count; ++k) {
+    const std::string element = "cells[" + std::to_string(k + 1) + "]";
+    for (uint32_t local = 0; local < b.vars_per; ++local) {
+      const VarId v(b.first_var.value() + b.vars_per * k + local);
+      const std::string name = flat.VariableName(v);
+      EXPECT_EQ(name.rfind(element + ".", 0), 0u) << name;
+      const InstanceId owner = flat.variables[v.value()].instance;
+      EXPECT_EQ((owner.value() - b.first_instance.value()) / b.stride, k) << name;
+      EXPECT_EQ(name.rfind(flat.InstancePath(owner) + ".", 0), 0u) << name;
+      EXPECT_EQ(FindVar(flat, name), v);
+    }
+    for (uint32_t local = 0; local < b.params_per; ++local) {
+      const ParamId p(b.first_param.value() + b.params_per * k + local);
+      EXPECT_EQ(flat.FindParameter(flat.ParameterName(p)), std::optional<ParamId>(p));
+    }
+    for (uint32_t local = 0; local < b.equations_per; ++local) {
+      const FlatEquation& eq = flat.equations[b.first_equation + b.equations_per * k + local];
+      const std::string text = flat.DescribeEquation(eq);
+      EXPECT_NE(text.find(element), std::string::npos) << text;
+    }
+  }
+  // Names compared in place: a wrong index, a missing part or extra text match nothing.
+  EXPECT_TRUE(flat.FindParameter("cells[2].k"));
+  EXPECT_TRUE(flat.FindParameter("cells[3].mass.m"));
+  for (const char* wrong : {"cells[4].k", "cells[02].k", "cells[2]k", "cells[2].", "cells.k", "cells[2].mass",
+                            "cells[2].spring.m", "cell[2].k", "cells[2"}) {
+    EXPECT_FALSE(flat.FindParameter(wrong)) << wrong;
+  }
+  // Locations: a variable is located at its component entry, or at the modifier that sets it,
+  // for every element alike.
+  for (uint32_t k = 0; k < b.count; ++k) {
+    const std::string element = "cells[" + std::to_string(k + 1) + "]";
+    const FlatVariable& s = flat.variables[FindVar(flat, element + ".mass.s").value()];
+    const FlatVariable& v = flat.variables[FindVar(flat, element + ".mass.v").value()];
+    EXPECT_EQ(s.loc.ToString(), flat.variables[FindVar(flat, "cells[1].mass.s").value()].loc.ToString());
+    EXPECT_NE(s.loc.ToString(), b.loc.ToString());  // set by the modifier mass.s
+    EXPECT_EQ(flat.DescribeVariable(FindVar(flat, element + ".mass.v")),
+              element + ".mass.v (Mass, " + flat.instances[v.instance.value()].loc.ToString() + ")");
+  }
 }
 
 TEST(FlattenTest, ArrayIndexErrors) {
@@ -548,7 +626,7 @@ initial_equations:
   int of_a = 0;
   for (const auto& e : flat.equations) {
     if (e.origin == EquationOrigin::kComponent) {
-      EXPECT_EQ(flat.instances[e.instance.value()].path, "A");
+      EXPECT_EQ(flat.InstancePath(e.instance), "A");
       ++of_a;
     }
   }
