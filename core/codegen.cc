@@ -270,10 +270,8 @@ class ProgramEmitter {
 
   /// A register written: no program writes y or y' (they are inputs), so it is a local or r[].
   std::string Target(uint32_t reg, uint32_t step) const {
-    const int64_t last = static_cast<int64_t>(reg) + static_cast<int64_t>(static_cast<int32_t>(step)) *
-                                                      (static_cast<int64_t>(count_) - 1);
-    const bool last_in_range = step != 0 && last >= 0 && last <= static_cast<int64_t>(UINT32_MAX);
-    MOMENTA_CHECK_MSG(BlockOf(reg).base == 0 && (!last_in_range || RunOf(static_cast<uint32_t>(last)) == RunOf(reg)),
+    const int64_t last = LastRepetition(reg, step);
+    MOMENTA_CHECK_MSG(BlockOf(reg).base == 0 && (last < 0 || RunOf(static_cast<uint32_t>(last)) == RunOf(reg)),
                       "a program writes an unknown's register");
     return step != 0 ? "r[" + Affine(reg, step) + "]" : Ref(reg);
   }
@@ -295,9 +293,19 @@ class ProgramEmitter {
     return 4;
   }
   Block BlockOf(uint32_t reg) const {
-    if (reg - layout_.y_base < layout_.num_unknowns) return {"y", layout_.y_base};
-    if (reg - layout_.yp_base < layout_.num_unknowns) return {"yp", layout_.yp_base};
-    return {"r", 0};
+    switch (RunOf(reg)) {
+      case 1: return {"y", layout_.y_base};
+      case 3: return {"yp", layout_.yp_base};
+      default: return {"r", 0};
+    }
+  }
+  /// The register of a loop's last repetition, reg + (count - 1)·step with the step read as
+  /// signed; -1 when that falls outside 0 … 2^32 - 1 (the index wraps). `reg` itself outside a
+  /// loop.
+  int64_t LastRepetition(uint32_t reg, uint32_t step) const {
+    const int64_t last = static_cast<int64_t>(reg) + static_cast<int64_t>(static_cast<int32_t>(step)) *
+                                                     (static_cast<int64_t>(count_) - 1);
+    return step == 0 ? reg : (last >= 0 && last <= static_cast<int64_t>(UINT32_MAX) ? last : -1);
   }
 
   /// The register reg + i*step of a loop's repetition i. When the first and the last
@@ -305,11 +313,9 @@ class ProgramEmitter {
   /// without wrapping, every repetition's does (the index is monotonic in i); otherwise m_reg
   /// picks the array at run time.
   std::string Indexed(uint32_t reg, uint32_t step) const {
-    const int64_t last = static_cast<int64_t>(reg) + static_cast<int64_t>(static_cast<int32_t>(step)) *
-                                                      (static_cast<int64_t>(count_) - 1);
+    const int64_t last = LastRepetition(reg, step);
     const Block first = BlockOf(reg);
-    if (last >= 0 && last <= static_cast<int64_t>(UINT32_MAX) &&
-        RunOf(static_cast<uint32_t>(last)) == RunOf(reg)) {
+    if (last >= 0 && RunOf(static_cast<uint32_t>(last)) == RunOf(reg)) {
       std::string ref(first.array);
       ref += '[';
       ref += Affine(reg - first.base, step);

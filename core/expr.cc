@@ -134,11 +134,13 @@ uint32_t Tag(const Node& n) {
   return static_cast<uint32_t>(h ^ (h >> 32));
 }
 
-/// The slot a tag's probe starts at: the tag scaled to the table's size (any size, not only powers
-/// of two, so the table can grow by half at three quarters full: 11 to 16 bytes per node, where doubling
-/// at half full took 16 to 32).
+/// The slot a tag's probe starts at: the tag scaled to the table's size (any size, not only
+/// powers of two, so the table can grow by half at three quarters full: 11 to 16 bytes per node,
+/// where doubling at half full took 16 to 32).
 size_t HomeSlot(uint32_t tag, size_t size) { return static_cast<size_t>((static_cast<uint64_t>(tag) * size) >> 32); }
 size_t NextSlot(size_t slot, size_t size) { return slot + 1 == size ? 0 : slot + 1; }
+/// Whether `entries` would fill `slots` past three quarters.
+bool TooFull(size_t entries, size_t slots) { return entries * 4 > slots * 3; }
 
 bool SameNode(const Node& x, const Node& y) {
   return x.op == y.op && x.a == y.a && x.b == y.b && x.c == y.c && x.flags == y.flags &&
@@ -174,7 +176,7 @@ ExprPool::ExprPool() {
 }
 
 void ExprPool::Reserve(size_t nodes) {
-  if (nodes * 4 > table_.size() * 3) Rehash(nodes / 3 * 4 + 1024);
+  if (TooFull(nodes, table_.size())) Rehash(nodes / 3 * 4 + 1024);
 }
 
 void ExprPool::Rehash(size_t slots) {
@@ -198,7 +200,7 @@ ExprId ExprPool::Intern(const Node& n) {
     if (index[n.a] != 0) return ExprId(index[n.a]);
     indexed = &index[n.a];
   }
-  if (indexed == nullptr && (table_used_ + 1) * 4 > table_.size() * 3) Rehash(table_.size() / 2 * 3);
+  if (indexed == nullptr && TooFull(table_used_ + 1, table_.size())) Rehash(table_.size() / 2 * 3);
   const size_t size = table_.size();
   const uint32_t tag = Tag(n);
   size_t slot = HomeSlot(tag, size);
