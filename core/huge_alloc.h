@@ -62,18 +62,10 @@ class GrowableArray {
 
  public:
   GrowableArray() = default;
-  GrowableArray(const GrowableArray& o) {
-    Reserve(o.size_);
-    if (o.size_ > 0) std::memcpy(data_, o.data_, o.size_ * sizeof(T));
-    size_ = o.size_;
-  }
-  GrowableArray& operator=(const GrowableArray& o) {
-    if (this != &o) {
-      GrowableArray copy(o);
-      Swap(copy);
-    }
-    return *this;
-  }
+  /// One owner: copying tens of millions of nodes is never intended, so the pool holding them
+  /// cannot be copied either.
+  GrowableArray(const GrowableArray&) = delete;
+  GrowableArray& operator=(const GrowableArray&) = delete;
   ~GrowableArray() { Release(); }
 
   void push_back(const T& v) {
@@ -83,13 +75,6 @@ class GrowableArray {
   T& operator[](size_t k) { return data_[k]; }
   const T& operator[](size_t k) const { return data_[k]; }
   size_t size() const { return size_; }
-  size_t capacity() const { return capacity_; }
-  void Swap(GrowableArray& o) {
-    std::swap(data_, o.data_);
-    std::swap(size_, o.size_);
-    std::swap(capacity_, o.capacity_);
-    std::swap(mapped_bytes_, o.mapped_bytes_);
-  }
 
   /// Room for at least `n` elements (capacity doubles, so pushing stays amortised O(1)).
   void Reserve(size_t n) {
