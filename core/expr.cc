@@ -1,5 +1,6 @@
 #include "core/expr.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <unordered_map>
@@ -167,6 +168,7 @@ int LeafIndexKind(const Node& n) {
 
 ExprPool::ExprPool() {
   table_.assign(1024, kEmptySlot);
+  young_.assign(kYoungSlots, kEmptySlot);
   Node z;
   z.op = Op::kConst;
   zero_ = Intern(z);
@@ -192,25 +194,72 @@ void ExprPool::Rehash(size_t slots) {
   }
 }
 
+size_t ExprPool::Probe(const uint64_t* table, size_t size, uint32_t tag, const Node& n, ExprId* found) const {
+  size_t slot = HomeSlot(tag, size);
+  while (table[slot] != kEmptySlot) {
+    const uint64_t entry = table[slot];
+    if (static_cast<uint32_t>(entry >> 32) == tag && SameNode(nodes_[static_cast<uint32_t>(entry)], n)) {
+      *found = ExprId(static_cast<uint32_t>(entry));
+      return slot;
+    }
+    slot = NextSlot(slot, size);
+  }
+  return slot;
+}
+
+bool ExprPool::ChildrenAreYoung(const Node& n) const {
+  const int arity = Arity(n.op);
+  if (arity == 0) return false;
+  uint32_t newest = n.a;
+  if (arity >= 2) newest = std::max(newest, n.b);
+  if (arity >= 3) newest = std::max(newest, n.c);
+  return newest >= young_first_;
+}
+
+void ExprPool::Mature() {
+  size_t slots = table_.size();
+  while (TooFull(table_used_ + young_used_, slots)) slots = slots / 2 * 3;
+  if (slots != table_.size()) Rehash(slots);
+  // Gather the entries, then insert them with the home slot of an entry kAhead places on
+  // prefetched: the inserts' cache misses overlap instead of following one another.
+  size_t count = 0;
+  for (uint64_t entry : young_) {
+    if (entry != kEmptySlot) young_[count++] = entry;
+  }
+  constexpr size_t kAhead = 16;
+  const size_t size = table_.size();
+  for (size_t k = 0; k < count; ++k) {
+    if (k + kAhead < count) __builtin_prefetch(&table_[HomeSlot(static_cast<uint32_t>(young_[k + kAhead] >> 32), size)], 1);
+    size_t slot = HomeSlot(static_cast<uint32_t>(young_[k] >> 32), size);
+    while (table_[slot] != kEmptySlot) slot = NextSlot(slot, size);
+    table_[slot] = young_[k];
+  }
+  table_used_ += young_used_;
+  std::fill(young_.begin(), young_.end(), kEmptySlot);
+  young_used_ = 0;
+  young_first_ = static_cast<uint32_t>(nodes_.size());
+}
+
 ExprId ExprPool::Intern(const Node& n) {
   uint32_t* indexed = nullptr;
+  size_t young_slot = 0;
+  uint32_t tag = 0;
   if (const int kind = LeafIndexKind(n); kind >= 0) {
     std::vector<uint32_t>& index = leaf_index_[kind];
     if (n.a >= index.size()) index.resize(static_cast<size_t>(n.a) + 1, 0);
     if (index[n.a] != 0) return ExprId(index[n.a]);
     indexed = &index[n.a];
-  }
-  if (indexed == nullptr && TooFull(table_used_ + 1, table_.size())) Rehash(table_.size() / 2 * 3);
-  const size_t size = table_.size();
-  const uint32_t tag = Tag(n);
-  size_t slot = HomeSlot(tag, size);
-  while (indexed == nullptr && table_[slot] != kEmptySlot) {
-    const uint64_t entry = table_[slot];
-    if (static_cast<uint32_t>(entry >> 32) == tag) {
-      const uint32_t id = static_cast<uint32_t>(entry);
-      if (SameNode(nodes_[id], n)) return ExprId(id);
+  } else {
+    // A node equal to `n` is younger than each of its children: when one of them is in the
+    // nursery, so is it, and the main table (a cache miss) need not be probed.
+    tag = Tag(n);
+    ExprId found;
+    young_slot = Probe(young_.data(), young_.size(), tag, n, &found);
+    if (found.valid()) return found;
+    if (!ChildrenAreYoung(n)) {
+      Probe(table_.data(), table_.size(), tag, n, &found);
+      if (found.valid()) return found;
     }
-    slot = NextSlot(slot, size);
   }
   Node stored = n;
   // The leaf-kind mask of the subtree.
@@ -241,8 +290,8 @@ ExprId ExprPool::Intern(const Node& n) {
     *indexed = id;
     return ExprId(id);
   }
-  table_[slot] = (static_cast<uint64_t>(tag) << 32) | id;
-  ++table_used_;
+  young_[young_slot] = (static_cast<uint64_t>(tag) << 32) | id;
+  if (++young_used_ * 2 >= young_.size()) Mature();
   return ExprId(id);
 }
 
@@ -254,17 +303,11 @@ ExprId ExprPool::FindLeaf(Op op, uint32_t payload) const {
     const std::vector<uint32_t>& index = leaf_index_[kind];
     return payload < index.size() && index[payload] != 0 ? ExprId(index[payload]) : ExprId();
   }
-  const size_t size = table_.size();
   const uint32_t tag = Tag(n);
-  size_t slot = HomeSlot(tag, size);
-  while (table_[slot] != kEmptySlot) {
-    const uint64_t entry = table_[slot];
-    if (static_cast<uint32_t>(entry >> 32) == tag && SameNode(nodes_[static_cast<uint32_t>(entry)], n)) {
-      return ExprId(static_cast<uint32_t>(entry));
-    }
-    slot = NextSlot(slot, size);
-  }
-  return ExprId();
+  ExprId found;
+  Probe(young_.data(), young_.size(), tag, n, &found);
+  if (!found.valid()) Probe(table_.data(), table_.size(), tag, n, &found);
+  return found;
 }
 
 ExprId ExprPool::Der(VarId v, uint32_t order) {

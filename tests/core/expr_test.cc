@@ -321,6 +321,28 @@ TEST_F(ExprTest, ManyNodesSurviveTableGrowth) {
   EXPECT_TRUE(pool.IsConst(c, 1234.5));
 }
 
+TEST_F(ExprTest, NodesAreFoundWhetherJustMadeOrMovedToTheMainTable) {
+  // A node whose child was made a moment ago is looked for among the newest nodes only (the
+  // nursery); one over older children in the main table too. Either way an equal node is the
+  // same node, before and after the nursery moves its entries to the main table.
+  const ExprId cond = pool.Cond(3);  // a leaf found by hash, not by index
+  const ExprId d2 = pool.Der(VarId(5u), 2);
+  std::vector<ExprId> sums;
+  for (uint32_t k = 0; k < 20000; ++k) {
+    const ExprId product = pool.Mul(pool.Var(VarId(k)), pool.Const(k + 0.25));
+    sums.push_back(pool.Add(product, d2));
+    ASSERT_EQ(pool.Add(d2, pool.Mul(pool.Const(k + 0.25), pool.Var(VarId(k)))), sums.back()) << k;
+  }
+  const size_t size = pool.size();
+  for (uint32_t k = 0; k < 20000; ++k) {
+    ASSERT_EQ(pool.Add(pool.Mul(pool.Const(k + 0.25), pool.Var(VarId(k))), d2), sums[k]) << k;
+  }
+  EXPECT_EQ(pool.size(), size);
+  EXPECT_EQ(pool.FindLeaf(Op::kCond, 3), cond);
+  EXPECT_FALSE(pool.FindLeaf(Op::kCond, 4).valid());
+  EXPECT_EQ(pool.Der(VarId(5u), 2), d2);
+}
+
 TEST_F(ExprTest, EvaluateReadsEveryLeafKind) {
   std::vector<double> vars = {1, 2, 3}, ders = {10, 20, 30}, pres = {-1, -2, -3}, params = {7, 8};
   LeafValues lv;
