@@ -1205,7 +1205,7 @@ class Flattener {
     };
     for (const auto& c : type->connections) {
       auto one = [&](const std::pair<std::string, double>* loop) {
-        join(resolve(*c.a, c.a_text, c.a_loc, loop), resolve(*c.b, c.b_text, c.b_loc, loop), c.a_text, c.b_text, c.a_loc);
+        join(resolve(*c.EndA(), c.a_text, c.a_loc, loop), resolve(*c.EndB(), c.b_text, c.b_loc, loop), c.a_text, c.b_text, c.a_loc);
       };
       if (c.loop_var.empty()) {
         one(nullptr);
@@ -2415,14 +2415,14 @@ class Flattener {
     };
     for (const auto& c : spec_.connections) {
       if (c.loop_var.empty()) {
-        join(ResolveEnd(*c.a, c.a_text, c.a_loc, nullptr), ResolveEnd(*c.b, c.b_text, c.b_loc, nullptr));
+        join(ResolveEnd(*c.EndA(), c.a_text, c.a_loc, nullptr), ResolveEnd(*c.EndB(), c.b_text, c.b_loc, nullptr));
         continue;
       }
       double from = 0;
       size_t iterations = LoopLength(c, &from);
       for (size_t k = 0; k < iterations; ++k) {
         std::pair<std::string, double> loop{c.loop_var, from + static_cast<double>(k)};
-        join(ResolveEnd(*c.a, c.a_text, c.a_loc, &loop), ResolveEnd(*c.b, c.b_text, c.b_loc, &loop));
+        join(ResolveEnd(*c.EndA(), c.a_text, c.a_loc, &loop), ResolveEnd(*c.EndB(), c.b_text, c.b_loc, &loop));
       }
     }
     // Group slots into connection sets.

@@ -661,10 +661,12 @@ class Reader {
     return c;
   }
 
+  /// A connection end's text and place, and its tree unless it is a plain dotted name, which
+  /// reads without an error (ConnectionSpec::EndA makes its tree when it is needed).
   AstPtr End(const YamlNode& n, std::string* text, SourceLoc* loc) const {
     *text = ScalarText(n, "a connection end");
     *loc = TextLoc(n);
-    return ParseName(*text, *loc);
+    return IsPlainName(*text) ? nullptr : ParseName(*text, *loc);
   }
 
   ConnectionSpec Connection(const YamlNode& n) const {
