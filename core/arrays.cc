@@ -965,8 +965,8 @@ std::optional<ModelSpec> ScalarModel(const ModelSpec& spec, const Library& libra
   // Connections: shaped signal connectors are joined element by element.
   out.connections.clear();
   for (const auto& c : spec.connections) {
-    EndElements a = ConnectionEnd(c.a, c.a_text, c.a_loc, scope);
-    EndElements b = ConnectionEnd(c.b, c.b_text, c.b_loc, scope);
+    EndElements a = ConnectionEnd(c.EndA(), c.a_text, c.a_loc, scope);
+    EndElements b = ConnectionEnd(c.EndB(), c.b_text, c.b_loc, scope);
     if (a.shape != b.shape) {
       throw ModelError(c.a_loc, "cannot connect " + c.a_text + " (shape " + ShapeText(a.shape) + ") to " + c.b_text +
                                     " (shape " + ShapeText(b.shape) + "): connected signals must have the same shape");

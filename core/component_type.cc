@@ -2,7 +2,12 @@
 
 #include <algorithm>
 
+#include "core/parser.h"
+
 namespace momenta {
+
+AstPtr ConnectionSpec::EndA() const { return a ? a : ParseName(a_text, a_loc); }
+AstPtr ConnectionSpec::EndB() const { return b ? b : ParseName(b_text, b_loc); }
 
 const char* ValueTypeName(ValueType t) {
   switch (t) {

@@ -154,6 +154,9 @@ struct ComponentSpec {
 };
 
 struct ConnectionSpec {
+  /// The ends' trees, or null for an end that is a plain dotted name (`sd1.flange_b`,
+  /// IsPlainName): its text gives it (EndA, EndB). A written-out model has 200 000 such ends,
+  /// 270 bytes each as trees, held from reading to flattening.
   AstPtr a, b;
   std::string a_text, b_text;
   std::string loop_var;  ///< empty unless `for:`
@@ -161,6 +164,10 @@ struct ConnectionSpec {
   std::string loop_text;  ///< the `for:` text, e.g. "i in 1:n-1"
   SourceLoc loop_loc;     ///< where the `for:` text starts
   SourceLoc loc, a_loc, b_loc;
+
+  /// The tree of end a or b: the one held, or the plain name parsed from its text.
+  AstPtr EndA() const;
+  AstPtr EndB() const;
 };
 
 struct ComponentType {

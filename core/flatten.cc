@@ -216,6 +216,61 @@ struct ComponentArray {
   uint32_t stride = 1;  ///< instance records per element: the component and a composite's parts
 };
 
+/// The model's components by name, for the connections and expressions that name them (two
+/// look-ups per connection: 200 000 on a written-out model of 100 000 components). An
+/// open-addressing table of (hash, entry) pairs over names held elsewhere (the spec's, which
+/// outlive it): a look-up reads one slot and the name it finds, where a node-based map walked
+/// a bucket, a node and its key (about 14 % of flattening the written-out chain).
+class ComponentIndex {
+ public:
+  void Reserve(size_t n) {
+    if (2 * n > slots_.size()) Rehash(2 * n);
+  }
+  /// The component named `name`, or null.
+  const ComponentArray* Find(std::string_view name) const {
+    if (slots_.empty()) return nullptr;
+    const uint64_t hash = Hash(name);
+    const size_t mask = slots_.size() - 1;
+    for (size_t at = hash & mask;; at = (at + 1) & mask) {
+      const uint64_t slot = slots_[at];
+      if (slot == 0) return nullptr;
+      const auto entry = static_cast<uint32_t>(slot) - 1;
+      if (slot >> 32 == hash >> 32 && names_[entry] == name) return &entries_[entry];
+    }
+  }
+  /// Adds a component whose name is not in the table yet; `name` must outlive the table.
+  void Add(std::string_view name, const ComponentArray& entry) {
+    if (2 * (entries_.size() + 1) > slots_.size()) Rehash(std::max<size_t>(64, 2 * slots_.size()));
+    names_.push_back(name);
+    entries_.push_back(entry);
+    Place(Hash(name), static_cast<uint32_t>(entries_.size()));
+  }
+
+ private:
+  static uint64_t Hash(std::string_view name) {
+    // The high half tells names apart before they are compared; neither half is 0 for an entry.
+    const uint64_t h = std::hash<std::string_view>()(name);
+    return h | (uint64_t{1} << 32);
+  }
+  /// Stores entry number `number` (1-based: 0 is an empty slot) under `hash`.
+  void Place(uint64_t hash, uint32_t number) {
+    const size_t mask = slots_.size() - 1;
+    size_t at = hash & mask;
+    while (slots_[at] != 0) at = (at + 1) & mask;
+    slots_[at] = (hash & ~uint64_t{0xffffffff}) | number;
+  }
+  void Rehash(size_t at_least) {
+    size_t size = 64;
+    while (size < at_least) size *= 2;
+    slots_.assign(size, 0);
+    for (uint32_t k = 0; k < entries_.size(); ++k) Place(Hash(names_[k]), k + 1);
+  }
+
+  std::vector<uint64_t> slots_;  ///< (hash's high half, entry number), 0 when empty; a power of 2
+  std::vector<std::string_view> names_;
+  std::vector<ComponentArray> entries_;
+};
+
 /// The classes of a union-find forest (`find` gives an element's root), each in element order,
 /// the classes ordered by their first element.
 template <class Find>
@@ -403,8 +458,8 @@ class Flattener {
       if (first.name == "pi") return pool().Const(M_PI);
     }
     // An instance path: first segment is a component (or an element of an array).
-    auto arr = arrays_.find(first.name);
-    if (arr == arrays_.end()) {
+    const ComponentArray* arr = arrays_.Find(first.name);
+    if (!arr) {
       std::vector<std::string> names;
       for (const auto& p : spec_.parameters) names.push_back(p.name);
       for (const auto& c : spec_.components) names.push_back(c.name);
@@ -414,7 +469,7 @@ class Flattener {
                                 (close.empty() ? "" : " (did you mean " + JoinNames(close) + "?)") +
                                 " (valid names: " + JoinNames(names) + ")");
     }
-    uint32_t inst = ElementOf(arr->second, first, loc, loop, text);
+    uint32_t inst = ElementOf(*arr, first, loc, loop, text);
     const InstanceData& data = instance_data_[inst];
     std::string local;
     for (size_t k = 1; k < a.path.size(); ++k) {
@@ -464,10 +519,19 @@ class Flattener {
   /// Builds an expression of the model scope.
   ExprId ModelExpr(const Ast& a, const std::string& text, const SourceLoc& loc,
                    const std::pair<std::string, double>* loop, bool allow_variables) {
+    // A number (most modifiers' values) needs no walk and no text for messages.
+    if (a.kind == Ast::Kind::kNumber || a.kind == Ast::Kind::kBool) return pool().Const(a.number);
     const std::string quoted = Excerpt(text, 0);  // messages quote the text
     return BuildExpr(a, quoted, loc, [&](const Ast& name) {
       return ModelName(name, loc, loop, allow_variables, quoted);
     }, allow_variables);
+  }
+
+  /// A start value of the model scope (a variable's or a modifier's): its text, which only
+  /// messages quote, is made for an expression, not for a number (a start per written-out mass).
+  ExprId StartExpr(const Ast& a, const SourceLoc& loc, const std::pair<std::string, double>* loop) {
+    if (a.kind == Ast::Kind::kNumber || a.kind == Ast::Kind::kBool) return pool().Const(a.number);
+    return ModelExpr(a, AstToString(a), loc, loop, false);
   }
 
   /// Expression building shared by the model scope; `name` resolves a kName node (a template
@@ -1141,7 +1205,7 @@ class Flattener {
     };
     for (const auto& c : type->connections) {
       auto one = [&](const std::pair<std::string, double>* loop) {
-        join(resolve(*c.a, c.a_text, c.a_loc, loop), resolve(*c.b, c.b_text, c.b_loc, loop), c.a_text, c.b_text, c.a_loc);
+        join(resolve(*c.EndA(), c.a_text, c.a_loc, loop), resolve(*c.EndB(), c.b_text, c.b_loc, loop), c.a_text, c.b_text, c.a_loc);
       };
       if (c.loop_var.empty()) {
         one(nullptr);
@@ -1765,7 +1829,7 @@ class Flattener {
       fv.state_priority = v.state_priority;
       fv.loc = v.loc;
       flat_.model_variable_units.push_back(flat_.Own(v.unit));
-      fv.start = v.start ? ModelExpr(*v.start, AstToString(*v.start), v.loc, nullptr, false) : ExprId();
+      fv.start = v.start ? StartExpr(*v.start, v.loc, nullptr) : ExprId();
       fv.discrete = v.type != ValueType::kReal;
       model_var_[v.name] = VarId(flat_.variables.size());
       flat_.variables.push_back(fv);
@@ -1773,9 +1837,10 @@ class Flattener {
   }
 
   void Components() {
+    ReserveComponents();
     for (size_t s = 0; s < spec_.components.size(); ++s) {
       const ComponentSpec& c = spec_.components[s];
-      if (arrays_.count(c.name) || model_param_.count(c.name) || model_var_.count(c.name)) {
+      if (arrays_.Find(c.name) || model_param_.count(c.name) || model_var_.count(c.name)) {
         throw ModelError(c.loc, "the name " + c.name + " is used twice");
       }
       const ComponentType* type = FindType(c.type);
@@ -1807,8 +1872,92 @@ class Flattener {
         AddInstance(c, L, block, names, param_mod, var_mod, arr.is_array ? &index : nullptr);
       }
       if (block >= 0) EndBlock(&flat_.blocks[block]);
-      arrays_[c.name] = arr;
+      arrays_.Add(c.name, arr);
     }
+  }
+
+  /// Room for the components written one by one (a count: array reserves its own, from its
+  /// count): the flat system's records, the expression pool's table and the names of the
+  /// components take their memory once, at their size, instead of doubling as 100 000
+  /// components fill them (which copies the records and leaves up to half of them unused). A
+  /// type that cannot be laid out is left to the loop in Components, which reports it in the
+  /// model's order; nothing is reserved then. Composite types are not counted.
+  void ReserveComponents() {
+    arrays_.Reserve(spec_.components.size());
+    struct Use {
+      const ComponentSpec* first;
+      size_t count;
+    };
+    std::unordered_map<std::string_view, size_t> use_of;  // type name -> uses[]
+    std::vector<Use> uses;
+    for (const ComponentSpec& c : spec_.components) {
+      if (c.count) continue;
+      auto [at, added] = use_of.emplace(c.type, uses.size());
+      if (added) uses.push_back({&c, 0});
+      ++uses[at->second].count;
+    }
+    size_t instances = 0, slots = 0, vars = 0, params = 0, equations = 0, initials = 0, nodes = 0;
+    for (const Use& u : uses) {
+      const ComponentType* type = FindType(u.first->type);
+      // A composite's layout is checked against the memory budget with the components before
+      // it: it is laid out in the loop, in its place.
+      if (!type || !type->components.empty()) continue;
+      const TypeLayout* L = nullptr;
+      current_component_ = u.first;
+      try {
+        L = &Layout(type);
+      } catch (const ModelError&) {
+        laying_out_.clear();
+        template_loop_ = nullptr;
+        current_component_ = nullptr;
+        return;
+      }
+      current_component_ = nullptr;
+      instances += u.count * (1 + L->subs.size());
+      slots += u.count * L->connectors.size();
+      vars += u.count * L->vars.size();
+      params += u.count * L->params.size();
+      // A connection set of s physical connectors makes s times their potentials' count of
+      // equations (s - 1 equal potentials and one flow sum each, as many flows as potentials); a
+      // signal set fewer than its connectors.
+      size_t joins = 0;
+      for (const ConnectorSlot& c : L->connectors) joins += c.type->is_signal ? 1 : c.type->potentials.size();
+      equations += u.count * (L->equations.size() + L->impacts.size() + joins);
+      initials += u.count * L->initial_equations.size();
+      nodes += u.count * (InstanceNodes(*L) + joins);
+    }
+    equations += spec_.equations.size();
+    initials += spec_.initial_equations.size();
+    auto room = [](auto* records, size_t more) { records->reserve(records->size() + more); };
+    room(&flat_.instances, instances);
+    room(&instance_data_, instances);
+    room(&slot_instance_, slots);
+    room(&flat_.variables, vars);
+    room(&flat_.parameters, params);
+    room(&flat_.equations, equations);
+    room(&flat_.initial_equations, initials);
+    // The build reserves twice the flattened pool for the passes after flattening (core/build.cc):
+    // the table is made at that size at once, not grown through the sizes on the way.
+    pool().Reserve(2 * (pool().size() + nodes));
+  }
+
+  /// About how many new nodes of the expression pool an instance of L makes: its templates'
+  /// operations and distinct leaves (constants and time are shared by all instances).
+  static size_t InstanceNodes(const TypeLayout& L) {
+    std::unordered_set<uint64_t> leaves;
+    size_t ops = 0;
+    for (const auto* list : {&L.equations, &L.initial_equations, &L.param_defaults, &L.starts}) {
+      for (const Template& t : *list) {
+        for (const TNode& n : t.nodes) {
+          if (n.kind == TNode::kLocalVar || n.kind == TNode::kLocalParam || n.kind == TNode::kPre) {
+            leaves.insert(uint64_t{n.kind} << 32 | n.local);
+          } else if (n.kind != TNode::kConst && n.kind != TNode::kTime && n.kind != TNode::kInitial) {
+            ++ops;
+          }
+        }
+      }
+    }
+    return ops + leaves.size();
   }
 
   /// The record of a count: array (FlatSystem::blocks), begun before its first element is made;
@@ -2053,7 +2202,7 @@ class Flattener {
       }
       fv.discrete = L.discrete[k];
       if (const Modifier* m = var_mod[k]) {
-        if (m->start) fv.start = ModelExpr(*m->start, AstToString(*m->start), m->loc, index, false);
+        if (m->start) fv.start = StartExpr(*m->start, m->loc, index);
         if (m->fixed) fv.fixed = *m->fixed;
         if (m->state_priority) fv.state_priority = *m->state_priority;
         fv.loc = m->loc;
@@ -2182,7 +2331,7 @@ class Flattener {
 
   EndRef ResolveEnd(const Ast& a, const std::string& text, const SourceLoc& loc,
                     const std::pair<std::string, double>* loop) {
-    if (a.path.size() > 2 && arrays_.count(a.path[0].name)) {
+    if (a.path.size() > 2 && arrays_.Find(a.path[0].name)) {
       throw ModelError(loc, "'" + text + "' reaches into " + a.path[0].name + "; a model connects to a component's " +
                                 "own connectors only (a composite type exposes a part's connector by connecting it " +
                                 "to one of its own)");
@@ -2190,8 +2339,8 @@ class Flattener {
     if (a.path.size() != 2) {
       throw ModelError(loc, "a connection end names a component and one of its connectors, e.g. A.flange_a; found '" + text + "'");
     }
-    auto arr = arrays_.find(a.path[0].name);
-    if (arr == arrays_.end()) {
+    const ComponentArray* arr = arrays_.Find(a.path[0].name);
+    if (!arr) {
       std::vector<std::string> names;
       for (const auto& c : spec_.components) names.push_back(c.name);
       auto close = ClosestNames(a.path[0].name, names);
@@ -2199,7 +2348,7 @@ class Flattener {
                                 (close.empty() ? "" : " (did you mean " + JoinNames(close) + "?)") +
                                 " (valid components: " + JoinNames(names) + ")");
     }
-    uint32_t inst = ElementOf(arr->second, a.path[0], loc, loop, text);
+    uint32_t inst = ElementOf(*arr, a.path[0], loc, loop, text);
     const TypeLayout& L = *instance_data_[inst].layout;
     if (a.path[1].index) throw ModelError(loc, "connectors cannot be indexed, in '" + text + "'");
     auto c = L.connector_index.find(a.path[1].name);
@@ -2211,6 +2360,21 @@ class Flattener {
                                 (names.empty() ? std::string("none") : JoinNames(names)) + ")");
     }
     return {inst, c->second, loc};
+  }
+
+  /// The end `component.connector` of a connection held as text (ConnectionSpec::a null: a
+  /// plain name) when it names a component that is not an array and one of its connectors;
+  /// nothing otherwise, and ResolveEnd reads the end's tree and says what is wrong. (Without a
+  /// tree per end: 200 000 ends on a written-out model.)
+  std::optional<EndRef> PlainEnd(const AstPtr& tree, const std::string& text, const SourceLoc& loc) const {
+    const size_t dot = text.find('.');
+    if (tree || dot == std::string::npos || text.find('.', dot + 1) != std::string::npos) return std::nullopt;
+    const ComponentArray* arr = arrays_.Find(std::string_view(text).substr(0, dot));
+    if (!arr || arr->is_array) return std::nullopt;
+    const TypeLayout& L = *instance_data_[arr->first_instance].layout;
+    auto connector = L.connector_index.find(text.substr(dot + 1));
+    if (connector == L.connector_index.end()) return std::nullopt;
+    return EndRef{arr->first_instance, connector->second, loc};
   }
 
   uint32_t Find(uint32_t x) {
@@ -2266,14 +2430,16 @@ class Flattener {
     };
     for (const auto& c : spec_.connections) {
       if (c.loop_var.empty()) {
-        join(ResolveEnd(*c.a, c.a_text, c.a_loc, nullptr), ResolveEnd(*c.b, c.b_text, c.b_loc, nullptr));
+        const std::optional<EndRef> a = PlainEnd(c.a, c.a_text, c.a_loc), b = PlainEnd(c.b, c.b_text, c.b_loc);
+        join(a ? *a : ResolveEnd(*c.EndA(), c.a_text, c.a_loc, nullptr),
+             b ? *b : ResolveEnd(*c.EndB(), c.b_text, c.b_loc, nullptr));
         continue;
       }
       double from = 0;
       size_t iterations = LoopLength(c, &from);
       for (size_t k = 0; k < iterations; ++k) {
         std::pair<std::string, double> loop{c.loop_var, from + static_cast<double>(k)};
-        join(ResolveEnd(*c.a, c.a_text, c.a_loc, &loop), ResolveEnd(*c.b, c.b_text, c.b_loc, &loop));
+        join(ResolveEnd(*c.EndA(), c.a_text, c.a_loc, &loop), ResolveEnd(*c.EndB(), c.b_text, c.b_loc, &loop));
       }
     }
     // Group slots into connection sets.
@@ -2511,10 +2677,11 @@ class Flattener {
       auto close = ClosestNames(name, all);
       std::string range;
       if (size_t open = name.find('['); open != std::string::npos && open > 0) {
-        auto it = arrays_.find(name.substr(0, open));
-        if (it != arrays_.end() && it->second.is_array) {
-          range = " (" + it->first + " has elements " + it->first + "[1] to " + it->first + "[" +
-                  std::to_string(it->second.count) + "])";
+        const std::string array = name.substr(0, open);
+        const ComponentArray* it = arrays_.Find(array);
+        if (it && it->is_array) {
+          range = " (" + array + " has elements " + array + "[1] to " + array + "[" +
+                  std::to_string(it->count) + "])";
         }
       }
       throw UsageError(spec_.file + ": -p " + name + ": no parameter of that name in " + spec_.name + range +
@@ -2532,7 +2699,7 @@ class Flattener {
   FlatSystem flat_;
   std::unordered_map<std::string, ParamId> model_param_;
   std::unordered_map<std::string, VarId> model_var_;
-  std::unordered_map<std::string, ComponentArray> arrays_;
+  ComponentIndex arrays_;  ///< the model's components by name (spec_'s names)
   double planned_bytes_ = 0;                ///< estimated memory of the components so far
   std::optional<MemoryBudget> budget_;      ///< read when the first count is checked
   std::unordered_map<const ComponentType*, std::unique_ptr<TypeLayout>> layouts_;

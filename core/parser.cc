@@ -520,34 +520,44 @@ AstPtr PlainNumber(const std::string& text) {
 }
 
 /// The tree of a text that is a dotted name and nothing else (`mass1.flange_b`: a connection
-/// end, an output), made without tokens; null for any other text (subscripts, spaces, a keyword
-/// first), which the parser reads. The same tree the parser gives: a name node at column 0.
+/// end, an output), made without tokens; null for any other text (IsPlainName), which the
+/// parser reads. The same tree the parser gives: a name node at column 0.
 AstPtr PlainName(const std::string& text) {
+  if (!IsPlainName(text)) return nullptr;
   auto a = std::make_shared<Ast>();
   a->kind = Ast::Kind::kName;
   a->path.reserve(static_cast<size_t>(std::count(text.begin(), text.end(), '.')) + 1);
-  size_t i = 0;
-  while (true) {
-    if (i >= text.size() || !IsNameStart(text[i])) return nullptr;
-    size_t j = i;
-    while (j < text.size() && IsNameChar(text[j])) ++j;
+  for (size_t i = 0; i <= text.size();) {
+    const size_t dot = std::min(text.find('.', i), text.size());
     NameSegment seg;
-    seg.name = text.substr(i, j - i);
+    seg.name = text.substr(i, dot - i);
     a->path.push_back(std::move(seg));
-    if (j == text.size()) break;
-    if (text[j] != '.') return nullptr;
-    i = j + 1;
-  }
-  // A first word the parser reads otherwise: true/false, a keyword.
-  static const char* kWords[] = {"true", "false", "then", "else", "elseif",
-                                 "and",  "or",    "not",  "if"};
-  for (const char* w : kWords) {
-    if (a->path[0].name == w) return nullptr;
+    i = dot + 1;
   }
   return a;
 }
 
 }  // namespace
+
+bool IsPlainName(std::string_view text) {
+  size_t i = 0;
+  while (true) {
+    if (i >= text.size() || !IsNameStart(text[i])) return false;
+    size_t j = i;
+    while (j < text.size() && IsNameChar(text[j])) ++j;
+    if (j == text.size()) break;
+    if (text[j] != '.') return false;
+    i = j + 1;
+  }
+  // A first word the parser reads otherwise: true/false, a keyword.
+  const std::string_view first = text.substr(0, text.find('.'));
+  static const char* kWords[] = {"true", "false", "then", "else", "elseif",
+                                 "and",  "or",    "not",  "if"};
+  for (const char* w : kWords) {
+    if (first == w) return false;
+  }
+  return true;
+}
 
 AstPtr ParseExpression(const std::string& text, const SourceLoc& loc) {
   if (AstPtr number = PlainNumber(text)) return number;

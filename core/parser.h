@@ -6,6 +6,7 @@
 /// if-expressions); chains of one operator are collected by loops into one node (see ast.h).
 
 #include <string>
+#include <string_view>
 
 #include "core/ast.h"
 #include "core/error.h"
@@ -30,6 +31,10 @@ AstEquation ParseEquation(const std::string& text, const SourceLoc& loc);
 
 /// Parses a dotted, possibly subscripted name such as `R[i+1].p` (connection ends, outputs).
 AstPtr ParseName(const std::string& text, const SourceLoc& loc);
+
+/// Whether `text` is a dotted name and nothing else (`mass1.flange_b`: no subscripts, spaces or
+/// keyword first), which ParseName reads without an error.
+bool IsPlainName(std::string_view text);
 
 /// The text to quote in a message: all of it when short, otherwise about 120 characters around
 /// `column` (0-based), elided with "…", so a 100 000-term expression does not flood the message.

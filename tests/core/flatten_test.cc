@@ -634,5 +634,68 @@ initial_equations:
   EXPECT_NE(flat.DescribeEquation(*model[0]).find("der(x) = -k*x + A.v"), std::string::npos);
 }
 
+TEST(FlattenTest, WrittenOutComponentsAreReservedAtTheirSize) {
+  // Components written one by one: their records, connection equations included, take their
+  // memory once (ReserveComponents), and are the same as made one after the other.
+  FlatSystem flat = FlattenYaml(R"(
+model: WrittenOut
+components:
+  wall: {type: Fixed}
+  sd1: {type: SpringDamper, c: 1e4, d: 10}
+  mass1: {type: Mass, m: 1, s: {start: 1, fixed: true}}
+  sd2: {type: SpringDamper, c: 1e4, d: 10}
+  mass2: {type: Mass, m: 2, s: {start: 2, fixed: true}}
+connections:
+  - [wall.flange, sd1.flange_a]
+  - [sd1.flange_b, mass1.flange_a]
+  - [mass1.flange_b, sd2.flange_a]
+  - [sd2.flange_b, mass2.flange_a]
+)");
+  EXPECT_EQ(flat.variables.capacity(), flat.variables.size());
+  EXPECT_EQ(flat.equations.capacity(), flat.equations.size());
+  EXPECT_EQ(flat.instances.capacity(), flat.instances.size());
+  // mass2.flange_b is connected to nothing: its force is zero.
+  std::set<std::string> unconnected;
+  for (const FlatEquation* e : WithOrigin(flat, EquationOrigin::kUnconnectedFlow)) unconnected.insert(flat.EquationText(*e));
+  EXPECT_TRUE(unconnected.count("mass2.flange_b.f = 0 (unconnected)"));
+  const std::vector<double> v = EvaluateParameters(flat, {});
+  EXPECT_EQ(v[FindParam(flat, "mass2.m").value()], 2);
+  EXPECT_EQ(flat.pool->ConstValue(flat.variables[FindVar(flat, "mass2.s").value()].start), 2);
+}
+
+TEST(FlattenTest, ATypeThatCannotBeLaidOutIsReportedInTheModelsOrder) {
+  // The types are laid out before the components are made (to reserve their records); a type
+  // that fails there is reported where its component is, after the errors of those before it.
+  const std::string broken = R"(
+model: Order
+parameters: {p: 1}
+define:
+  Broken:
+    connectors: {a: {type: NoSuchConnector}}
+components:
+)";
+  EXPECT_NE(FlattenError(broken + "  p: {type: Mass}\n  q: {type: Broken}\n").find("the name p is used twice"),
+            std::string::npos);
+  EXPECT_NE(FlattenError(broken + "  q: {type: Broken}\n").find("unknown connector type 'NoSuchConnector' for Broken.a"),
+            std::string::npos);
+}
+
+TEST(FlattenTest, ConnectionEndsHeldAsTextResolveAsTheirTrees) {
+  // A plain end (sd1.flange_b) is resolved from its text; anything it cannot resolve is left to
+  // the end's tree, which gives the message.
+  const std::string model = R"(
+model: Ends
+components:
+  A: {type: Mass, m: 1}
+  R: {type: Resistor, count: 2}
+connections:
+)";
+  EXPECT_NE(FlattenError(model + "  - [A.flange_c, A.flange_b]\n").find("A (Mass) has no connector 'flange_c'"),
+            std::string::npos);
+  EXPECT_NE(FlattenError(model + "  - [B.flange_a, A.flange_b]\n").find("unknown component 'B'"), std::string::npos);
+  EXPECT_NE(FlattenError(model + "  - [R.p, R.n]\n").find("R is an array of 2 components; name one element"),
+            std::string::npos);
+}
+
 }  // namespace
 }  // namespace momenta

@@ -366,5 +366,15 @@ TEST(ParserTest, PlainNumbersAndNamesGiveTheParsersTrees) {
   EXPECT_EQ(ParseName("a.b[2]", loc)->PathText(), "a.b[2]");
 }
 
+TEST(ParserTest, PlainNamesAreTheNamesParseNameReadsAlone) {
+  for (const char* plain : {"a", "mass1.flange_b", "_x.y_2.z"}) {
+    EXPECT_TRUE(IsPlainName(plain)) << plain;
+    EXPECT_EQ(ParseName(plain, SourceLoc())->PathText(), plain);
+  }
+  for (const char* other : {"", "a.", ".a", "a..b", "a[1].p", "a .b", "1a.b", "true", "if.x", "a.b "}) {
+    EXPECT_FALSE(IsPlainName(other)) << other;
+  }
+}
+
 }  // namespace
 }  // namespace momenta
