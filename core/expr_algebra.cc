@@ -286,13 +286,20 @@ ExprId Replace(ExprPool* pool, ExprId root, uint8_t mask, Replacement replacemen
     if (arity >= 3 && !memo.Has(n.c)) { stack.push_back(n.c); ready = false; }
     if (!ready) continue;
     stack.pop_back();
+    // A node whose children came back unchanged is itself: not built again (a table lookup that
+    // would find it), so rewriting one leaf of an equation costs lookups on its path only.
+    const ExprId a = memo.Find(n.a);
+    const ExprId b = arity >= 2 ? memo.Find(n.b) : ExprId();
+    const ExprId c = arity >= 3 ? memo.Find(n.c) : ExprId();
     ExprId r;
-    if (arity == 1) {
-      r = p.Unary(n.op, memo.Find(n.a));
+    if (a.value() == n.a && (arity < 2 || b.value() == n.b) && (arity < 3 || c.value() == n.c)) {
+      r = ExprId(id);
+    } else if (arity == 1) {
+      r = p.Unary(n.op, a);
     } else if (arity == 2) {
-      r = p.Binary(n.op, memo.Find(n.a), memo.Find(n.b), n.flags);
+      r = p.Binary(n.op, a, b, n.flags);
     } else {
-      r = p.If(memo.Find(n.a), memo.Find(n.b), memo.Find(n.c));
+      r = p.If(a, b, c);
     }
     memo.Insert(id, r);
   }
