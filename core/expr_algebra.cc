@@ -154,6 +154,10 @@ uint8_t MaskOfLeaf(Op op) {
 }
 }  // namespace
 
+bool AllLeavesIn(const ExprPool& pool, ExprId e, uint8_t mask, const std::vector<bool>& members) {
+  return !VisitLeaves(pool, e, mask, [&](ExprId leaf) { return !members[pool.node(leaf).a]; });
+}
+
 bool ContainsLeaf(const ExprPool& pool, ExprId e, ExprId leaf) {
   const uint8_t mask = MaskOfLeaf(pool.op(leaf));
   if (!(pool.mask(e) & mask)) return false;

@@ -119,8 +119,9 @@ void ConstrainedStates(EquationSystem* sys, IndexStats* stats) {
     const ExprId r = sys->equations[k].residual;
     const uint8_t m = p.mask(r);
     if ((m & (kHasDer | kHasPre | kHasInitial)) || !(m & kHasVar)) continue;
+    // Most equations hold an algebraic variable: found, the walk stops there.
+    if (!AllLeavesIn(p, r, kHasVar, diff)) continue;
     CollectLeaves(p, r, kHasVar, &vars);
-    if (!std::all_of(vars.begin(), vars.end(), [&](ExprId v) { return diff[p.node(v).a]; })) continue;
     maybe_constraint[k] = true;
     for (ExprId v : vars) ++constraint_count[p.node(v).a];
   }
@@ -138,9 +139,8 @@ void ConstrainedStates(EquationSystem* sys, IndexStats* stats) {
     if (r == original && !maybe_constraint[k]) continue;
     const uint8_t m = p.mask(r);
     if ((m & (kHasDer | kHasPre | kHasInitial)) || !(m & kHasVar)) continue;
+    if (!AllLeavesIn(p, r, kHasVar, diff)) continue;
     CollectLeaves(p, r, kHasVar, &vars);
-    bool all_states = std::all_of(vars.begin(), vars.end(), [&](ExprId v) { return diff[p.node(v).a]; });
-    if (!all_states) continue;
     // Eliminate a `stateSelect: never` variable first, then the variable in the fewest
     // constraints, then the one that least wants to be a state (avoid < default < prefer), then
     // the one declared last. An `always` variable is never eliminated here, nor anything while a
