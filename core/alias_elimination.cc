@@ -84,15 +84,28 @@ EquationSystem EliminateAliases(EquationSystem sys, AliasStats* stats) {
   // root became constant drops out), so the scan repeats until a pass finds nothing.
   constexpr size_t kMaxTerms = 6;
   std::vector<SystemEquation> pending = std::move(sys.equations), kept;
+  // Whether each pending equation may still become an alias: one that is not affine with a few
+  // terms, holds a discrete variable or reduced to 0 = d never will (its residual stays as it
+  // is during this scan), so later passes skip it instead of decomposing it again.
+  std::vector<uint8_t> candidate(pending.size(), 1), kept_candidate;
   AffineForm form;
   std::vector<std::pair<uint32_t, double>> roots;  // scratch: a_r per root of one equation
   for (int pass = 0; pass < 10; ++pass) {
     kept.clear();
     kept.reserve(pending.size());
+    kept_candidate.clear();
+    kept_candidate.reserve(pending.size());
     size_t consumed_here = 0;
-    for (const SystemEquation& eq : pending) {
+    for (size_t k = 0; k < pending.size(); ++k) {
+      const SystemEquation& eq = pending[k];
+      if (!candidate[k]) {
+        kept.push_back(eq);
+        kept_candidate.push_back(0);
+        continue;
+      }
       const uint8_t m = p.mask(eq.residual);
       bool consumed = false;
+      bool may_alias = false;  // kept, and worth another look in the next pass
       if (!(m & (kHasDer | kHasPre | kHasTime | kHasInitial | kHasCond)) &&
           DecomposeAffine(&p, eq.residual, kMaxTerms, &form) && !form.terms.empty()) {
         // Discrete variables are never aliased: their equations are evaluated at events.
@@ -120,6 +133,7 @@ EquationSystem EliminateAliases(EquationSystem sys, AliasStats* stats) {
           SystemEquation plain = eq;
           plain.residual = d;
           kept.push_back(plain);
+          kept_candidate.push_back(0);
           continue;
         } else if (discrete) {
           // Discrete variables' equations are evaluated at events, never aliased.
@@ -137,21 +151,26 @@ EquationSystem EliminateAliases(EquationSystem sys, AliasStats* stats) {
           }
           forest.Attach(r1, r2, -a2 / a1, p.Neg(p.Div(d, p.Const(a1))));
           consumed = true;
+        } else {
+          may_alias = true;  // more roots now; later joins may leave two
         }
       }
       if (consumed) {
         ++consumed_here;
       } else {
         kept.push_back(eq);
+        kept_candidate.push_back(may_alias ? 1 : 0);
       }
     }
     pending.swap(kept);
+    candidate.swap(kept_candidate);
     if (consumed_here == 0) break;
   }
   sys.equations = std::move(pending);
 
   // Record the eliminations and carry start values over to the roots that stay.
   Substitution& s = *sys.eliminated;
+  const size_t eliminated_before = stats->aliases + stats->constants;
   for (uint32_t v = 0; v < n; ++v) {
     Link l = forest.Find(v);
     if (l.parent == v) continue;
@@ -178,7 +197,9 @@ EquationSystem EliminateAliases(EquationSystem sys, AliasStats* stats) {
       sys.guess[l.parent] = p.Mul(sign, p.Sub(fv.start, l.offset));
     }
   }
-  sys.ApplyEliminations();
+  // Every part of the system has had the earlier eliminations applied: with none new (a later
+  // round that found nothing), rewriting it would change nothing.
+  if (stats->aliases + stats->constants != eliminated_before) sys.ApplyEliminations();
   return sys;
 }
 

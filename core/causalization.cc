@@ -12,6 +12,10 @@ EquationSystem Causalize(EquationSystem sys, Structure* st, CausalStats* stats) 
   // Dependency graph among equations that determine algebraic unknowns.
   std::vector<uint32_t> start{0}, adj;
   std::vector<bool> algebraic_eq(ne, false);
+  // The variables of each algebraic equation, kept for weighing its solution below (the
+  // equations do not change until the end): equation k's are vars[var_start[k] ..
+  // var_start[k+1]).
+  std::vector<uint32_t> var_start{0}, vars;
   std::vector<ExprId> leaves;  // scratch
   for (size_t k = 0; k < ne; ++k) {
     uint32_t v = static_cast<uint32_t>(st->var_of_equation[k]);
@@ -20,6 +24,7 @@ EquationSystem Causalize(EquationSystem sys, Structure* st, CausalStats* stats) 
       CollectLeaves(p, sys.equations[k].residual, kHasVar, &leaves);
       for (ExprId leaf : leaves) {
         uint32_t w = p.node(leaf).a;
+        vars.push_back(w);
         if (w == v || sys.role[w] != VarRole::kUnknown || st->is_state[w] || st->equation_of_var[w] < 0) {
           continue;  // known here: states, discrete values
         }
@@ -27,6 +32,7 @@ EquationSystem Causalize(EquationSystem sys, Structure* st, CausalStats* stats) 
       }
     }
     start.push_back(static_cast<uint32_t>(adj.size()));
+    var_start.push_back(static_cast<uint32_t>(vars.size()));
   }
   auto components = StronglyConnectedComponents(static_cast<uint32_t>(ne), start, adj);
   std::vector<bool> keep(sys.role.size(), false);
@@ -58,9 +64,8 @@ EquationSystem Causalize(EquationSystem sys, Structure* st, CausalStats* stats) 
     if (sys.flat->variables[v].type != ValueType::kReal || keep[v]) continue;
     uint64_t v_weight = 0;
     uint32_t v_depth = 0;
-    CollectLeaves(p, sys.equations[k].residual, kHasVar, &leaves);
-    for (ExprId leaf : leaves) {
-      const uint32_t w = p.node(leaf).a;
+    for (uint32_t j = var_start[k]; j < var_start[k + 1]; ++j) {
+      const uint32_t w = vars[j];
       if (w == v) continue;
       v_weight = std::min<uint64_t>(v_weight + weight[w], kMaxInlineCost + 1);
       v_depth = std::max(v_depth, depth[w]);

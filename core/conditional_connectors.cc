@@ -93,7 +93,9 @@ size_t ResolveConditionalConnectors(EquationSystem* sys, const std::vector<doubl
     if (ExprId pre = p.FindLeaf(Op::kPre, v); pre.valid()) sys->eliminated->Set(pre, p.Zero());
     sys->role[v] = VarRole::kConstant;
   }
-  sys->ApplyEliminations();
+  // The equations, initial equations and outputs left name none of these variables (those that
+  // did are gone, or were an error above): only the event parts can still hold them.
+  sys->ApplySubstitutionToEvents(sys->eliminated.get());
   return gone.size();
 }
 

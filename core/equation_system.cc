@@ -73,6 +73,11 @@ void EquationSystem::ApplySubstitution(Substitution* subst) {
   }
   for (auto& e : initial) e.residual = s.Apply(e.residual);
   for (auto& o : outputs) o = s.Apply(o);
+  ApplySubstitutionToEvents(subst);
+}
+
+void EquationSystem::ApplySubstitutionToEvents(Substitution* subst) {
+  Substitution& s = *subst;
   for (auto& w : whens) {
     w.condition = s.Apply(w.condition);
     for (auto& a : w.assigns) a.second = s.Apply(a.second);

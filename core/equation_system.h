@@ -87,6 +87,9 @@ struct EquationSystem {
   /// Applies `s` to every equation, initial equation, output, when-clause, impact and discrete
   /// equation.
   void ApplySubstitution(Substitution* s);
+  /// Applies `s` to the when-clauses, impacts and discrete equations only (for a substitution
+  /// whose leaves the equations and outputs are known not to hold).
+  void ApplySubstitutionToEvents(Substitution* s);
 };
 
 /// Sets up the working form: every flat variable unknown, every equation present, fixed start

@@ -154,6 +154,10 @@ uint8_t MaskOfLeaf(Op op) {
 }
 }  // namespace
 
+bool AllLeavesIn(const ExprPool& pool, ExprId e, uint8_t mask, const std::vector<bool>& members) {
+  return !VisitLeaves(pool, e, mask, [&](ExprId leaf) { return !members[pool.node(leaf).a]; });
+}
+
 bool ContainsLeaf(const ExprPool& pool, ExprId e, ExprId leaf) {
   const uint8_t mask = MaskOfLeaf(pool.op(leaf));
   if (!(pool.mask(e) & mask)) return false;
@@ -286,13 +290,20 @@ ExprId Replace(ExprPool* pool, ExprId root, uint8_t mask, Replacement replacemen
     if (arity >= 3 && !memo.Has(n.c)) { stack.push_back(n.c); ready = false; }
     if (!ready) continue;
     stack.pop_back();
+    // A node whose children came back unchanged is itself: not built again (a table lookup that
+    // would find it), so rewriting one leaf of an equation costs lookups on its path only.
+    const ExprId a = memo.Find(n.a);
+    const ExprId b = arity >= 2 ? memo.Find(n.b) : ExprId();
+    const ExprId c = arity >= 3 ? memo.Find(n.c) : ExprId();
     ExprId r;
-    if (arity == 1) {
-      r = p.Unary(n.op, memo.Find(n.a));
+    if (a.value() == n.a && (arity < 2 || b.value() == n.b) && (arity < 3 || c.value() == n.c)) {
+      r = ExprId(id);
+    } else if (arity == 1) {
+      r = p.Unary(n.op, a);
     } else if (arity == 2) {
-      r = p.Binary(n.op, memo.Find(n.a), memo.Find(n.b), n.flags);
+      r = p.Binary(n.op, a, b, n.flags);
     } else {
-      r = p.If(memo.Find(n.a), memo.Find(n.b), memo.Find(n.c));
+      r = p.If(a, b, c);
     }
     memo.Insert(id, r);
   }
@@ -583,11 +594,72 @@ bool IsAffineIn(const ExprPool& p, ExprId e, ExprId leaf, int depth = 0) {
       return false;
   }
 }
+
+/// True when `e` does not hold `leaf` and its derivative by `leaf`, zero, would come out of
+/// PartialDerivative without a node added to the pool: the subtrees that hold leaves of its kind
+/// are sums, differences, negations and products (with finite constants) of leaves. (The chain
+/// rule of a quotient or a function builds its factors before the zero derivative of the
+/// argument multiplies them away.)
+bool FreeOfLeafDerivativeBuildsNothing(const ExprPool& p, ExprId e, ExprId leaf) {
+  const uint8_t mask = MaskOfLeaf(p.op(leaf));
+  thread_local NodeMemo seen;
+  thread_local std::vector<uint32_t> stack;
+  seen.Clear();
+  stack.assign(1, e.value());
+  auto finite_factor = [&](uint32_t id) {
+    return !p.IsConst(ExprId(id)) || std::isfinite(p.ConstValue(ExprId(id)));
+  };
+  while (!stack.empty()) {
+    const uint32_t id = stack.back();
+    stack.pop_back();
+    const Node& n = p.node(ExprId(id));
+    if (!(n.mask & mask) || seen.Has(id)) continue;
+    seen.Insert(id, ExprId(id));
+    if (id == leaf.value()) return false;
+    switch (n.op) {
+      case Op::kVar:
+      case Op::kDer:
+      case Op::kPre:
+      case Op::kParam:
+        continue;  // another leaf
+      case Op::kMul:
+        if (!finite_factor(n.a) || !finite_factor(n.b)) return false;
+        [[fallthrough]];
+      case Op::kAdd:
+      case Op::kSub:
+        stack.push_back(n.a);
+        stack.push_back(n.b);
+        continue;
+      case Op::kNeg:
+        stack.push_back(n.a);
+        continue;
+      default:
+        return false;
+    }
+  }
+  return true;
+}
+
 }  // namespace
 
 ExprId SolveFor(ExprPool* pool, ExprId residual, ExprId leaf, bool param_coefficient_ok,
                 ExprId* coefficient) {
   ExprPool& p = *pool;
+  // The explicit forms leaf - rest and rest - leaf (most equations the passes solve), with rest
+  // free of the leaf: the coefficient is 1 or -1, and the steps below would build exactly the
+  // nodes built here, after three more walks of rest.
+  if (const Node& r = p.node(residual); r.op == Op::kSub && (r.a == leaf.value()) != (r.b == leaf.value())) {
+    const bool leaf_first = r.a == leaf.value();
+    const ExprId rest(leaf_first ? r.b : r.a);
+    if (FreeOfLeafDerivativeBuildsNothing(p, rest, leaf)) {
+      if (leaf_first) {  // a = 1, b = 0 - rest
+        if (coefficient) *coefficient = p.One();
+        return p.Neg(p.Sub(p.Zero(), rest));
+      }
+      if (coefficient) *coefficient = p.Const(-1.0);  // a = -1, b = rest - 0
+      return p.Sub(rest, p.Zero());
+    }
+  }
   if (!IsAffineIn(p, residual, leaf)) return ExprId();
   ExprId a = PartialDerivative(pool, residual, leaf);
   if (p.IsConst(a)) {

@@ -19,6 +19,10 @@ std::vector<ExprId> CollectLeaves(const ExprPool& pool, ExprId e, uint8_t mask);
 /// True when the leaf `leaf` occurs below `e`.
 bool ContainsLeaf(const ExprPool& pool, ExprId e, ExprId leaf);
 
+/// True when every leaf of kinds in `mask` (kHasVar, kHasDer, kHasPre, kHasParam) below `e` has
+/// its variable (or parameter) in `members`; the walk stops at the first that has not.
+bool AllLeavesIn(const ExprPool& pool, ExprId e, uint8_t mask, const std::vector<bool>& members);
+
 /// The distinct leaves of kinds in `mask` below `e`, appended to `out` (cleared first): the form
 /// for loops over many equations, which then reuse one buffer.
 void CollectLeaves(const ExprPool& pool, ExprId e, uint8_t mask, std::vector<ExprId>* out);

@@ -112,11 +112,17 @@ void ConstrainedStates(EquationSystem* sys, IndexStats* stats) {
   // spring-dampers) would make each mass position a sum over the chain: dense expressions.
   std::vector<uint32_t> constraint_count(sys->role.size(), 0);
   std::vector<ExprId> vars, original_vars;  // scratch for the loops below
-  for (const SystemEquation& eq : sys->equations) {
-    const uint8_t m = p.mask(eq.residual);
+  // Which equations are constraints among states as they stand now: one that is not and is not
+  // rewritten below is skipped there without collecting its variables again.
+  std::vector<bool> maybe_constraint(sys->equations.size(), false);
+  for (size_t k = 0; k < sys->equations.size(); ++k) {
+    const ExprId r = sys->equations[k].residual;
+    const uint8_t m = p.mask(r);
     if ((m & (kHasDer | kHasPre | kHasInitial)) || !(m & kHasVar)) continue;
-    CollectLeaves(p, eq.residual, kHasVar, &vars);
-    if (!std::all_of(vars.begin(), vars.end(), [&](ExprId v) { return diff[p.node(v).a]; })) continue;
+    // Most equations hold an algebraic variable: found, the walk stops there.
+    if (!AllLeavesIn(p, r, kHasVar, diff)) continue;
+    CollectLeaves(p, r, kHasVar, &vars);
+    maybe_constraint[k] = true;
     for (ExprId v : vars) ++constraint_count[p.node(v).a];
   }
   std::vector<bool> drop(sys->equations.size(), false);
@@ -130,11 +136,11 @@ void ConstrainedStates(EquationSystem* sys, IndexStats* stats) {
     // Rewritten by what this pass replaced so far (only if it holds some of it: the same result).
     ExprId r = changed && s.Touches(eq.residual) ? s.Apply(eq.residual) : eq.residual;
     eq.residual = r;
+    if (r == original && !maybe_constraint[k]) continue;
     const uint8_t m = p.mask(r);
     if ((m & (kHasDer | kHasPre | kHasInitial)) || !(m & kHasVar)) continue;
+    if (!AllLeavesIn(p, r, kHasVar, diff)) continue;
     CollectLeaves(p, r, kHasVar, &vars);
-    bool all_states = std::all_of(vars.begin(), vars.end(), [&](ExprId v) { return diff[p.node(v).a]; });
-    if (!all_states) continue;
     // Eliminate a `stateSelect: never` variable first, then the variable in the fewest
     // constraints, then the one that least wants to be a state (avoid < default < prefer), then
     // the one declared last. An `always` variable is never eliminated here, nor anything while a
@@ -183,6 +189,7 @@ void ConstrainedStates(EquationSystem* sys, IndexStats* stats) {
         der_value = SolveFor(&p, u_eq, der, false, &unused);
         if (der_value.valid() && !(p.mask(der_value) & kHasDer)) {
           definition.residual = ReplaceLeaf(&p, u_eq, der, dvalue);
+          maybe_constraint[def] = true;  // a new residual: looked at afresh
           s.Set(der, der_value);
           derivative_definition[v] = kNone;
           ++stats->kept_constraints;

@@ -1,7 +1,9 @@
 #include "core/pantelides.h"
 
 #include <algorithm>
+#include <span>
 #include <sstream>
+#include <stdexcept>
 #include <unordered_map>
 
 #include "core/graph.h"
@@ -40,19 +42,21 @@ class DerivativeGraph {
     return c;
   }
 
-  /// Adds the columns of equation `e` (sys.equations index) as its row.
+  /// Adds the columns of equation `e` (sys.equations index) as its row. Rows come in the order
+  /// of the equations (those of the system, then each differentiated one as it is added), so
+  /// they are stored one after the other in one array.
   void AddRow(uint32_t e) {
-    if (rows_.size() <= e) rows_.resize(e + 1);
-    std::vector<uint32_t>& row = rows_[e];
-    row.clear();
+    if (e != num_rows()) throw std::logic_error("DerivativeGraph::AddRow: rows must come in order");
     CollectLeaves(p_, sys_.equations[e].residual, kHasVar | kHasDer, &leaves_);
     for (ExprId leaf : leaves_) {
       const Node& n = p_.node(leaf);
       if (!IsContinuousUnknown(n.a)) continue;
-      row.push_back(Column(n.a, n.op == Op::kDer ? n.b + 1 : 0));
+      row_cols_.push_back(Column(n.a, n.op == Op::kDer ? n.b + 1 : 0));
     }
-    colour_eq_.resize(rows_.size(), 0);
+    row_start_.push_back(static_cast<uint32_t>(row_cols_.size()));
+    colour_eq_.resize(num_rows(), 0);
   }
+  uint32_t num_rows() const { return static_cast<uint32_t>(row_start_.size() - 1); }
 
   bool IsContinuousUnknown(uint32_t v) const {
     return sys_.role[v] == VarRole::kUnknown && !sys_.flat->variables[v].discrete;
@@ -73,9 +77,10 @@ class DerivativeGraph {
     while (!stack.empty()) {
       const size_t top = stack.size() - 1;
       const uint32_t eq = stack[top].eq;
+      const std::span<const uint32_t> cols = row(eq);
       // A free highest derivative ends the path: flip the matching along it.
       if (stack[top].pos == 0) {
-        for (uint32_t c : rows_[eq]) {
+        for (uint32_t c : cols) {
           if (!Active(c) || assign_[c] >= 0) continue;
           assign_[c] = static_cast<int32_t>(eq);
           for (size_t k = 0; k < path.size(); ++k) assign_[path[k]] = static_cast<int32_t>(stack[k].eq);
@@ -83,8 +88,8 @@ class DerivativeGraph {
         }
       }
       bool descended = false;
-      while (stack[top].pos < rows_[eq].size()) {
-        uint32_t c = rows_[eq][stack[top].pos++];
+      while (stack[top].pos < cols.size()) {
+        uint32_t c = cols[stack[top].pos++];
         if (!Active(c) || colour_col_[c] == colour_) continue;
         colour_col_[c] = colour_;
         visited_cols_.push_back(c);
@@ -107,7 +112,9 @@ class DerivativeGraph {
 
   const std::vector<uint32_t>& visited_eqs() const { return visited_eqs_; }
   const std::vector<uint32_t>& visited_cols() const { return visited_cols_; }
-  const std::vector<uint32_t>& row(uint32_t e) const { return rows_[e]; }
+  std::span<const uint32_t> row(uint32_t e) const {
+    return {row_cols_.data() + row_start_[e], row_start_[e + 1] - row_start_[e]};
+  }
   size_t num_columns() const { return var_.size(); }
   uint32_t var(uint32_t c) const { return var_[c]; }
   uint32_t order(uint32_t c) const { return order_[c]; }
@@ -140,7 +147,7 @@ class DerivativeGraph {
   std::vector<uint32_t> path_;
   std::vector<uint32_t> var_, order_;
   std::vector<int32_t> derivative_, assign_;
-  std::vector<std::vector<uint32_t>> rows_;
+  std::vector<uint32_t> row_start_{0}, row_cols_;  ///< row e: row_cols_[row_start_[e] .. row_start_[e+1])
   std::vector<uint32_t> colour_eq_, colour_col_;
   uint32_t colour_ = 0;
   std::vector<uint32_t> visited_eqs_, visited_cols_;
@@ -149,20 +156,24 @@ class DerivativeGraph {
 /// True when the equations can be matched to distinct variables at all (any derivative order):
 /// the condition under which Pantelides' algorithm terminates.
 bool StructurallyRegular(EquationSystem* sys, DerivativeGraph* g, uint32_t ne) {
-  std::unordered_map<uint32_t, uint32_t> col_of_var;
+  // Columns numbered by first occurrence.
+  constexpr uint32_t kNone = ~0u;
+  std::vector<uint32_t> col_of_var(sys->role.size(), kNone);
+  uint32_t num_cols = 0;
   BipartiteGraph pencil;
   std::vector<uint32_t> row;
   for (uint32_t e = 0; e < ne; ++e) {
     row.clear();
     for (uint32_t c : g->row(e)) {
-      auto [it, added] = col_of_var.emplace(g->var(c), static_cast<uint32_t>(col_of_var.size()));
-      row.push_back(it->second);
+      uint32_t& col = col_of_var[g->var(c)];
+      if (col == kNone) col = num_cols++;
+      row.push_back(col);
     }
     std::sort(row.begin(), row.end());
     row.erase(std::unique(row.begin(), row.end()), row.end());
     pencil.AddRow(row);
   }
-  pencil.num_cols = static_cast<uint32_t>(col_of_var.size());
+  pencil.num_cols = num_cols;
   return pencil.num_cols == ne && MaximumMatching(pencil).size == ne;
 }
 
@@ -187,8 +198,9 @@ DifferentiatedSystem Pantelides(EquationSystem* sys) {
 
   // A maximum matching of the highest derivatives as it stands; most models end here.
   BipartiteGraph highest;
+  std::vector<uint32_t> row;
   for (uint32_t e = 0; e < ne; ++e) {
-    std::vector<uint32_t> row;
+    row.clear();
     for (uint32_t c : g.row(e)) {
       if (g.Active(c)) row.push_back(c);
     }

@@ -13,15 +13,26 @@ EquationSystem Prune(EquationSystem sys, Structure* st, PruneStats* stats) {
   std::vector<bool> need_var(nv, false), need_eq(sys.equations.size(), false),
       need_init(sys.initial.size(), false);
   std::vector<uint32_t> queue;
-  auto mark_leaves = [&](ExprId e) {
-    for (ExprId leaf : CollectLeaves(p, e, kHasVar | kHasDer | kHasPre)) {
-      uint32_t v = p.node(leaf).a;
-      if (sys.role[v] == VarRole::kUnknown && !sys.flat->variables[v].discrete && !need_var[v]) {
-        need_var[v] = true;
-        queue.push_back(v);
-      }
+  auto mark = [&](uint32_t v) {
+    if (sys.role[v] == VarRole::kUnknown && !sys.flat->variables[v].discrete && !need_var[v]) {
+      need_var[v] = true;
+      queue.push_back(v);
     }
   };
+  std::vector<ExprId> leaves;  // scratch
+  auto mark_leaves = [&](ExprId e) {
+    CollectLeaves(p, e, kHasVar | kHasDer | kHasPre, &leaves);
+    for (ExprId leaf : leaves) mark(p.node(leaf).a);
+  };
+  // The variables of each initial equation, collected once for the repeated scans below: those
+  // of initial equation k are init_vars[init_start[k] .. init_start[k+1]).
+  std::vector<uint32_t> init_start{0}, init_vars;
+  init_start.reserve(sys.initial.size() + 1);
+  for (const SystemEquation& eq : sys.initial) {
+    CollectLeaves(p, eq.residual, kHasVar | kHasDer | kHasPre, &leaves);
+    for (ExprId leaf : leaves) init_vars.push_back(p.node(leaf).a);
+    init_start.push_back(static_cast<uint32_t>(init_vars.size()));
+  }
   for (ExprId o : sys.outputs) mark_leaves(o);
   // Event machinery is kept whole: what it reads and what it sets.
   for (const auto& w : sys.whens) {
@@ -52,14 +63,14 @@ EquationSystem Prune(EquationSystem sys, Structure* st, PruneStats* stats) {
     for (size_t k = 0; k < sys.initial.size(); ++k) {
       if (need_init[k]) continue;
       bool touches = false;
-      for (ExprId leaf : CollectLeaves(p, sys.initial[k].residual, kHasVar | kHasDer | kHasPre)) {
-        uint32_t v = p.node(leaf).a;
+      for (uint32_t j = init_start[k]; j < init_start[k + 1] && !touches; ++j) {
+        const uint32_t v = init_vars[j];
         // Discrete variables are always kept (events may need them), so are their initial values.
-        touches = touches || need_var[v] || (sys.flat->variables[v].discrete && sys.role[v] == VarRole::kUnknown);
+        touches = need_var[v] || (sys.flat->variables[v].discrete && sys.role[v] == VarRole::kUnknown);
       }
       if (touches) {
         need_init[k] = true;
-        mark_leaves(sys.initial[k].residual);
+        for (uint32_t j = init_start[k]; j < init_start[k + 1]; ++j) mark(init_vars[j]);
         added = true;
       }
     }

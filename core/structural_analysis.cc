@@ -64,10 +64,12 @@ Structure AnalyseStructure(const EquationSystem& sys) {
   BipartiteGraph g, pencil;
   g.num_cols = pencil.num_cols = static_cast<uint32_t>(var_of_col.size());
   std::vector<uint32_t> row, prow;
+  std::vector<ExprId> leaves;  // scratch
   for (const SystemEquation& eq : sys.equations) {
     row.clear();
     prow.clear();
-    for (ExprId leaf : CollectLeaves(p, eq.residual, kHasVar | kHasDer)) {
+    CollectLeaves(p, eq.residual, kHasVar | kHasDer, &leaves);
+    for (ExprId leaf : leaves) {
       uint32_t v = p.node(leaf).a;
       int32_t c = col_of_var[v];
       if (c < 0) continue;

@@ -144,6 +144,39 @@ TEST(AliasEliminationTest, Constants) {
   EXPECT_FALSE(ContainsLeaf(P, sys.equations[0].residual, b));
 }
 
+TEST(AliasEliminationTest, AnAliasThatAppearsInALaterScan) {
+  // x + y + z = 0 has three roots when first met; z = 5, listed after it, makes z a constant,
+  // so the next scan finds x + y + 5 = 0: an alias. The equation that can never be one (not
+  // affine) is skipped by the later scans and rewritten at the end like any other.
+  HandSystem h;
+  ExprPool& P = h.pool();
+  ExprId x = h.Var("x"), y = h.Var("y"), z = h.Var("z"), w = h.Var("w");
+  h.Eq(P.Add(P.Add(x, y), z), P.Const(0), "x + y + z = 0");
+  h.Eq(P.Mul(w, w), y, "w*w = y");
+  h.Eq(z, P.Const(5), "z = 5");
+  AliasStats stats;
+  EquationSystem sys = h.Eliminate(&stats);
+  EXPECT_EQ(stats.constants, 1u);
+  EXPECT_EQ(stats.aliases, 1u);
+  EXPECT_EQ(sys.role[Index(P, x)], VarRole::kUnknown);  // declared first: x stays
+  EXPECT_EQ(sys.role[Index(P, y)], VarRole::kAlias);
+  ASSERT_EQ(sys.equations.size(), 1u);
+  // w*w - y with y = -x - 5: at x = 2, w = 3 it is 9 + 7.
+  EXPECT_FALSE(ContainsLeaf(P, sys.equations[0].residual, y));
+  std::vector<double> vars = {2, 0, 0, 3};
+  LeafValues lv;
+  lv.vars = vars.data();
+  EXPECT_DOUBLE_EQ(Evaluate(P, sys.equations[0].residual, lv), 16);
+  // A second round finds nothing new and leaves the system as it was.
+  const ExprId residual = sys.equations[0].residual;
+  const size_t nodes = P.size();
+  sys = EliminateAliases(std::move(sys), &stats);
+  EXPECT_EQ(stats.aliases + stats.constants, 2u);
+  ASSERT_EQ(sys.equations.size(), 1u);
+  EXPECT_EQ(sys.equations[0].residual, residual);
+  EXPECT_EQ(P.size(), nodes);
+}
+
 TEST(AliasEliminationTest, RedundantAndContradictoryEquationsStay) {
   // They are for the structural analysis to report, not to vanish.
   HandSystem h;

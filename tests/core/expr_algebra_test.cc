@@ -379,6 +379,37 @@ TEST_F(ExprAlgebraTest, SolveForLinear) {
   EXPECT_EQ(SolveFor(&pool, pool.Sub(y, dx), dx, false, nullptr), y);
 }
 
+TEST_F(ExprAlgebraTest, SolvingAnExplicitEquationBuildsWhatTheGeneralStepsWould) {
+  // x - rest and rest - x, rest free of x, are solved without differentiating: the solution and
+  // the coefficient are those of the general steps, and the pool grows by what they would add
+  // (0 - rest for x - rest, nothing for rest - x), so node numbers downstream stay the same.
+  ExprId coefficient;
+  const ExprId rest = pool.Add(pool.Mul(p, y), pool.Mul(C(2), z));
+  size_t before = pool.size();
+  const ExprId minus_rest = pool.Sub(C(0), rest);
+  const size_t with_negation = pool.size() - before;
+  before = pool.size();
+  EXPECT_EQ(SolveFor(&pool, pool.Sub(x, rest), x, false, &coefficient), rest);
+  EXPECT_EQ(coefficient, pool.One());
+  EXPECT_EQ(pool.size(), before + 1);  // the residual; 0 - rest is there already
+  EXPECT_EQ(with_negation, 1u);
+  EXPECT_TRUE(minus_rest.valid());
+  before = pool.size();
+  EXPECT_EQ(SolveFor(&pool, pool.Sub(rest, x), x, false, &coefficient), rest);
+  EXPECT_TRUE(pool.IsConst(coefficient, -1.0));
+  EXPECT_EQ(pool.size(), before + 1);  // the residual only
+  // A quotient or a function of other variables takes the general steps, which build its
+  // derivative's factors: the same solution.
+  const ExprId nonlinear = pool.Add(F(Op::kSin, y), pool.Div(z, y));
+  EXPECT_EQ(SolveFor(&pool, pool.Sub(x, nonlinear), x, false, &coefficient), nonlinear);
+  EXPECT_EQ(coefficient, pool.One());
+  EXPECT_EQ(SolveFor(&pool, pool.Sub(nonlinear, x), x, false, &coefficient), nonlinear);
+  // rest holding x itself: the general steps (x - (x/2 + y) = 0 => x = 2y).
+  const ExprId sol = SolveFor(&pool, pool.Sub(x, pool.Add(pool.Div(x, C(2)), y)), x, false, &coefficient);
+  ASSERT_TRUE(sol.valid());
+  EXPECT_DOUBLE_EQ(Eval(sol, {0, 1.25, 0}), 2.5);
+}
+
 TEST_F(ExprAlgebraTest, SolveForParameterCoefficient) {
   ExprId coefficient;
   // p*x + y = 0: a parameter coefficient only when allowed; it is reported for the zero check.
