@@ -127,8 +127,15 @@ uint32_t ProgramCompiler::LeafRegister(ExprId e) {
   return 0;
 }
 
+void ProgramCompiler::GrowGlobals() {
+  // To the pool's size with a margin for the nodes the Jacobian adds later, reserved exactly:
+  // resize() alone would double the capacity, a pool-sized array more at the build's peak.
+  global_of_.reserve(pool_.size() + pool_.size() / 4);
+  global_of_.resize(pool_.size(), 0);
+}
+
 uint32_t ProgramCompiler::ParamOnlyRegister(ExprId e) {
-  if (global_of_.size() <= e.value()) global_of_.resize(pool_.size(), 0);
+  if (global_of_.size() <= e.value()) GrowGlobals();
   if (global_of_[e.value()]) return global_of_[e.value()];
   if (pool_.IsConst(e)) {
     uint32_t r = Global();
@@ -146,7 +153,7 @@ void ProgramCompiler::EmitParamOnly(ExprId root) {
   stack.assign(1, root.value());
   while (!stack.empty()) {
     uint32_t id = stack.back();
-    if (global_of_.size() <= id) global_of_.resize(pool_.size(), 0);
+    if (global_of_.size() <= id) GrowGlobals();
     if (global_of_[id]) {
       stack.pop_back();
       continue;

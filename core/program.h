@@ -86,6 +86,7 @@ class ProgramCompiler {
   uint32_t Global();
   uint32_t LeafRegister(ExprId e);
   uint32_t ParamOnlyRegister(ExprId e);
+  void GrowGlobals();
   void EmitParamOnly(ExprId root);
 
   const ExprPool& pool_;
