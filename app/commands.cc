@@ -406,7 +406,7 @@ int RunCheck(const CheckArgs& args) {
     o << "equations for IDA (" << model->num_unknowns() << "):\n";
     for (size_t k = 0; k < model->num_unknowns(); ++k) {
       o << "  0 = " << ToString(*model->pool, model->residual_exprs[k], names) << "\n      from "
-        << model->residual_origin[k] << "\n";
+        << model->residual_origin(k) << "\n";
     }
     o << "initial equations (" << model->initial_exprs.size() << "):\n";
     for (size_t k = 0; k < model->initial_exprs.size(); ++k) {

@@ -235,7 +235,7 @@ std::shared_ptr<CompiledModel> CompileModel(EquationSystem sys, const Structure&
     m->nominal.push_back(flat.variables[v].nominal);
     const SystemEquation& eq = sys.equations[st.equation_of_var[v]];
     m->residual_exprs.push_back(eq.residual);
-    m->residual_origin.push_back(sys.Describe(eq));
+    m->residual_equations.push_back(eq);
     residual_source.push_back(eq.origin);
     if (st.is_state[v]) report->states.push_back(flat.VariableName(VarId(v)));
   }
@@ -362,14 +362,16 @@ std::shared_ptr<CompiledModel> CompileModel(EquationSystem sys, const Structure&
   m->residual = compiler.Compile(m->residual_exprs);
   std::vector<Entry> entries, init_entries;
   std::vector<ExprId> leaves;  // scratch
+  PartialDerivatives partials(&p);
   for (uint32_t i = 0; i < n; ++i) {
     ExprId r = m->residual_exprs[i];
     CollectLeaves(p, r, kHasVar | kHasDer, &leaves);
+    partials.Reset(r, kHasVar | kHasDer);
     for (ExprId leaf : leaves) {
       const Node nd_leaf = p.node(leaf);  // a copy: new nodes may move the pool
       int32_t y = slots.y_of_var[nd_leaf.a];
       if (y < 0) continue;
-      ExprId d = PartialDerivative(&p, r, leaf);
+      ExprId d = partials.Of(leaf);
       if (p.IsConst(d, 0)) continue;
       bool der = nd_leaf.op == Op::kDer;
       entries.push_back({static_cast<int32_t>(i), y, der ? p.Mul(p.Cj(), d) : d, der});
@@ -403,13 +405,14 @@ std::shared_ptr<CompiledModel> CompileModel(EquationSystem sys, const Structure&
       ExprId r = m->initial_exprs[gi];
       int32_t row = static_cast<int32_t>(n + gi);
       CollectLeaves(p, r, kHasVar | kHasDer, &leaves);
+      partials.Reset(r, kHasVar | kHasDer);
       for (ExprId leaf : leaves) {
         const Node nd_leaf = p.node(leaf);  // a copy: new nodes may move the pool
         int32_t y = slots.y_of_var[nd_leaf.a];
         if (y < 0) continue;
         bool der = nd_leaf.op == Op::kDer;
         if (der && slots.state_of_y[y] < 0) continue;
-        ExprId d = PartialDerivative(&p, r, leaf);
+        ExprId d = partials.Of(leaf);
         if (p.IsConst(d, 0)) continue;
         int32_t col = der ? static_cast<int32_t>(n) + slots.state_of_y[y] : y;
         init_entries.push_back({row, col, d});

@@ -34,7 +34,11 @@ struct CompiledModel {
   std::vector<double> nominal;               ///< by y index, for absolute tolerances
   std::vector<uint32_t> state_y;             ///< y index of each state
   std::vector<ExprId> residual_exprs;        ///< F, one per y index (the matched equation)
-  std::vector<std::string> residual_origin;  ///< the user's equation behind each residual
+  /// The equation behind each residual (its origin in `flat`).
+  std::vector<SystemEquation> residual_equations;
+  /// The user's equation behind residual `row`, in words (made when asked: a string a row would
+  /// be a tenth of a large model's memory).
+  std::string residual_origin(size_t row) const { return DescribeSystemEquation(*flat, residual_equations[row]); }
   size_t num_states() const { return state_y.size(); }
   size_t num_unknowns() const { return unknowns.size(); }
 

@@ -48,15 +48,17 @@ uint32_t EquationSystem::AddEquation(FlatEquation eq) {
   return static_cast<uint32_t>(equations.size() - 1);
 }
 
-std::string EquationSystem::Describe(const SystemEquation& eq) const {
+std::string EquationSystem::Describe(const SystemEquation& eq) const { return DescribeSystemEquation(*flat, eq); }
+
+std::string DescribeSystemEquation(const FlatSystem& flat, const SystemEquation& eq) {
   switch (eq.kind) {
     case SystemEquation::Kind::kDynamic:
-      return flat->DescribeEquation(flat->equations[eq.origin]);
+      return flat.DescribeEquation(flat.equations[eq.origin]);
     case SystemEquation::Kind::kInitial:
-      return "initial equation " + flat->DescribeEquation(flat->initial_equations[eq.origin]);
+      return "initial equation " + flat.DescribeEquation(flat.initial_equations[eq.origin]);
     case SystemEquation::Kind::kFixedStart: {
-      const FlatVariable& v = flat->variables[eq.origin];
-      return "fixed start value of " + flat->VariableName(VarId(eq.origin)) + " (" + v.loc.ToString() + ")";
+      const FlatVariable& v = flat.variables[eq.origin];
+      return "fixed start value of " + flat.VariableName(VarId(eq.origin)) + " (" + v.loc.ToString() + ")";
     }
   }
   return "";

@@ -92,6 +92,10 @@ struct EquationSystem {
   void ApplySubstitutionToEvents(Substitution* s);
 };
 
+/// The flat equation `eq` came from, described in the user's names (EquationSystem::Describe, for
+/// holders of the flat system alone: a compiled model describes its rows on demand).
+std::string DescribeSystemEquation(const FlatSystem& flat, const SystemEquation& eq);
+
 /// Sets up the working form: every flat variable unknown, every equation present, fixed start
 /// values as initial equations `x = start`.
 EquationSystem MakeEquationSystem(std::shared_ptr<const FlatSystem> flat);

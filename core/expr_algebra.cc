@@ -1,6 +1,7 @@
 #include "core/expr_algebra.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <sstream>
 #include <unordered_map>
@@ -466,6 +467,120 @@ ExprId TimeDerivative(ExprPool* pool, ExprId e) {
       },
       kHasVar | kHasDer | kHasTime, &failed);
   return failed ? ExprId() : d;
+}
+
+/// The expression as a DAG of local nodes, numbered in the order Derive completes them (children
+/// c, b, a before their parent; an if's condition not at all): Derive computes a node's
+/// derivative on completion, and the nodes above one leaf complete in the same relative order
+/// whatever else the walk visits, so Of() makes PartialDerivative's nodes in its order.
+struct PartialDerivatives::Walk {
+  NodeMemo local;                          ///< node id -> local number
+  std::vector<uint32_t> ids;               ///< local number -> node id
+  std::vector<std::array<int32_t, 3>> kids;  ///< local numbers of a, b, c (-1: not differentiated)
+  std::vector<uint32_t> parent_start, parents;  ///< who reads each local node (CSR)
+  std::vector<uint32_t> mark;              ///< == stamp: above the current leaf
+  std::vector<ExprId> value;               ///< derivative of each marked node
+  std::vector<uint32_t> stack, above;      ///< scratch
+  uint32_t stamp = 0;
+};
+
+PartialDerivatives::PartialDerivatives(ExprPool* pool) : pool_(pool), walk_(std::make_unique<Walk>()) {}
+PartialDerivatives::~PartialDerivatives() = default;
+
+void PartialDerivatives::Reset(ExprId e, uint8_t mask) {
+  const ExprPool& p = *pool_;
+  Walk& w = *walk_;
+  w.local.Clear();
+  w.ids.clear();
+  w.kids.clear();
+  // The local nodes in completion order (Derive's walk, restricted to subtrees with such leaves).
+  auto differentiated = [&](uint32_t id) { return (p.node(ExprId(id)).mask & mask) != 0; };
+  w.stack.clear();
+  if (differentiated(e.value())) w.stack.push_back(e.value());
+  while (!w.stack.empty()) {
+    const uint32_t id = w.stack.back();
+    if (w.local.Has(id)) {
+      w.stack.pop_back();
+      continue;
+    }
+    const Node& n = p.node(ExprId(id));
+    const int arity = IsLeaf(n.op) ? 0 : Arity(n.op);
+    const uint32_t kid_ids[3] = {n.op == Op::kIf ? 0 : n.a, n.b, n.c};
+    bool ready = true;
+    for (int j = n.op == Op::kIf ? 1 : 0; j < arity; ++j) {
+      if (differentiated(kid_ids[j]) && !w.local.Has(kid_ids[j])) {
+        w.stack.push_back(kid_ids[j]);
+        ready = false;
+      }
+    }
+    if (!ready) continue;
+    w.stack.pop_back();
+    std::array<int32_t, 3> kids{-1, -1, -1};
+    for (int j = n.op == Op::kIf ? 1 : 0; j < arity; ++j) {
+      const ExprId k = w.local.Find(kid_ids[j]);
+      if (k.valid()) kids[j] = static_cast<int32_t>(k.value());
+    }
+    w.local.Insert(id, ExprId(static_cast<uint32_t>(w.ids.size())));
+    w.ids.push_back(id);
+    w.kids.push_back(kids);
+  }
+  // Readers of each node, for the walk up from a leaf.
+  const size_t count = w.ids.size();
+  w.parent_start.assign(count + 1, 0);
+  for (const auto& k : w.kids) {
+    for (int32_t c : k) {
+      if (c >= 0) ++w.parent_start[c + 1];
+    }
+  }
+  for (size_t i = 0; i < count; ++i) w.parent_start[i + 1] += w.parent_start[i];
+  w.parents.resize(w.parent_start[count]);
+  std::vector<uint32_t>& fill = w.stack;  // scratch: next free slot per node
+  fill.assign(w.parent_start.begin(), w.parent_start.end() - 1);
+  for (uint32_t q = 0; q < count; ++q) {
+    for (int32_t c : w.kids[q]) {
+      if (c >= 0) w.parents[fill[c]++] = q;
+    }
+  }
+  w.mark.assign(count, 0);
+  w.value.resize(count);
+  w.stamp = 0;
+}
+
+ExprId PartialDerivatives::Of(ExprId leaf) {
+  ExprPool& p = *pool_;
+  Walk& w = *walk_;
+  const ExprId found = w.local.Find(leaf.value());
+  if (!found.valid()) return p.Zero();
+  // The nodes above the leaf, in completion order; every other node's derivative is 0.
+  const uint32_t start = found.value();
+  const uint32_t stamp = ++w.stamp;
+  w.mark[start] = stamp;
+  w.above.clear();
+  w.stack.assign(1, start);
+  while (!w.stack.empty()) {
+    const uint32_t q = w.stack.back();
+    w.stack.pop_back();
+    for (uint32_t k = w.parent_start[q]; k < w.parent_start[q + 1]; ++k) {
+      const uint32_t parent = w.parents[k];
+      if (w.mark[parent] == stamp) continue;
+      w.mark[parent] = stamp;
+      w.above.push_back(parent);
+      w.stack.push_back(parent);
+    }
+  }
+  std::sort(w.above.begin(), w.above.end());
+  // The chain rule up to the root, as Derive applies it.
+  w.value[start] = p.One();
+  auto derivative = [&](int32_t kid) {
+    return kid >= 0 && w.mark[kid] == stamp ? w.value[kid] : p.Zero();
+  };
+  for (uint32_t q : w.above) {
+    const Node n = p.node(ExprId(w.ids[q]));  // a copy: new nodes may move the pool
+    const auto& k = w.kids[q];
+    w.value[q] = ChainRule(p, n, ExprId(w.ids[q]), derivative(k[0]), derivative(k[1]), derivative(k[2]));
+  }
+  const uint32_t root = static_cast<uint32_t>(w.ids.size() - 1);
+  return w.mark[root] == stamp ? w.value[root] : p.Zero();
 }
 
 // ---------------------------------------------------------------------------------------------

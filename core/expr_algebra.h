@@ -5,6 +5,7 @@
 /// rods whose offsets add up — cannot overflow the call stack.
 
 #include <functional>
+#include <memory>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -63,6 +64,26 @@ ExprId ReplaceLeaf(ExprPool* pool, ExprId e, ExprId leaf, ExprId value);
 
 /// d e / d leaf, where leaf is a kVar, kDer or kParam node (other leaves are constants).
 ExprId PartialDerivative(ExprPool* pool, ExprId e, ExprId leaf);
+
+/// The partial derivatives of one expression with respect to several of its leaves (a Jacobian
+/// row), one leaf at a time: Of(leaf) is PartialDerivative(pool, e, leaf), node for node, for
+/// less work. The expression is walked once (Reset); each partial then visits only the nodes
+/// above its leaf. The nodes without the leaf have the derivative 0 and make no nodes (where
+/// PartialDerivative makes some that nothing reads, such as b*b for a/b with b' = 0).
+class PartialDerivatives {
+ public:
+  explicit PartialDerivatives(ExprPool* pool);
+  ~PartialDerivatives();
+  /// Takes `e`, whose leaves of the kinds in `mask` (kHasVar, kHasDer, kHasParam) are asked for.
+  void Reset(ExprId e, uint8_t mask);
+  /// d e / d leaf for a leaf of those kinds; 0 where it occurs only in if-conditions or not at all.
+  ExprId Of(ExprId leaf);
+
+ private:
+  struct Walk;
+  ExprPool* pool_;
+  std::unique_ptr<Walk> walk_;
+};
 
 /// d e / d time by the chain rule: x -> der(x), der(x) -> der(der(x)), time -> 1, parameters and
 /// pre() -> 0. The condition of an if-expression is piecewise constant (an event relation): each

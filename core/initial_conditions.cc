@@ -57,7 +57,7 @@ class InitGraph {
 
 std::string RowOrigin(const CompiledModel& m, uint32_t row) {
   const size_t n = m.unknowns.size();
-  return row < n ? m.residual_origin[row] : m.initial_origin[row - n];
+  return row < n ? m.residual_origin(row) : m.initial_origin[row - n];
 }
 
 /// "a\nb\n…": what a redundant condition follows from, the other conditions first.

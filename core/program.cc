@@ -127,8 +127,15 @@ uint32_t ProgramCompiler::LeafRegister(ExprId e) {
   return 0;
 }
 
+void ProgramCompiler::GrowGlobals() {
+  // To the pool's size with a margin for the nodes the Jacobian adds later, reserved exactly:
+  // resize() alone would double the capacity, a pool-sized array more at the build's peak.
+  global_of_.reserve(pool_.size() + pool_.size() / 4);
+  global_of_.resize(pool_.size(), 0);
+}
+
 uint32_t ProgramCompiler::ParamOnlyRegister(ExprId e) {
-  if (global_of_.size() <= e.value()) global_of_.resize(pool_.size(), 0);
+  if (global_of_.size() <= e.value()) GrowGlobals();
   if (global_of_[e.value()]) return global_of_[e.value()];
   if (pool_.IsConst(e)) {
     uint32_t r = Global();
@@ -142,10 +149,11 @@ uint32_t ProgramCompiler::ParamOnlyRegister(ExprId e) {
 
 /// Parameter-only subexpressions go to the parameter program, each into its own register.
 void ProgramCompiler::EmitParamOnly(ExprId root) {
-  std::vector<uint32_t> stack{root.value()};
+  std::vector<uint32_t>& stack = param_stack_;  // scratch: one allocation for every call
+  stack.assign(1, root.value());
   while (!stack.empty()) {
     uint32_t id = stack.back();
-    if (global_of_.size() <= id) global_of_.resize(pool_.size(), 0);
+    if (global_of_.size() <= id) GrowGlobals();
     if (global_of_[id]) {
       stack.pop_back();
       continue;
@@ -188,29 +196,31 @@ void ProgramCompiler::EmitParamOnly(ExprId root) {
   }
 }
 
+uint32_t ProgramCompiler::Visit(uint32_t id) {
+  const uint32_t k = local_of_[id];
+  if (k < visited_.size() && visited_[k] == id) return k;
+  const Node& n = pool_.node(ExprId(id));
+  local_of_[id] = static_cast<uint32_t>(visited_.size());
+  visited_.push_back(id);
+  // A node is computed by the program unless it is a leaf, a constant or parameter-only (those
+  // have registers of their own).
+  local_.push_back({0, 0, 0, !IsLeaf(n.op) && n.op != Op::kConst && !pool_.IsParamOnly(ExprId(id))});
+  return static_cast<uint32_t>(visited_.size() - 1);
+}
+
 Program ProgramCompiler::Compile(const std::vector<ExprId>& roots, const std::vector<uint32_t>* registers) {
   Program prog;
-  // Per-node scratch (remaining readers, temporary register, visit state) indexed by node id and
-  // reused across calls: a stamp marks what this call wrote, so nothing needs clearing.
-  if (stamp_.size() < pool_.size()) {
-    const size_t size = pool_.size() + pool_.size() / 2;
-    stamp_.resize(size, 0);
-    uses_.resize(size);
-    reg_.resize(size);
-    state_.resize(size);
+  // Per-node scratch (remaining readers, temporary register, visit state) for the nodes this call
+  // visits, numbered in visit order: local_of_ (by node id, never cleared) finds a node's number,
+  // which is valid when visited_ has the node at that place (a sparse set), so nothing needs
+  // clearing and the scratch is as large as the program, not as the pool.
+  if (local_of_.size() < pool_.size()) {
+    local_of_.reserve(pool_.size() + pool_.size() / 8);
+    local_of_.resize(pool_.size());
   }
-  const uint32_t stamp = ++current_stamp_;
-  auto fresh = [&](uint32_t id) {
-    if (stamp_[id] != stamp) {
-      stamp_[id] = stamp;
-      uses_[id] = 0;
-      state_[id] = 0;
-    }
-  };
-  auto computed = [&](uint32_t id) {
-    const Node& n = pool_.node(ExprId(id));
-    return !IsLeaf(n.op) && n.op != Op::kConst && !pool_.IsParamOnly(ExprId(id));
-  };
+  visited_.clear();
+  local_.clear();
+  auto computed = [&](uint32_t id) { return local_[Visit(id)].computed; };
   // 1. The nodes this program computes, children first, and how often each is read; after each
   //    root, a marker (its index with kTempFlag): the root is stored in its turn.
   std::vector<uint32_t> order;
@@ -218,34 +228,31 @@ Program ProgramCompiler::Compile(const std::vector<ExprId>& roots, const std::ve
     std::vector<uint32_t> stack;
     for (size_t k = 0; k < roots.size(); ++k) {
       const uint32_t root = roots[k].value();
-      if (computed(root)) {
-        fresh(root);
-        ++uses_[root];
-      }
-      stack.push_back(root);
+      const uint32_t r = Visit(root);
+      if (local_[r].computed) ++local_[r].uses;
+      stack.push_back(r);
       while (!stack.empty()) {
-        uint32_t id = stack.back();
-        fresh(id);
-        if (state_[id] == 2 || !computed(id)) {
+        const uint32_t q = stack.back();
+        if (local_[q].state == 2 || !local_[q].computed) {
           stack.pop_back();
           continue;
         }
-        const Node& n = pool_.node(ExprId(id));
-        int arity = Arity(n.op);
-        if (state_[id] == 0) {
-          state_[id] = 1;
+        if (local_[q].state == 0) {
+          local_[q].state = 1;
+          const Node& n = pool_.node(ExprId(visited_[q]));
+          int arity = Arity(n.op);
           uint32_t kids[3] = {n.a, n.b, n.c};
           for (int j = arity - 1; j >= 0; --j) {
-            if (!computed(kids[j])) continue;
-            fresh(kids[j]);
-            ++uses_[kids[j]];
-            if (state_[kids[j]] == 0) stack.push_back(kids[j]);
+            const uint32_t kid = Visit(kids[j]);
+            if (!local_[kid].computed) continue;
+            ++local_[kid].uses;
+            if (local_[kid].state == 0) stack.push_back(kid);
           }
           continue;
         }
-        state_[id] = 2;
+        local_[q].state = 2;
         stack.pop_back();
-        order.push_back(id);
+        order.push_back(q);
       }
       order.push_back(kTempFlag | static_cast<uint32_t>(k));
     }
@@ -256,7 +263,7 @@ Program ProgramCompiler::Compile(const std::vector<ExprId>& roots, const std::ve
   std::vector<uint32_t> free_regs;  // a min-heap
   uint32_t num_temps = 0;
   auto operand = [&](uint32_t child) -> uint32_t {
-    if (computed(child)) return kTempFlag | reg_[child];
+    if (computed(child)) return kTempFlag | local_[Visit(child)].reg;
     const Node& n = pool_.node(ExprId(child));
     if (n.op != Op::kConst && IsLeaf(n.op)) return LeafRegister(ExprId(child));
     return ParamOnlyRegister(ExprId(child));
@@ -264,11 +271,12 @@ Program ProgramCompiler::Compile(const std::vector<ExprId>& roots, const std::ve
   // Per temporary: the instruction that wrote its value (the value a live register holds).
   std::vector<uint32_t> written_at;
   auto OperandOrder = [&](uint32_t child, uint32_t reg) -> uint64_t {
-    return computed(child) ? (uint64_t{1} << 32) | written_at[reg_[child]] : reg;
+    return computed(child) ? (uint64_t{1} << 32) | written_at[local_[Visit(child)].reg] : reg;
   };
   auto release = [&](uint32_t child) {
-    if (computed(child) && --uses_[child] == 0) {
-      free_regs.push_back(reg_[child]);
+    Local& s = local_[Visit(child)];
+    if (s.computed && --s.uses == 0) {
+      free_regs.push_back(s.reg);
       std::push_heap(free_regs.begin(), free_regs.end(), std::greater<uint32_t>());
     }
   };
@@ -283,20 +291,21 @@ Program ProgramCompiler::Compile(const std::vector<ExprId>& roots, const std::ve
       prog.code().push_back({kStore, k, src, 0, 0});
     }
   };
-  for (uint32_t id : order) {
-    if (id & kTempFlag) {
+  for (uint32_t q : order) {
+    if (q & kTempFlag) {
       // A root's turn is over: it is stored here (into out), also when an earlier root computed
       // it, so that the code of like components stays alike (loop rerolling, core/reroll.h).
-      uint32_t k = id & ~kTempFlag;
+      uint32_t k = q & ~kTempFlag;
       const uint32_t root = roots[k].value();
       if (!computed(root)) {
         store(k, operand(root));
       } else if (!registers) {
-        store(k, kTempFlag | reg_[root]);
+        store(k, kTempFlag | local_[Visit(root)].reg);
         release(root);
       }
       continue;
     }
+    const uint32_t id = visited_[q];
     const Node& n = pool_.node(ExprId(id));
     int arity = Arity(n.op);
     Instruction in{static_cast<uint8_t>(n.op), 0, 0, 0, 0};
@@ -322,7 +331,7 @@ Program ProgramCompiler::Compile(const std::vector<ExprId>& roots, const std::ve
     } else {
       dst = num_temps++;
     }
-    reg_[id] = dst;
+    local_[q].reg = dst;
     if (written_at.size() <= dst) written_at.resize(dst + 1);
     written_at[dst] = static_cast<uint32_t>(prog.code().size());
     in.dst = kTempFlag | dst;

@@ -86,6 +86,7 @@ class ProgramCompiler {
   uint32_t Global();
   uint32_t LeafRegister(ExprId e);
   uint32_t ParamOnlyRegister(ExprId e);
+  void GrowGlobals();
   void EmitParamOnly(ExprId root);
 
   const ExprPool& pool_;
@@ -95,11 +96,20 @@ class ProgramCompiler {
   std::vector<uint32_t> global_of_;  ///< by node id: register of a constant or parameter-only node
   std::vector<std::pair<uint32_t, double>> constants_;
   Program params_;
+  std::vector<uint32_t> param_stack_;  ///< EmitParamOnly's scratch
   uint32_t max_temps_ = 0;
-  // Compile()'s per-node scratch, reused across calls (see Compile).
-  std::vector<uint32_t> stamp_, uses_, reg_;
-  std::vector<uint8_t> state_;
-  uint32_t current_stamp_ = 0;
+  /// Compile()'s number of node `id` in this call, visiting it if new (see Compile).
+  uint32_t Visit(uint32_t id);
+  // Compile()'s scratch, reused across calls (see Compile).
+  struct Local {
+    uint32_t uses;   ///< readers not yet emitted
+    uint32_t reg;    ///< temporary holding the value
+    uint8_t state;   ///< 0 unvisited, 1 children pushed, 2 ordered
+    bool computed;   ///< by this program (not a leaf, constant or parameter-only value)
+  };
+  std::vector<uint32_t> local_of_;  ///< by node id: its number, if visited_ agrees
+  std::vector<uint32_t> visited_;   ///< by number: node id
+  std::vector<Local> local_;        ///< by number
 };
 
 /// The flag marking a temporary register before Finish() places them.

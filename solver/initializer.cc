@@ -143,7 +143,7 @@ InitialValues SolveFrom(ModelState* state, double t0, bool sparse, const std::ve
     msg << "initialisation failed";
     if (flag < 0) msg << " (KINSOL: " << (data.last_message.empty() ? "flag " + std::to_string(flag) : data.last_message) << ")";
     msg << ": the largest remaining residual, " << f[worst] << ", is in "
-        << (worst < n ? m.residual_origin[worst] : m.initial_origin[worst - n])
+        << (worst < n ? m.residual_origin(worst) : m.initial_origin[worst - n])
         << ". Check the fixed start values and the parameters, or give better start values.";
     throw SolverError(msg.str());
   }

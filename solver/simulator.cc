@@ -420,7 +420,7 @@ class EventIntegrator {
           }
         }
         msg << ". The largest local error is in " << m_.flat->DescribeVariable(m_.unknowns[worst])
-            << ", governed by " << m_.residual_origin[worst];
+            << ", governed by " << m_.residual_origin(worst);
       }
       if (flag == IDA_TOO_MUCH_ACC) {
         msg << ". Loosen the tolerance (a larger --rtol or --atol): double precision cannot deliver this one.";

@@ -185,7 +185,7 @@ TEST(BuildTest, CompiledModelIsConsistent) {
   const size_t n = m.num_unknowns();
   EXPECT_EQ(m.is_state.size(), n);
   EXPECT_EQ(m.residual_exprs.size(), n);
-  EXPECT_EQ(m.residual_origin.size(), n);
+  EXPECT_EQ(m.residual_equations.size(), n);
   EXPECT_EQ(m.nominal.size(), n);
   EXPECT_EQ(m.jacobian_pattern.rows, static_cast<int32_t>(n));
   EXPECT_EQ(m.jacobian_pattern.cols, static_cast<int32_t>(n));

@@ -110,6 +110,33 @@ TEST_F(ExprAlgebraTest, PartialDerivativesOfEveryFunctionMatchFiniteDifferences)
   }
 }
 
+TEST_F(ExprAlgebraTest, PartialDerivativesOfARowAreThoseOfPartialDerivative) {
+  // A Jacobian row leaf by leaf from one walk: the same nodes as PartialDerivative gives (ids are
+  // structure in the pool), including shared subexpressions, der() leaves, a leaf only in an
+  // if-condition (0) and a leaf that does not occur (0).
+  ExprId dx = pool.Der(VarId(0u));
+  ExprId shared = pool.Div(pool.Sub(x, p), pool.Add(y, q));
+  std::vector<std::pair<std::string, ExprId>> cases = {
+      {"shared", pool.Sub(pool.Mul(shared, shared), pool.Mul(dx, F(Op::kSin, shared)))},
+      {"a/b with b' = 0", pool.Sub(pool.Neg(pool.Div(pool.Sub(x, y), p)), dx)},
+      {"if", pool.If(pool.Binary(Op::kGt, z, y), pool.Mul(x, dx), F(Op::kCos, pool.Mul(y, x)))},
+      {"atan2", F(Op::kAtan2, pool.Add(x, z), pool.Mul(y, dx))},
+      {"pow", pool.Pow(pool.Add(y, C(2)), pool.Mul(x, z))},
+      {"leaf", x},
+  };
+  PartialDerivatives partials(&pool);
+  for (const auto& [name, e] : cases) {
+    partials.Reset(e, kHasVar | kHasDer);
+    for (ExprId leaf : {x, y, z, dx}) {
+      const ExprId ours = partials.Of(leaf);
+      EXPECT_EQ(ours, PartialDerivative(&pool, e, leaf)) << name;
+    }
+  }
+  // z occurs only in the if's condition: its partial is 0.
+  partials.Reset(cases[2].second, kHasVar | kHasDer);
+  EXPECT_EQ(partials.Of(z), pool.Zero());
+}
+
 TEST_F(ExprAlgebraTest, PartialDerivativeByParameterAndByDerivative) {
   ExprId dx = pool.Der(VarId(0u));
   ExprId e = pool.Add(pool.Mul(p, pool.Mul(dx, y)), pool.Mul(q, x));

@@ -94,7 +94,7 @@ void CheckJacobians(const std::string& file, double mode) {
       // residuals over h (PreLoad's stiff contacts, 1e6 N/m at this jittered point, have
       // residuals of 1e7, whose ulps over h are 2e-3).
       EXPECT_NEAR(J[j * n + i], fd, 1e-5 * std::max(1.0, std::fabs(fd)) + RoundingOfDifference(rp[i], rm[i], h))
-          << file << ": dF[" << i << "] (" << m.residual_origin[i] << ") / dy["
+          << file << ": dF[" << i << "] (" << m.residual_origin(i) << ") / dy["
           << j << "] (" << m.flat->VariableName(VarId(m.unknowns[j].value())) << ")";
     }
   }
