@@ -65,7 +65,6 @@ class What {
   size_t size_;
 };
 
-std::string operator+(const What& a, const std::string& b) { return a.str() + b; }
 std::string operator+(const What& a, const char* b) { return a.str() + b; }
 std::string operator+(const std::string& a, const What& b) { return a + b.str(); }
 std::string operator+(const char* a, const What& b) { return a + b.str(); }
