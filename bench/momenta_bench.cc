@@ -308,20 +308,35 @@ int main(int argc, char** argv) {
                     "in load/build)\n",
                     header.c_str(), SUNDIALS_VERSION, SundialsOptimized() ? "optimised" : "system", library_s);
         {
-          // The states by kind: "mass[12].v" counts as "mass[].v".
+          // The states by kind: "mass[12].v" counts as "mass[].v" and a written-out "mass12.v"
+          // as "mass#.v", so a model of 100 000 components prints a few kinds, not every name.
           std::map<std::string, size_t> kinds;
           for (const std::string& name : report.states) {
             std::string kind;
             bool in_index = false;
             for (char ch : name) {
               if (ch == '[') in_index = true;
-              if (!in_index || ch == '[' || ch == ']') kind += ch;
+              const bool digit = ch >= '0' && ch <= '9';
+              if (in_index && ch != '[' && ch != ']') continue;
+              if (!digit) {
+                kind += ch;
+              } else if (kind.empty() || kind.back() != '#') {
+                kind += '#';
+              }
               if (ch == ']') in_index = false;
             }
             ++kinds[kind];
           }
+          constexpr size_t kMaxKinds = 40;
           std::printf("# states by kind:");
-          for (const auto& [kind, count] : kinds) std::printf(" %s=%zu", kind.c_str(), count);
+          size_t shown = 0;
+          for (const auto& [kind, count] : kinds) {
+            if (shown++ == kMaxKinds) {
+              std::printf(" (%zu more kinds)", kinds.size() - kMaxKinds);
+              break;
+            }
+            std::printf(" %s=%zu", kind.c_str(), count);
+          }
           std::printf("\n");
         }
         if (!model->nominal.empty()) {
