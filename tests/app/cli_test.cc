@@ -4,8 +4,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -59,8 +61,20 @@ bool Contains(const std::string& text, const std::string& part) { return text.fi
 
 class CliTest : public ::testing::Test {
  protected:
+  // momenta chooses huge pages itself unless glibc's tunables are already set (a shell that
+  // exports them for benchmarks, say): the tests of that choice need them unset.
+  void SetUp() override {
+    if (const char* tunables = std::getenv("GLIBC_TUNABLES")) {
+      saved_tunables_ = tunables;
+      unsetenv("GLIBC_TUNABLES");
+    }
+  }
+  void TearDown() override {
+    if (saved_tunables_) setenv("GLIBC_TUNABLES", saved_tunables_->c_str(), 1);
+  }
   CliResult Momenta(const std::vector<std::string>& args) { return RunMomenta(args, dir_.path()); }
   TempDir dir_;
+  std::optional<std::string> saved_tunables_;
 };
 
 TEST_F(CliTest, SimulateWritesCsvAndPrintsFinalValues) {
