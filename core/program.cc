@@ -263,7 +263,7 @@ Program ProgramCompiler::Compile(const std::vector<ExprId>& roots, const std::ve
   std::vector<uint32_t> free_regs;  // a min-heap
   uint32_t num_temps = 0;
   auto operand = [&](uint32_t child) -> uint32_t {
-    if (computed(child)) return kTempFlag | local_[Visit(child)].reg;
+    if (const Local& c = local_[Visit(child)]; c.computed) return kTempFlag | c.reg;
     const Node& n = pool_.node(ExprId(child));
     if (n.op != Op::kConst && IsLeaf(n.op)) return LeafRegister(ExprId(child));
     return ParamOnlyRegister(ExprId(child));
@@ -271,7 +271,8 @@ Program ProgramCompiler::Compile(const std::vector<ExprId>& roots, const std::ve
   // Per temporary: the instruction that wrote its value (the value a live register holds).
   std::vector<uint32_t> written_at;
   auto OperandOrder = [&](uint32_t child, uint32_t reg) -> uint64_t {
-    return computed(child) ? (uint64_t{1} << 32) | written_at[local_[Visit(child)].reg] : reg;
+    const Local& c = local_[Visit(child)];
+    return c.computed ? (uint64_t{1} << 32) | written_at[c.reg] : reg;
   };
   auto release = [&](uint32_t child) {
     Local& s = local_[Visit(child)];
