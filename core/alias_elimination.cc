@@ -12,6 +12,9 @@ namespace momenta {
 namespace {
 
 constexpr uint32_t kConstantRoot = 0xfffffffeu;
+/// An alias equation, resolved, leaves two variables; one with more terms than this is not looked
+/// at (a longer equation rarely shrinks to two).
+constexpr size_t kMaxAliasTerms = 6;
 
 struct Link {
   uint32_t parent;
@@ -60,13 +63,39 @@ class AliasForest {
   std::vector<uint32_t> path_;  ///< Find's scratch
 };
 
+constexpr uint8_t kNeverAlias = kHasDer | kHasPre | kHasTime | kHasInitial | kHasCond;
+
+/// Whether `e` is an alias candidate: affine in at most `max_terms` variables, with numeric
+/// coefficients; sets the terms (variable, coefficient) and the offset.
+bool IsAffine(ExprPool* p, ExprId e, size_t max_terms, AffineForm* form,
+              std::vector<std::pair<uint32_t, double>>* terms, ExprId* offset) {
+  if (p->mask(e) & kNeverAlias) return false;
+  if (!DecomposeAffine(p, e, max_terms, form) || form->terms.empty()) return false;
+  terms->clear();
+  for (const auto& [leaf, c] : form->terms) terms->emplace_back(p->node(leaf).a, c);
+  *offset = form->offset;
+  return true;
+}
+
+/// The form of a deferred equation (DeferredEquations), as IsAffine gives a made one's.
+bool DeferredForm(ExprPool& p, const DeferredEquations& deferred, uint32_t k,
+                  std::vector<std::pair<VarId, double>>* scratch, std::vector<std::pair<uint32_t, double>>* terms,
+                  ExprId* offset) {
+  double c = 0;
+  if (!deferred.Form(k, scratch, &c)) return false;
+  terms->clear();
+  for (const auto& [v, coef] : *scratch) terms->emplace_back(v.value(), coef);
+  *offset = p.Const(c);
+  return true;
+}
+
 }  // namespace
 
-EquationSystem EliminateAliases(EquationSystem sys, AliasStats* stats) {
+EquationSystem EliminateAliases(EquationSystem sys, AliasStats* stats, const DeferredEquations* deferred) {
   ExprPool& p = *sys.pool;
   const FlatSystem& flat = *sys.flat;
   const size_t n = flat.variables.size();
-  std::vector<bool> diff = DifferentiatedVariables(sys);
+  std::vector<bool> diff = DifferentiatedVariables(sys);  // deferred equations hold no der()
   AliasForest forest(&p, n);
 
   // Which root survives: impact forces, states, `stateSelect: prefer`, a fixed start, then order.
@@ -82,13 +111,15 @@ EquationSystem EliminateAliases(EquationSystem sys, AliasStats* stats) {
   // An equation is an alias once its terms, resolved through the forest, leave at most two roots
   // with coefficients of equal size. Resolving can turn a longer equation into one (a term whose
   // root became constant drops out), so the scan repeats until a pass finds nothing.
-  constexpr size_t kMaxTerms = 6;
+  constexpr size_t kMaxTerms = kMaxAliasTerms;
   std::vector<SystemEquation> pending = std::move(sys.equations), kept;
   // Whether each pending equation may still become an alias: one that is not affine with a few
   // terms, holds a discrete variable or reduced to 0 = d never will (its residual stays as it
   // is during this scan), so later passes skip it instead of decomposing it again.
   std::vector<uint8_t> candidate(pending.size(), 1), kept_candidate;
   AffineForm form;
+  std::vector<std::pair<uint32_t, double>> terms;  // scratch: c_k per variable of one equation
+  std::vector<std::pair<VarId, double>> deferred_terms;  // scratch
   std::vector<std::pair<uint32_t, double>> roots;  // scratch: a_r per root of one equation
   for (int pass = 0; pass < 10; ++pass) {
     kept.clear();
@@ -103,19 +134,18 @@ EquationSystem EliminateAliases(EquationSystem sys, AliasStats* stats) {
         kept_candidate.push_back(0);
         continue;
       }
-      const uint8_t m = p.mask(eq.residual);
       bool consumed = false;
       bool may_alias = false;  // kept, and worth another look in the next pass
-      if (!(m & (kHasDer | kHasPre | kHasTime | kHasInitial | kHasCond)) &&
-          DecomposeAffine(&p, eq.residual, kMaxTerms, &form) && !form.terms.empty()) {
+      ExprId d;                // the form's offset
+      if (eq.residual.valid() ? IsAffine(&p, eq.residual, kMaxTerms, &form, &terms, &d)
+                              : DeferredForm(p, *deferred, eq.origin, &deferred_terms, &terms, &d)) {
         // Discrete variables are never aliased: their equations are evaluated at events.
         bool discrete = false;
-        for (const auto& t : form.terms) discrete = discrete || flat.variables[p.node(t.first).a].discrete;
+        for (const auto& t : terms) discrete = discrete || flat.variables[t.first].discrete;
         // sum c_k x_k + offset with x_k = s_k r_k + o_k: collect a_r per root and the constant d.
         roots.clear();
-        ExprId d = form.offset;
-        for (const auto& [leaf, c] : form.terms) {
-          Link l = forest.Find(p.node(leaf).a);
+        for (const auto& [var, c] : terms) {
+          Link l = forest.Find(var);
           if (!p.IsConst(l.offset, 0)) d = p.Add(d, p.Mul(p.Const(c), l.offset));
           if (l.parent == kConstantRoot) continue;
           auto it = std::find_if(roots.begin(), roots.end(), [&](const auto& r) { return r.first == l.parent; });
@@ -198,8 +228,12 @@ EquationSystem EliminateAliases(EquationSystem sys, AliasStats* stats) {
     }
   }
   // Every part of the system has had the earlier eliminations applied: with none new (a later
-  // round that found nothing), rewriting it would change nothing.
+  // round that found nothing), rewriting it would change nothing. Deferred equations are skipped.
   if (stats->aliases + stats->constants != eliminated_before) sys.ApplyEliminations();
+  // A deferred equation is consumed or found redundant (0 = c); should one stay, it is made.
+  for (SystemEquation& eq : sys.equations) {
+    if (!eq.residual.valid()) eq.residual = s.Apply(deferred->Make(eq.origin));
+  }
   return sys;
 }
 

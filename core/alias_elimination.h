@@ -14,6 +14,10 @@ struct AliasStats {
 
 /// Removes every alias equation. The variable that stays of an alias set is, in order of
 /// preference: one whose derivative appears, one with `stateSelect: prefer`, the first declared.
-EquationSystem EliminateAliases(EquationSystem sys, AliasStats* stats);
+/// The build's first call passes the flattening's `deferred` equations (their residuals in `sys`
+/// are invalid): it reads one form per template, and makes only the equations that stay, with
+/// the aliases substituted; every equation in the system it returns is made.
+EquationSystem EliminateAliases(EquationSystem sys, AliasStats* stats,
+                                const DeferredEquations* deferred = nullptr);
 
 }  // namespace momenta

@@ -53,7 +53,9 @@ std::shared_ptr<const CompiledModel> Build(const ModelSpec& spec, ModelSpec* rel
   };
 
   // Flatten.
-  auto flat = std::make_shared<FlatSystem>(Flatten(spec, library, overrides));
+  auto flat = std::make_shared<FlatSystem>(Flatten(spec, library, overrides, /*defer_equations=*/true));
+  // The component equations left to the first alias elimination (FlatSystem::deferred).
+  std::shared_ptr<const DeferredEquations> deferred = std::move(flat->deferred);
   if (release != nullptr) *release = ModelSpec();
   report->num_components = flat->instances.size();
   report->num_parameters = flat->parameters.size();
@@ -87,7 +89,8 @@ std::shared_ptr<const CompiledModel> Build(const ModelSpec& spec, ModelSpec* rel
   IndexStats index;
   for (int round = 0; round < 20; ++round) {
     size_t before = sys.num_unknowns();
-    sys = EliminateAliases(std::move(sys), &alias);
+    sys = EliminateAliases(std::move(sys), &alias, deferred.get());
+    deferred.reset();  // every equation is made now
     size_t changes_before = index.derivative_aliases + index.constrained_states;
     size_t kept_before = index.kept_constraints;
     sys = ReduceIndex(std::move(sys), &index);

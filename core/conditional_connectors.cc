@@ -62,7 +62,8 @@ size_t ResolveConditionalConnectors(EquationSystem* sys, const std::vector<doubl
   // Equations: the component's own that name the connector hold only with it; a model equation
   // that names it is an error.
   auto keep = [&](const SystemEquation& eq) {
-    VarId v = NamedAbsent(p, eq.residual, absent);
+    // A deferred equation (invalid) is of a type without conditional connectors.
+    VarId v = eq.residual.valid() ? NamedAbsent(p, eq.residual, absent) : VarId();
     if (!v.valid()) return true;
     if (eq.kind == SystemEquation::Kind::kFixedStart) return false;
     const FlatEquation& fe = eq.kind == SystemEquation::Kind::kDynamic ? f.equations[eq.origin]

@@ -71,7 +71,7 @@ void EquationSystem::ApplySubstitution(Substitution* subst) {
   // Most equations hold no replaced leaf when a later round or pass adds a few replacements to
   // many: checking first spares those the rewrite's memo writes (the result is the same).
   for (auto& e : equations) {
-    if (s.Touches(e.residual)) e.residual = s.Apply(e.residual);
+    if (e.residual.valid() && s.Touches(e.residual)) e.residual = s.Apply(e.residual);  // invalid: deferred
   }
   for (auto& e : initial) e.residual = s.Apply(e.residual);
   for (auto& o : outputs) o = s.Apply(o);
@@ -129,7 +129,7 @@ std::vector<bool> DifferentiatedVariables(const EquationSystem& sys) {
   std::vector<bool> diff(sys.role.size(), false);
   std::vector<ExprId> ders;
   for (const auto& e : sys.equations) {
-    if (!(sys.pool->mask(e.residual) & kHasDer)) continue;
+    if (!e.residual.valid() || !(sys.pool->mask(e.residual) & kHasDer)) continue;  // invalid: deferred
     CollectLeaves(*sys.pool, e.residual, kHasDer, &ders);
     for (ExprId leaf : ders) {
       diff[sys.pool->node(leaf).a] = true;

@@ -90,13 +90,30 @@ enum class EquationOrigin : uint8_t { kComponent, kModel, kConnection, kUnconnec
 
 struct FlatEquation {
   SourceLoc loc;
-  ExprId residual;  ///< lhs - rhs
+  ExprId residual;  ///< lhs - rhs; invalid for an equation the build did not make (DeferredEquations)
   InstanceId instance;  ///< the component whose equation it is (kComponent)
   TextRef text;         ///< the equation as written, or a description (FlatSystem::EquationText)
   /// Index reduction: the flat equation this one is the time derivative of (-1: as written).
   int32_t differentiated_from = -1;
   uint32_t differentiations = 0;  ///< how many times the written equation was differentiated
   EquationOrigin origin = EquationOrigin::kComponent;
+};
+
+/// Equations that a build does not make as expressions (Flatten's `defer_equations`): those that
+/// alias elimination surely removes, x = ±y + c or x = c over two (one) continuous variables with
+/// a number c: copies of such component equations (a connector's potential equal to its
+/// component's, a flow equal to minus a force) and connection equations between two variables.
+/// Alias elimination reads their forms (FlatEquation::residual is invalid until then); it makes one
+/// only in case it stays, which such a form never does. Only equations that the passes before it
+/// leave alone are deferred: none with an if-expression, none with a table, none naming a
+/// variable of a conditional connector.
+class DeferredEquations {
+ public:
+  virtual ~DeferredEquations() = default;
+  /// Whether flat equation k is deferred; its terms (variable, coefficient) and its constant offset.
+  virtual bool Form(uint32_t k, std::vector<std::pair<VarId, double>>* terms, double* offset) const = 0;
+  /// Makes flat equation k's residual: the nodes flattening would have made.
+  virtual ExprId Make(uint32_t k) const = 0;
 };
 
 /// A component instance. Its path ("A", "R[3]", "R[3].mass") is made on demand
@@ -212,6 +229,9 @@ struct FlatSystem {
   /// variable has its type's unit, one a pass adds none.
   std::vector<TextRef> model_variable_units;
   std::vector<VarId> connection_vars;      ///< TextRef::kFlowSum
+  /// The equations still to be made (only from Flatten with `defer_equations`); the build hands
+  /// it to the first alias elimination and drops it after.
+  std::shared_ptr<const DeferredEquations> deferred;
 
   /// Holds `text` and returns its reference (an empty text needs none).
   TextRef Own(std::string text);
@@ -245,8 +265,10 @@ using ParameterOverrides = std::map<std::string, double>;
 /// joins the connection sets and returns the flat system. Overrides of parameters that shape the
 /// structure (count:, connection indices) are applied here; every override is also checked to name
 /// a real parameter. Throws ModelError naming the file, line and the user's component.
+/// With `defer_equations` (the build's choice), the component equations that can wait are left
+/// to FlatSystem::deferred.
 FlatSystem Flatten(const ModelSpec& spec, const Library& library,
-                   const ParameterOverrides& overrides);
+                   const ParameterOverrides& overrides, bool defer_equations = false);
 
 /// Evaluates every parameter (bindings in order, overrides replacing bindings) and checks the
 /// declared ranges and finiteness. Throws ModelError naming the parameter and where it was set.

@@ -288,11 +288,205 @@ std::vector<std::vector<uint32_t>> Classes(size_t n, Find&& find) {
   return sets;
 }
 
+/// Copies template `t` into the pool for the instance whose local variable j is first_var + j
+/// (parameters likewise). A node that reads a table is made by `table_node(node, made)`; a
+/// template without one never calls it. Constants come from the template's cache (`t.fixed`, made
+/// in this pool) unless `cached_constants` is false (another pool). Only the template's first
+/// `end` nodes are made when given (its root, the last node, is then not made: invalid result).
+template <class TableNode>
+ExprId CopyTemplate(ExprPool* pool, const Template& t, VarId first_var, ParamId first_param,
+                    std::vector<ExprId>* scratch, TableNode&& table_node, bool cached_constants = true,
+                    size_t end = SIZE_MAX) {
+  ExprPool& p = *pool;
+  std::vector<ExprId>& made = *scratch;
+  made.assign(t.nodes.size(), ExprId());
+  end = std::min(end, t.nodes.size());
+  if (cached_constants && t.fixed.size() != t.nodes.size()) {
+    t.fixed.assign(t.nodes.size(), ExprId());
+    for (size_t k = 0; k < t.nodes.size(); ++k) {
+      if (t.nodes[k].kind == TNode::kConst) t.fixed[k] = p.Const(t.nodes[k].value);
+    }
+  }
+  for (size_t k = 0; k < end; ++k) {
+    const TNode& n = t.nodes[k];
+    ExprId r;
+    switch (n.kind) {
+      case TNode::kConst: r = cached_constants ? t.fixed[k] : p.Const(n.value); break;
+      case TNode::kLocalVar: r = p.Var(VarId(first_var.value() + n.local)); break;
+      case TNode::kLocalParam: r = p.Param(ParamId(first_param.value() + n.local)); break;
+      case TNode::kPre: r = p.Pre(VarId(first_var.value() + n.local)); break;
+      case TNode::kTime: r = p.Time(); break;
+      case TNode::kInitial: r = p.Initial(); break;
+      case TNode::kTable:
+      case TNode::kTimeTable:
+      case TNode::kBooleanTable: r = table_node(n, made); break;
+      case TNode::kNoEvent: r = p.NoEvent(made[n.a]); break;
+      case TNode::kDerOf: r = TimeDerivative(&p, made[n.a]); break;
+      case TNode::kOp: {
+        int arity = Arity(n.op);
+        if (arity == 1) {
+          r = p.Unary(n.op, made[n.a]);
+        } else if (arity == 2) {
+          r = p.Binary(n.op, made[n.a], made[n.b]);
+        } else {
+          r = p.If(made[n.a], made[n.b], made[n.c]);
+        }
+        break;
+      }
+    }
+    made[k] = r;
+  }
+  return made[t.root];
+}
+
+/// The form of an equation template that alias elimination always removes: x = ±y + c or x = c,
+/// over continuous variables, with c a number. Whatever aliases come before it, it is consumed or
+/// found redundant (0 = c): it is never needed as an expression.
+struct SureAlias {
+  bool sure = false;
+  std::vector<std::pair<uint32_t, double>> terms;  ///< local variable, coefficient ±1
+  double offset = 0;
+};
+
+/// Whether template `t` is a sure alias, read from a copy in a pool of its own (the model's pool
+/// is not touched). `discrete` and `conditional` mark the local variables that are discrete (never
+/// aliased) or of a conditional connector (whose equations may go before alias elimination); a
+/// template that names one of them, reads a table or has an if-expression is not a sure alias.
+SureAlias ReadSureAlias(const Template& t, const std::vector<bool>& discrete, const std::vector<bool>& conditional) {
+  SureAlias out;
+  for (const TNode& n : t.nodes) {
+    switch (n.kind) {
+      case TNode::kConst:
+      case TNode::kLocalParam: break;
+      case TNode::kLocalVar:
+        if ((n.local < discrete.size() && discrete[n.local]) || (n.local < conditional.size() && conditional[n.local])) {
+          return out;
+        }
+        break;
+      case TNode::kOp:
+        if (n.op == Op::kIf) return out;
+        break;
+      default: return out;  // derivatives, pre-values, time, tables: never an alias
+    }
+  }
+  if (t.root < 0) return out;
+  ExprPool pool;
+  std::vector<ExprId> made;
+  const ExprId r = CopyTemplate(&pool, t, VarId(0), ParamId(0), &made,
+                                [](const TNode&, const std::vector<ExprId>&) { return ExprId(); }, false);
+  AffineForm form;
+  if ((pool.mask(r) & (kHasDer | kHasPre | kHasTime | kHasInitial | kHasCond)) ||
+      !DecomposeAffine(&pool, r, 2, &form) || form.terms.empty() || !pool.IsConst(form.offset)) {
+    return out;
+  }
+  for (const auto& [leaf, c] : form.terms) {
+    if (std::fabs(c) != 1.0) return out;
+    out.terms.emplace_back(pool.node(leaf).a, c);
+  }
+  out.offset = pool.ConstValue(form.offset);
+  out.sure = true;
+  return out;
+}
+
+/// The equations a build leaves unmade for alias elimination (FlatSystem::deferred): copies of
+/// sure-alias templates, and connection equations between two variables. Each is x = ±y + c or
+/// x = c, which alias elimination removes without its expression.
+class DeferredAliases final : public DeferredEquations {
+ public:
+  explicit DeferredAliases(std::shared_ptr<ExprPool> pool) : pool_(std::move(pool)) {}
+
+  bool Form(uint32_t k, std::vector<std::pair<VarId, double>>* terms, double* offset) const override {
+    if (k >= entries_.size() || entries_[k].kind == kMade) return false;
+    const Entry& e = entries_[k];
+    terms->clear();
+    *offset = 0;
+    switch (e.kind) {
+      case kCopy: {
+        const SureAlias& a = *shapes_[e.shape];
+        for (const auto& [local, c] : a.terms) terms->emplace_back(VarId(e.x + local), c);
+        *offset = a.offset;
+        break;
+      }
+      case kZero: terms->emplace_back(VarId(e.x), 1.0); break;
+      case kEqual:
+        terms->emplace_back(VarId(e.x), 1.0);
+        terms->emplace_back(VarId(e.y), -1.0);
+        break;
+      case kSum:
+        terms->emplace_back(VarId(e.x), 1.0);
+        terms->emplace_back(VarId(e.y), 1.0);
+        break;
+      case kMade: break;
+    }
+    return true;
+  }
+
+  ExprId Make(uint32_t k) const override {
+    ExprPool& p = *pool_;
+    const Entry& e = entries_[k];
+    switch (e.kind) {
+      case kCopy:
+        return CopyTemplate(&p, *templates_[e.shape], VarId(e.x), ParamId(e.y), &scratch_,
+                            [](const TNode&, const std::vector<ExprId>&) { return ExprId(); });
+      case kZero: return p.Var(VarId(e.x));
+      case kEqual: return p.Sub(p.Var(VarId(e.x)), p.Var(VarId(e.y)));
+      case kSum: return p.Add(p.Var(VarId(e.x)), p.Var(VarId(e.y)));
+      case kMade: break;
+    }
+    return ExprId();
+  }
+
+  /// Flat equation k is a copy of `t`, a sure alias (`alias`), for the instance whose first
+  /// variable and parameter are given.
+  void AddCopy(size_t k, const Template& t, const SureAlias* alias, VarId first_var, ParamId first_param) {
+    auto [at, added] = shape_of_.emplace(&t, static_cast<uint32_t>(shapes_.size()));
+    if (added) {
+      shapes_.push_back(alias);
+      templates_.push_back(&t);
+    }
+    Set(k, {kCopy, at->second, first_var.value(), first_param.value()});
+  }
+  /// Flat equation k is x = 0 (an unconnected flow), x = y or x + y = 0 (a connection).
+  void AddZero(size_t k, VarId x) { Set(k, {kZero, 0, x.value(), 0}); }
+  void AddEqual(size_t k, VarId x, VarId y) { Set(k, {kEqual, 0, x.value(), y.value()}); }
+  void AddSum(size_t k, VarId x, VarId y) { Set(k, {kSum, 0, x.value(), y.value()}); }
+  bool empty() const { return entries_.empty(); }
+  /// Takes what the copies read: the type layouts (templates) and the sure-alias forms.
+  void Keep(std::unordered_map<const ComponentType*, std::unique_ptr<TypeLayout>> layouts,
+            std::unordered_map<const Template*, SureAlias> forms) {
+    layouts_ = std::move(layouts);
+    forms_ = std::move(forms);
+    shape_of_.clear();
+  }
+
+ private:
+  enum Kind : uint8_t { kMade, kCopy, kZero, kEqual, kSum };
+  struct Entry {
+    Kind kind = kMade;
+    uint32_t shape = 0;
+    uint32_t x = 0, y = 0;  ///< a copy: its first variable and parameter; else the variables
+  };
+  void Set(size_t k, Entry e) {
+    if (entries_.size() <= k) entries_.resize(k + 1);
+    entries_[k] = e;
+  }
+  std::shared_ptr<ExprPool> pool_;
+  std::vector<Entry> entries_;  ///< by flat equation
+  std::vector<const SureAlias*> shapes_;
+  std::vector<const Template*> templates_;
+  std::unordered_map<const Template*, uint32_t> shape_of_;
+  std::unordered_map<const ComponentType*, std::unique_ptr<TypeLayout>> layouts_;
+  std::unordered_map<const Template*, SureAlias> forms_;
+  mutable std::vector<ExprId> scratch_;
+};
+
 class Flattener {
  public:
-  Flattener(const ModelSpec& spec, const Library& library, const ParameterOverrides& overrides)
+  Flattener(const ModelSpec& spec, const Library& library, const ParameterOverrides& overrides,
+            bool defer_equations)
       : spec_(spec), library_(library), overrides_(overrides) {
     flat_.pool = std::make_shared<ExprPool>();
+    if (defer_equations) deferred_ = std::make_shared<DeferredAliases>(flat_.pool);
     flat_.model_name = spec.name;
     flat_.file = spec.file;
     flat_.experiment = spec.experiment;
@@ -319,6 +513,10 @@ class Flattener {
     CheckOverrides();
     flat_.defines = defines_;  // instances point into these types
     flat_.structural = structural_;
+    if (deferred_ && !deferred_->empty()) {
+      deferred_->Keep(std::move(layouts_), std::move(sure_alias_));
+      flat_.deferred = std::move(deferred_);
+    }
     return std::move(flat_);
   }
 
@@ -1688,59 +1886,26 @@ class Flattener {
   ExprId Instantiate(const Template& t, VarId first_var, ParamId first_param, InstanceId inst,
                      const std::string& text, const SourceLoc& loc) {
     ExprPool& p = pool();
-    scratch_.resize(t.nodes.size());
-    if (t.fixed.size() != t.nodes.size()) {
-      t.fixed.assign(t.nodes.size(), ExprId());
-      for (size_t k = 0; k < t.nodes.size(); ++k) {
-        if (t.nodes[k].kind == TNode::kConst) t.fixed[k] = p.Const(t.nodes[k].value);
-      }
-    }
-    for (size_t k = 0; k < t.nodes.size(); ++k) {
-      const TNode& n = t.nodes[k];
-      ExprId r;
+    // The nodes that read a table need the instance's tables.
+    auto table_node = [&](const TNode& n, const std::vector<ExprId>& made) -> ExprId {
       switch (n.kind) {
-        case TNode::kConst: r = t.fixed[k]; break;
-        case TNode::kLocalVar: r = p.Var(VarId(first_var.value() + n.local)); break;
-        case TNode::kLocalParam: r = p.Param(ParamId(first_param.value() + n.local)); break;
-        case TNode::kPre: r = p.Pre(VarId(first_var.value() + n.local)); break;
-        case TNode::kTime: r = p.Time(); break;
-        case TNode::kInitial: r = p.Initial(); break;
         case TNode::kTable: {
           const InstanceTable& table = instance_tables_.at(n.local);
-          const auto column = static_cast<uint32_t>(n.c >= 0 ? OptionValue(scratch_[n.c], "column", loc) : n.value);
+          const auto column = static_cast<uint32_t>(n.c >= 0 ? OptionValue(made[n.c], "column", loc) : n.value);
           if (column < 1 || column > table.cols) {
             throw ModelError(loc, flat_.InstancePath(inst) + ": interpolate() reads column " + std::to_string(column) + " of a table with " +
                                       std::to_string(table.cols) + " columns, in '" + Excerpt(text, 0) + "'");
           }
-          r = p.Table(table.first, table.rows, table.cols, column);
-          break;
+          return p.Table(table.first, table.rows, table.cols, column);
         }
         case TNode::kTimeTable:
-          r = TimeTableExpr(scratch_[n.a], scratch_[n.b], static_cast<int>(OptionValue(scratch_[n.c], "smoothness", loc)),
-                            static_cast<int>(OptionValue(scratch_[n.local], "extrapolation", loc)));
-          break;
-        case TNode::kBooleanTable:
-          r = BooleanTableSum(&p, scratch_[n.a], scratch_[n.b]);
-          break;
-        case TNode::kNoEvent: r = p.NoEvent(scratch_[n.a]); break;
-        case TNode::kDerOf:
-          r = TimeDerivative(&p, scratch_[n.a]);
-          break;
-        case TNode::kOp: {
-          int arity = Arity(n.op);
-          if (arity == 1) {
-            r = p.Unary(n.op, scratch_[n.a]);
-          } else if (arity == 2) {
-            r = p.Binary(n.op, scratch_[n.a], scratch_[n.b]);
-          } else {
-            r = p.If(scratch_[n.a], scratch_[n.b], scratch_[n.c]);
-          }
-          break;
-        }
+          return TimeTableExpr(made[n.a], made[n.b], static_cast<int>(OptionValue(made[n.c], "smoothness", loc)),
+                               static_cast<int>(OptionValue(made[n.local], "extrapolation", loc)));
+        default:
+          return BooleanTableSum(&p, made[n.a], made[n.b]);
       }
-      scratch_[k] = r;
-    }
-    return scratch_[t.root];
+    };
+    return CopyTemplate(&p, t, first_var, first_param, &scratch_, table_node);
   }
 
   // -------------------------------------------------------------------------------------------
@@ -2076,6 +2241,43 @@ class Flattener {
     return static_cast<uint32_t>(n);
   }
 
+  /// The sure-alias form of template `t` (ReadSureAlias), read once.
+  const SureAlias& SureAliasOf(const Template& t, const std::vector<bool>& discrete, const std::vector<bool>& conditional) {
+    auto it = sure_alias_.find(&t);
+    if (it == sure_alias_.end()) it = sure_alias_.emplace(&t, ReadSureAlias(t, discrete, conditional)).first;
+    return it->second;
+  }
+
+  /// The nodes below the root of an equation that is not made, in their order: one may be
+  /// shared with another equation, and the pool orders the operands of a commutative operation
+  /// by node id, so every node that is made keeps the place it has when all equations are made
+  /// (and the build makes the same programs). The root is the template's last node.
+  void MakeBelowRoot(const Template& t, VarId first_var, ParamId first_param) {
+    MOMENTA_CHECK_MSG(static_cast<size_t>(t.root) + 1 == t.nodes.size(), "a template's root is its last node");
+    CopyTemplate(&pool(), t, first_var, first_param, &scratch_,
+                 [](const TNode&, const std::vector<ExprId>&) { return ExprId(); }, true, t.nodes.size() - 1);
+  }
+
+  /// The local variables of L's conditional connectors and its parts' (empty when there are
+  /// none): an equation that names one may go when its connector is absent
+  /// (ResolveConditionalConnectors), so it is made now.
+  const std::vector<bool>& ConditionalLocals(const TypeLayout& L) {
+    auto [at, added] = conditional_locals_.emplace(&L, std::vector<bool>());
+    if (!added) return at->second;
+    std::vector<bool>& locals = at->second;
+    auto mark = [&](const TypeLayout& T, uint32_t var_off) {
+      for (const ConnectorSlot& cs : T.connectors) {
+        if (cs.decl->condition.empty()) continue;
+        locals.resize(L.vars.size(), false);
+        const size_t count = cs.type->is_signal ? 1 : cs.type->potentials.size() + cs.type->flows.size();
+        for (size_t j = 0; j < count; ++j) locals[var_off + cs.first_local_var + j] = true;
+      }
+    };
+    mark(L, 0);
+    for (const SubInstance& sub : L.subs) mark(*sub.layout, sub.first_var);
+    return locals;
+  }
+
   /// The names of L's variables, parameters, equations and when-clauses (FlatSystem::type_names),
   /// made once: every instance's are made from them on demand.
   int32_t NamesOf(const TypeLayout& L) {
@@ -2210,12 +2412,22 @@ class Flattener {
       flat_.variables.push_back(std::move(fv));
     }
     // Equations.
+    // Equations that alias elimination surely removes are not made (DeferredAliases).
+    const std::vector<bool>* conditional_locals = deferred_ ? &ConditionalLocals(L) : nullptr;
     auto add_equations = [&](const std::vector<Template>& templates, const std::vector<PartInfo>& info,
                              uint32_t first_text, std::vector<FlatEquation>* out) {
       for (size_t k = 0; k < templates.size(); ++k) {
         const PartInfo& d = info[k];
         FlatEquation eq;
-        eq.residual = Instantiate(templates[k], data.first_var, data.first_param, inst, d.text, c.loc);
+        const SureAlias* alias = out == &flat_.equations && conditional_locals != nullptr
+                                     ? &SureAliasOf(templates[k], L.discrete, *conditional_locals)
+                                     : nullptr;
+        if (alias != nullptr && alias->sure) {
+          MakeBelowRoot(templates[k], data.first_var, data.first_param);
+          deferred_->AddCopy(out->size(), templates[k], alias, data.first_var, data.first_param);
+        } else {
+          eq.residual = Instantiate(templates[k], data.first_var, data.first_param, inst, d.text, c.loc);
+        }
         eq.origin = d.origin;
         eq.instance = d.origin == EquationOrigin::kConnection ? InstanceId() : instance_of(d.sub);
         eq.text = {TextRef::kType, inst.value(), first_text + static_cast<uint32_t>(k)};
@@ -2466,7 +2678,14 @@ class Flattener {
         for (size_t k = 0; k < c0.type->flows.size(); ++k) {
           VarId f = var_of(s0, static_cast<uint32_t>(c0.type->potentials.size() + k));
           FlatEquation eq;
-          eq.residual = p.Var(f);
+          // f = 0 is an alias to a constant, unless the connector is conditional (an absent
+          // one's equation goes: ResolveConditionalConnectors).
+          if (deferred_ && !flat_.variables[f.value()].discrete && !conditional_slot_.count(s0)) {
+            p.Var(f);  // the leaf, in its place (MakeBelowRoot)
+            deferred_->AddZero(flat_.equations.size(), f);
+          } else {
+            eq.residual = p.Var(f);
+          }
           eq.origin = EquationOrigin::kUnconnectedFlow;
           eq.instance = InstanceId(slot_instance_[s0]);
           eq.text = {TextRef::kUnconnected, f.value(), 0};  // "<connector>.<flow> = 0 (unconnected)"
@@ -2489,14 +2708,30 @@ class Flattener {
       }
       auto add = [&](ExprId residual, TextRef text) {
         FlatEquation eq;
-        eq.residual = residual;
+        eq.residual = residual;  // invalid: deferred
         eq.origin = EquationOrigin::kConnection;
         eq.text = text;
         eq.loc = loc;
         flat_.equations.push_back(std::move(eq));
       };
       // "<a> = <b> (connection)": the connectors' variables are named <connector>.<potential>.
-      auto equal = [&](VarId a, VarId b) { add(p.Sub(p.Var(a), p.Var(b)), {TextRef::kEqual, a.value(), b.value()}); };
+      // Connection equations between two continuous variables are aliases: not made (deferred_).
+      auto continuous = [&](VarId a, VarId b) {
+        return a != b && !flat_.variables[a.value()].discrete && !flat_.variables[b.value()].discrete;
+      };
+      auto equal = [&](VarId a, VarId b) {
+        const TextRef text{TextRef::kEqual, a.value(), b.value()};
+        if (deferred_ && continuous(a, b)) {
+          // The leaves, in the order the expression below makes them (its arguments are
+          // evaluated right to left by the compilers momenta is built with).
+          p.Var(b);
+          p.Var(a);
+          deferred_->AddEqual(flat_.equations.size(), a, b);
+          add(ExprId(), text);
+        } else {
+          add(p.Sub(p.Var(a), p.Var(b)), text);
+        }
+      };
       if (c0.type->is_signal) {
         // Exactly one output drives the set; every input equals it.
         std::vector<uint32_t> outputs;
@@ -2526,7 +2761,13 @@ class Flattener {
       for (size_t k = 0; k < c0.type->flows.size(); ++k) {
         uint32_t local = static_cast<uint32_t>(c0.type->potentials.size() + k);
         ExprId sum = p.Var(var_of(s0, local));
-        for (size_t j = 1; j < set.size(); ++j) sum = p.Add(sum, p.Var(var_of(set[j], local)));
+        if (deferred_ && set.size() == 2 && continuous(var_of(s0, local), var_of(set[1], local))) {
+          p.Var(var_of(set[1], local));
+          deferred_->AddSum(flat_.equations.size(), var_of(s0, local), var_of(set[1], local));
+          sum = ExprId();
+        } else {
+          for (size_t j = 1; j < set.size(); ++j) sum = p.Add(sum, p.Var(var_of(set[j], local)));
+        }
         // "sum of <flow> over {<connectors>} = 0 (connection)", named from the flow variables.
         const TextRef text{TextRef::kFlowSum, static_cast<uint32_t>(flat_.connection_vars.size()),
                            static_cast<uint32_t>(set.size())};
@@ -2705,6 +2946,9 @@ class Flattener {
   std::unordered_map<const ComponentType*, std::unique_ptr<TypeLayout>> layouts_;
   std::unordered_map<const TypeLayout*, int32_t> names_of_;  ///< index in flat_.type_names
   std::vector<InstanceData> instance_data_;
+  std::shared_ptr<DeferredAliases> deferred_;  ///< with defer_equations
+  std::unordered_map<const Template*, SureAlias> sure_alias_;  ///< ReadSureAlias, by template
+  std::unordered_map<const TypeLayout*, std::vector<bool>> conditional_locals_;  ///< ConditionalLocals
   std::vector<uint32_t> slot_instance_;  ///< connector slot -> instance
   std::vector<uint32_t> parent_;         ///< union-find over connector slots
   /// The model's conditional connector slots -> their FlatSystem::conditional_connectors entry.
@@ -2723,10 +2967,11 @@ class Flattener {
 
 }  // namespace
 
-FlatSystem Flatten(const ModelSpec& spec, const Library& library, const ParameterOverrides& overrides) {
+FlatSystem Flatten(const ModelSpec& spec, const Library& library, const ParameterOverrides& overrides,
+                   bool defer_equations) {
   // Vectors and matrices become scalars first (core/arrays.h); a model without arrays is used as is.
   std::optional<ModelSpec> scalar = ScalarModel(spec, library);
-  return Flattener(scalar ? *scalar : spec, library, overrides).Run();
+  return Flattener(scalar ? *scalar : spec, library, overrides, defer_equations).Run();
 }
 
 namespace {

@@ -39,7 +39,7 @@ size_t FoldStructuralConditions(EquationSystem* sys, const std::vector<double>& 
   std::vector<uint32_t> structural;
   std::vector<uint8_t> visited(p.size(), 0);
   auto scan = [&](ExprId root) {
-    if (!(p.mask(root) & kHasParam)) return;
+    if (!root.valid() || !(p.mask(root) & kHasParam)) return;  // invalid: deferred (no if-expression)
     std::vector<uint32_t> stack{root.value()};
     while (!stack.empty()) {
       uint32_t id = stack.back();
@@ -67,7 +67,7 @@ size_t FoldStructuralConditions(EquationSystem* sys, const std::vector<double>& 
 
   // Rewrite (an if on a constant condition is its branch), dropping initial equations that are
   // now 0 = 0.
-  auto fold = [&](ExprId e) { return (p.mask(e) & kHasParam) ? ReplaceNodes(&p, e, fixed, kHasParam) : e; };
+  auto fold = [&](ExprId e) { return e.valid() && (p.mask(e) & kHasParam) ? ReplaceNodes(&p, e, fixed, kHasParam) : e; };
   for (auto& e : sys->equations) e.residual = fold(e.residual);
   std::vector<SystemEquation> initial;
   for (auto e : sys->initial) {
