@@ -8,7 +8,8 @@
 #include <atomic>
 #include <sstream>
 #include <unordered_map>
-#include <unordered_set>
+
+#include "core/yaml_fast.h"
 
 namespace momenta {
 
@@ -212,20 +213,36 @@ bool YamlDoc::RepeatsAKey(uint32_t map) const {
   };
   const uint32_t pairs = it.count / 2;
   std::string_view a, b;
-  // Small mappings (a component's few keys) pairwise, large ones (a model's components) by a table.
-  if (pairs <= 16) {
-    for (uint32_t i = 1; i < pairs; ++i) {
+  // This runs once per mapping and cost a third of reading the written-out chain: small mappings
+  // (a component's few keys) compare their scalar keys pairwise, gathered first into an array
+  // left uninitialised; large ones (a model's components) use an open-addressed table of key
+  // numbers (a node-based set cost a heap block per key).
+  constexpr uint32_t kPairwise = 16;
+  if (pairs <= kPairwise) {
+    const char* text[kPairwise];
+    uint32_t size[kPairwise];
+    uint32_t n = 0;
+    for (uint32_t i = 0; i < pairs; ++i) {
       if (!key(i, &a)) continue;
-      for (uint32_t j = 0; j < i; ++j) {
-        if (key(j, &b) && a == b) return true;
+      for (uint32_t j = 0; j < n; ++j) {
+        if (size[j] == a.size() && std::string_view(text[j], size[j]) == a) return true;
       }
+      text[n] = a.data();
+      size[n++] = static_cast<uint32_t>(a.size());
     }
     return false;
   }
-  std::unordered_set<std::string_view> seen;
-  seen.reserve(pairs);
+  size_t capacity = 1;
+  while (capacity < 2 * size_t{pairs}) capacity <<= 1;
+  constexpr uint32_t kEmpty = ~0u;
+  std::vector<uint32_t> slots(capacity, kEmpty);
   for (uint32_t i = 0; i < pairs; ++i) {
-    if (key(i, &a) && !seen.insert(a).second) return true;
+    if (!key(i, &a)) continue;
+    size_t h = std::hash<std::string_view>{}(a) & (capacity - 1);
+    for (; slots[h] != kEmpty; h = (h + 1) & (capacity - 1)) {
+      if (key(slots[h], &b) && a == b) return true;
+    }
+    slots[h] = i;
   }
   return false;
 }
@@ -413,6 +430,14 @@ void SetDefaultYamlReader(YamlReader reader) { g_default_reader = reader; }
 
 ParsedYaml ParseYamlDocument(const std::string& text, YamlReader reader) {
   if (reader == YamlReader::kAuto) reader = g_default_reader;
+  if (reader == YamlReader::kAuto || reader == YamlReader::kSubset) {
+    if (std::unique_ptr<YamlDoc> doc = ParseYamlSubset(text)) {
+      ParsedYaml out;
+      out.doc = std::move(doc);
+      out.documents = 1;
+      return out;
+    }
+  }
   // libyaml counts columns in characters and yaml-cpp in bytes: they agree on ASCII text only.
   const bool libyaml = reader == YamlReader::kLibyaml ||
                        (reader == YamlReader::kAuto && text.size() >= kLargeYamlBytes);

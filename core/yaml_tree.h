@@ -3,9 +3,11 @@
 /// parser's events, with the part of yaml-cpp's YAML::Node interface the loader uses (and the same
 /// answers and exceptions). yaml-cpp's own node tree costs a heap node, a shared pointer and a
 /// memory holder per value; for a model of 100 000 written-out components that tree took longer
-/// than everything else the loader does. Two parsers fill it (core/yaml_tree.cc): yaml-cpp's event
-/// parser, which defines the format, and, for large ASCII files, libyaml's (about 4× faster);
-/// whatever libyaml cannot read is read again with yaml-cpp, so errors are yaml-cpp's.
+/// than everything else the loader does. Three readers fill it: yaml-cpp's event parser, which
+/// defines the format; a reader of the subset of YAML that model files use (core/yaml_fast.h,
+/// several times faster than libyaml), which refuses everything else; and, for large ASCII files
+/// the subset reader refuses, libyaml's event parser (about 4× faster than yaml-cpp's). Whatever
+/// the faster readers refuse or cannot read is read again with yaml-cpp, so errors are yaml-cpp's.
 
 #include <yaml-cpp/mark.h>
 
@@ -171,9 +173,11 @@ std::string YamlNode::as<std::string>() const;
 
 /// Which parser reads the text (ParseYamlDocument).
 enum class YamlReader {
-  kAuto,     ///< libyaml for large ASCII texts (kLargeYamlBytes and up), yaml-cpp otherwise
+  kAuto,     ///< the subset reader (core/yaml_fast.h); what it refuses, libyaml for large ASCII
+             ///< texts (kLargeYamlBytes and up), yaml-cpp otherwise
   kYamlCpp,  ///< yaml-cpp's event parser, always
   kLibyaml,  ///< libyaml first, whatever the size (yaml-cpp again when libyaml finds an error)
+  kSubset,   ///< the subset reader first, yaml-cpp for what it refuses
 };
 
 /// From this size on, kAuto reads with libyaml.
