@@ -16,11 +16,14 @@ constexpr int kMaxDepth = 100;
 /// YAML limits an implicit key to 1024 characters; longer keys are left to yaml-cpp.
 constexpr size_t kMaxKeyLength = 1000;
 
-/// The bytes the reader accepts anywhere: printable ASCII, space and newline. A tab, a carriage
-/// return, a NUL, other control bytes and everything from 0x7F on are refused.
+/// The bytes the reader accepts in text: printable ASCII, space and newline, and bytes from 0x80
+/// on (yaml-cpp passes UTF-8 through as bytes and counts columns in bytes, as this reader does;
+/// it gives no meaning to NEL, LS, PS or a byte-order mark after the start). A tab, a carriage
+/// return, a NUL, other control bytes and DEL are refused.
 constexpr std::array<bool, 256> AcceptedBytes() {
   std::array<bool, 256> ok{};
   for (int c = 0x20; c < 0x7F; ++c) ok[c] = true;
+  for (int c = 0x80; c < 0x100; ++c) ok[c] = true;
   ok['\n'] = true;
   return ok;
 }
@@ -49,6 +52,9 @@ class SubsetReader {
         doc_(doc) {}
 
   void Document() {
+    // A text that starts with other than ASCII may be read by yaml-cpp as UTF-16 or UTF-32, or
+    // start with a byte-order mark, which is not part of the text.
+    if (static_cast<unsigned char>(*p_) >= 0x80) Refuse();
     SkipBlankLines();
     // An empty text, or one of comments only: yaml-cpp says what that is.
     if (indent_ < 0) Refuse();
@@ -146,8 +152,12 @@ class SubsetReader {
     if (AtSequenceEntry()) {
       BlockSequence(column);
     } else if (*p_ == '[' || *p_ == '{') {
-      FlowCollection();
+      FlowCollection(parent);
       NextLine();
+    } else if (*p_ == '|' || *p_ == '>') {
+      // A text at the root is left to yaml-cpp.
+      if (parent < 0) Refuse();
+      BlockText(parent);
     } else {
       const Scalar head = BlockScalar();
       if (AtMappingColon()) {
@@ -187,7 +197,7 @@ class SubsetReader {
           EmptyValue(indent);
         }
       } else {
-        InlineValue();
+        InlineValue(indent);
       }
       // A more indented line here would continue a plain scalar or be an error.
       if (indent_ > indent) Refuse();
@@ -199,11 +209,17 @@ class SubsetReader {
     doc_->Close();
   }
 
-  /// A value after `key: ` on the same line: a scalar or a flow collection, nothing more.
-  void InlineValue() {
+  /// A value after `key: ` on the same line, in a mapping at column `indent`: a scalar, a flow
+  /// collection or a block scalar.
+  void InlineValue(int indent) {
     if (++depth_ > kMaxDepth) Refuse();
+    if (*p_ == '|' || *p_ == '>') {
+      BlockText(indent);
+      --depth_;
+      return;
+    }
     if (*p_ == '[' || *p_ == '{') {
-      FlowCollection();
+      FlowCollection(indent);
     } else {
       // `key: - a` and `a: b: c` are errors.
       if (AtSequenceEntry()) Refuse();
@@ -245,6 +261,76 @@ class SubsetReader {
   }
 
   // ---- scalars ------------------------------------------------------------------------------
+
+  /// A literal (`|`) or folded (`>`) block scalar whose indicator is at p_, its lines more
+  /// indented than `parent`, all at one indentation. The header is `|`, `>`, `|-` or `>-` (the
+  /// text ends in one line break, or in none); more indented lines (kept as they are, not
+  /// folded), lines of spaces past the indentation, leading empty lines, an empty text and a
+  /// last line without a line break are refused. Returns at the next line with content.
+  void BlockText(int parent) {
+    Scalar s;
+    s.mark = Here();
+    s.plain = false;
+    const bool folded = *p_ == '>';
+    ++p_;
+    const bool strip = *p_ == '-';
+    if (strip) ++p_;
+    // The header ends its line.
+    const char* before = p_;
+    SkipSpaces();
+    if (*p_ == '#') {
+      if (p_ == before) Refuse();
+      SkipComment();
+    }
+    if (*p_ != '\n') Refuse();
+    scratch_.clear();
+    int indent = -1;  // the text's indentation, from its first line
+    int breaks = 0;   // line breaks after the last line of text, not yet written
+    for (;;) {
+      ++p_;
+      ++line_;
+      line_start_ = p_;
+      SkipSpaces();
+      const int spaces = Column();
+      if (*p_ == '\n') {
+        if (indent < 0 || spaces > indent) Refuse();
+        ++breaks;
+        continue;
+      }
+      // Spaces before the end of the text, without a line break, are left to yaml-cpp.
+      if (*p_ == '\0' && spaces > 0) Refuse();
+      if (*p_ == '\0' || *p_ == '#' || spaces < indent) break;
+      if (indent < 0) {
+        if (spaces <= parent) Refuse();
+        indent = spaces;
+      } else if (spaces > indent) {
+        Refuse();
+      }
+      // Between two lines of text: a literal keeps the line breaks; a folded text turns a
+      // single one into a space and keeps all but one of several.
+      if (breaks == 1 && folded) {
+        scratch_ += ' ';
+      } else if (breaks > 0) {
+        scratch_.append(static_cast<size_t>(folded ? breaks - 1 : breaks), '\n');
+      }
+      const char* text = p_;
+      while (*p_ != '\n') {
+        if (!kAccepted[static_cast<unsigned char>(*p_)]) Refuse();
+        ++p_;
+      }
+      scratch_.append(text, p_);
+      breaks = 1;
+    }
+    // A '#' line as indented as the text is text; one before the text, or an empty text, is left
+    // to yaml-cpp.
+    if (indent < 0 || (*p_ == '#' && Column() >= indent)) Refuse();
+    if (!strip) scratch_ += '\n';
+    s.text = scratch_;
+    Emit(s);
+    // p_ is past the indentation of the line after the text (or at the end).
+    p_ = line_start_;
+    SkipBlankLines();
+  }
 
   /// A scalar in block context: quoted, or plain up to ': ', ' #' or the end of the line.
   Scalar BlockScalar() {
@@ -303,6 +389,7 @@ class SubsetReader {
         ++p_;
         continue;
       }
+      if (c == '\n' && EntryEndsOnNextLine()) break;
       if (c == '[' || c == '{' || c == ':' || c == '#' || c == '?' || c == '\n' ||
           !kAccepted[static_cast<unsigned char>(c)]) {
         Refuse();
@@ -311,6 +398,14 @@ class SubsetReader {
     }
     s.text = std::string_view(start, static_cast<size_t>(last - start));
     return s;
+  }
+
+  /// At the line break after a plain scalar in a flow collection: whether the next line starts
+  /// with the ',', ']' or '}' after it (any other text would continue the scalar).
+  bool EntryEndsOnNextLine() const {
+    const char* q = p_ + 1;
+    while (*q == ' ') ++q;
+    return *q == ',' || *q == ']' || *q == '}';
   }
 
   /// A single- or double-quoted scalar that ends on its line.
@@ -382,7 +477,10 @@ class SubsetReader {
 
   // ---- flow collections ---------------------------------------------------------------------
 
-  void FlowCollection() {
+  /// A flow collection in a block node more indented than `parent`: its lines after the first
+  /// must be more indented than that too.
+  void FlowCollection(int parent) {
+    flow_parent_ = parent;
     if (*p_ == '[') {
       FlowSequence();
     } else {
@@ -392,38 +490,40 @@ class SubsetReader {
 
   void FlowNode() {
     if (++depth_ > kMaxDepth) Refuse();
-    if (*p_ == '[' || *p_ == '{') {
-      FlowCollection();
+    if (*p_ == '[') {
+      FlowSequence();
+    } else if (*p_ == '{') {
+      FlowMapping();
     } else {
       Emit(FlowScalar());
     }
     --depth_;
   }
 
-  /// `[a, b, ...]` on one line; a trailing comma, an empty entry or a pair (`[a: b]`) is refused.
+  /// `[a, b, ...]`; a trailing comma, an empty entry or a pair (`[a: b]`) is refused.
   void FlowSequence() {
     doc_->Open(YamlDoc::Kind::kSequence, Here(), YamlDoc::kUntagged);
     ++p_;
-    SkipSpaces();
+    FlowSpace();
     if (*p_ != ']') {
       for (;;) {
         FlowNode();
-        SkipSpaces();
+        FlowSpace();
         if (*p_ == ']') break;
         if (*p_ != ',') Refuse();
         ++p_;
-        SkipSpaces();
+        FlowSpace();
       }
     }
     ++p_;
     doc_->Close();
   }
 
-  /// `{k: v, ...}` on one line; keys are scalars, every key has a value after ': '.
+  /// `{k: v, ...}`; keys are scalars, every key has a value after ': ' on its line.
   void FlowMapping() {
     doc_->Open(YamlDoc::Kind::kMap, Here(), YamlDoc::kUntagged);
     ++p_;
-    SkipSpaces();
+    FlowSpace();
     if (*p_ != '}') {
       for (;;) {
         const Scalar key = FlowScalar();
@@ -434,15 +534,33 @@ class SubsetReader {
         ++p_;
         SkipSpaces();
         FlowNode();
-        SkipSpaces();
+        FlowSpace();
         if (*p_ == '}') break;
         if (*p_ != ',') Refuse();
         ++p_;
-        SkipSpaces();
+        FlowSpace();
       }
     }
     ++p_;
     doc_->Close();
+  }
+
+  /// Between the entries of a flow collection: spaces, and comments and line breaks when the
+  /// next line is more indented than the block the collection is in (and than column 0).
+  void FlowSpace() {
+    for (;;) {
+      SkipSpaces();
+      if (*p_ == '#') {
+        if (p_ != line_start_ && p_[-1] != ' ') Refuse();
+        SkipComment();
+      }
+      if (*p_ != '\n') return;
+      ++p_;
+      ++line_;
+      line_start_ = p_;
+      SkipSpaces();
+      if (*p_ != '\n' && *p_ != '#' && (Column() <= flow_parent_ || Column() == 0)) Refuse();
+    }
   }
 
   // ---- output -------------------------------------------------------------------------------
@@ -465,6 +583,8 @@ class SubsetReader {
   /// The indentation of the line p_ is on after SkipBlankLines; -1 at the end of the text.
   int indent_ = -1;
   int depth_ = 0;
+  /// The indentation of the block node the current flow collection is in.
+  int flow_parent_ = -1;
   YamlDoc* doc_;
   std::string scratch_;
 };
