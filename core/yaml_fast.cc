@@ -74,7 +74,6 @@ class SubsetReader {
     return m;
   }
   int Column() const { return static_cast<int>(p_ - line_start_); }
-  bool AtEnd() const { return *p_ == '\0' && p_ == end_; }
   bool AtLineEnd() const {
     if (*p_ == '\n') return true;
     if (*p_ == '\0') {
