@@ -180,7 +180,7 @@ enum class YamlReader {
   kSubset,   ///< the subset reader first, yaml-cpp for what it refuses
 };
 
-/// From this size on, kAuto reads with libyaml.
+/// From this size on, kAuto reads with libyaml what the subset reader refuses.
 constexpr size_t kLargeYamlBytes = size_t{256} << 10;
 
 /// The first document of `text` as a YamlDoc (`documents` receives 0, 1 or 2: how many documents
