@@ -35,8 +35,9 @@ bool IsNullText(std::string_view s) {
   return s.empty() || s == "~" || s == "null" || s == "Null" || s == "NULL";
 }
 
-/// A scalar as read: where it starts, its text (a view of the input or of the reader's scratch
-/// buffer, valid until the next quoted scalar) and whether it was plain.
+/// A scalar as read: where it starts, its text (a view of the input, or of the reader's scratch
+/// buffer for a scalar with escapes or folded lines, valid until the next such scalar) and whether
+/// it was plain.
 struct Scalar {
   YAML::Mark mark;
   std::string_view text;
