@@ -15,51 +15,9 @@ namespace momenta {
 
 // ---- YamlNode: yaml-cpp's answers, on the flat document ------------------------------------
 
-void YamlNode::CheckValid() const {
-  if (!IsDefined()) {
-    throw YAML::InvalidNode(doc_ && missing_key_ != kNoKey ? doc_->missing_keys_[missing_key_]
-                                                           : std::string());
-  }
-}
-
-bool YamlNode::IsNull() const {
-  CheckValid();
-  return doc_->item(id_).kind == YamlDoc::Kind::kNull;
-}
-bool YamlNode::IsScalar() const {
-  CheckValid();
-  return doc_->item(id_).kind == YamlDoc::Kind::kScalar;
-}
-bool YamlNode::IsSequence() const {
-  CheckValid();
-  return doc_->item(id_).kind == YamlDoc::Kind::kSequence;
-}
-bool YamlNode::IsMap() const {
-  CheckValid();
-  return doc_->item(id_).kind == YamlDoc::Kind::kMap;
-}
-
-std::string_view YamlNode::Scalar() const {
-  CheckValid();
-  return IsScalar() ? doc_->scalar(id_) : std::string_view();
-}
-
-const std::string& YamlNode::Tag() const {
-  CheckValid();
-  return doc_->tag(id_);
-}
-
-YAML::Mark YamlNode::Mark() const {
-  CheckValid();
-  return doc_->item(id_).mark;
-}
-
-size_t YamlNode::size() const {
-  CheckValid();
-  const YamlDoc::Item& it = doc_->item(id_);
-  if (it.kind == YamlDoc::Kind::kSequence) return it.count;
-  if (it.kind == YamlDoc::Kind::kMap) return it.count / 2;
-  return 0;
+void YamlNode::ThrowInvalid() const {
+  throw YAML::InvalidNode(doc_ && missing_key_ != kNoKey ? doc_->missing_keys_[missing_key_]
+                                                         : std::string());
 }
 
 YamlNode YamlNode::operator[](std::string_view key) const {
@@ -92,25 +50,6 @@ std::string YamlNode::as<std::string>() const {
   if (IsNull()) return "null";
   if (!IsScalar()) throw YAML::TypedBadConversion<std::string>(Mark());
   return std::string(Scalar());
-}
-
-YamlNode::Iterator YamlNode::begin() const { return Iterator(*this, 0); }
-
-YamlNode::Iterator YamlNode::end() const {
-  // Like yaml-cpp, an invalid node iterates as empty.
-  return Iterator(*this, IsDefined() ? size() : 0);
-}
-
-YamlNode::Entry YamlNode::Iterator::operator*() const {
-  Entry e;
-  const YamlDoc* doc = owner_.doc_;
-  if (doc->item(owner_.id_).kind == YamlDoc::Kind::kMap) {
-    e.first = YamlNode(doc, doc->child(owner_.id_, 2 * k_));
-    e.second = YamlNode(doc, doc->child(owner_.id_, 2 * k_ + 1));
-  } else {
-    static_cast<YamlNode&>(e) = YamlNode(doc, doc->child(owner_.id_, k_));
-  }
-  return e;
 }
 
 // ---- YamlDoc: building ----------------------------------------------------------------------
