@@ -29,6 +29,21 @@ constexpr std::array<bool, 256> AcceptedBytes() {
 }
 constexpr std::array<bool, 256> kAccepted = AcceptedBytes();
 
+/// Accepted bytes that simply continue a plain scalar, except `special`: the scanning loops
+/// skip runs of them with one table look-up per byte.
+constexpr std::array<bool, 256> OrdinaryBytes(std::string_view special) {
+  std::array<bool, 256> ok = AcceptedBytes();
+  ok[' '] = ok['\n'] = false;
+  for (char c : special) ok[static_cast<unsigned char>(c)] = false;
+  return ok;
+}
+constexpr std::array<bool, 256> kOrdinaryInBlock = OrdinaryBytes(":");
+constexpr std::array<bool, 256> kOrdinaryInFlow = OrdinaryBytes(",[]{}:#?");
+
+bool IsOrdinary(const std::array<bool, 256>& table, char c) {
+  return table[static_cast<unsigned char>(c)];
+}
+
 bool IsBlankOrEnd(char c) { return c == ' ' || c == '\n' || c == '\0'; }
 
 bool IsNullText(std::string_view s) {
@@ -341,17 +356,21 @@ class SubsetReader {
     const char* start = p_;
     const char* last = p_;  // one past the last character that is not a space
     for (;;) {
+      const char* run = p_;
+      while (IsOrdinary(kOrdinaryInBlock, *p_)) ++p_;
+      if (p_ != run) last = p_;
       const char c = *p_;
-      if (c == ':' && IsBlankOrEnd(p_[1])) break;
-      if (c == ' ') {
+      if (c == ':') {
+        if (IsBlankOrEnd(p_[1])) break;
+        last = ++p_;
+      } else if (c == ' ') {
         if (p_[1] == '#') break;
+        ++p_;
       } else if (c == '\n' || c == '\0') {
         break;
       } else {
-        if (!kAccepted[static_cast<unsigned char>(c)]) Refuse();
-        last = p_ + 1;
+        Refuse();
       }
-      ++p_;
     }
     s.text = std::string_view(start, static_cast<size_t>(last - start));
     return s;
@@ -383,18 +402,19 @@ class SubsetReader {
     const char* start = p_;
     const char* last = p_;
     for (;;) {
+      const char* run = p_;
+      while (IsOrdinary(kOrdinaryInFlow, *p_)) ++p_;
+      if (p_ != run) last = p_;
       const char c = *p_;
       if (c == ',' || c == ']' || c == '}' || (c == ':' && p_[1] == ' ')) break;
       if (c == ' ') {
         ++p_;
-        continue;
-      }
-      if (c == '\n' && EntryEndsOnNextLine()) break;
-      if (c == '[' || c == '{' || c == ':' || c == '#' || c == '?' || c == '\n' ||
-          !kAccepted[static_cast<unsigned char>(c)]) {
+      } else if (c == '\n' && EntryEndsOnNextLine()) {
+        break;
+      } else {
+        // '[', '{', '#', '?', ':' inside, a line break that continues the scalar, a control byte.
         Refuse();
       }
-      last = ++p_;
     }
     s.text = std::string_view(start, static_cast<size_t>(last - start));
     return s;

@@ -84,36 +84,9 @@ uint32_t YamlDoc::TagIndex(std::string_view tag) {
   return static_cast<uint32_t>(tags_.size() - 1);
 }
 
-void YamlDoc::Attach(uint32_t id) {
-  if (!open_.empty()) pending_.push_back(id);
-}
-
 uint32_t YamlDoc::AddScalar(const YAML::Mark& mark, const std::string& tag,
                             std::string_view value) {
   return AddScalar(mark, TagIndex(tag), value);
-}
-
-uint32_t YamlDoc::AddScalar(const YAML::Mark& mark, uint32_t tag, std::string_view value) {
-  Item it;
-  it.kind = Kind::kScalar;
-  it.tag = tag;
-  it.first = static_cast<uint32_t>(texts_.size());
-  it.count = static_cast<uint32_t>(value.size());
-  it.mark = mark;
-  texts_.append(value);
-  const auto id = static_cast<uint32_t>(items_.size());
-  items_.push_back(it);
-  Attach(id);
-  return id;
-}
-
-uint32_t YamlDoc::AddNull(const YAML::Mark& mark) {
-  Item it;
-  it.mark = mark;
-  const auto id = static_cast<uint32_t>(items_.size());
-  items_.push_back(it);
-  Attach(id);
-  return id;
 }
 
 uint32_t YamlDoc::Open(Kind kind, const YAML::Mark& mark, const std::string& tag) {
@@ -125,9 +98,7 @@ uint32_t YamlDoc::Open(Kind kind, const YAML::Mark& mark, uint32_t tag) {
   it.kind = kind;
   it.tag = tag;
   it.mark = mark;
-  const auto id = static_cast<uint32_t>(items_.size());
-  items_.push_back(it);
-  Attach(id);
+  const uint32_t id = Add(it);
   open_.emplace_back(id, pending_.size());
   return id;
 }

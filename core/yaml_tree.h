@@ -141,8 +141,21 @@ class YamlDoc {
   /// is open and stored together when it closes.
   uint32_t AddScalar(const YAML::Mark& mark, const std::string& tag, std::string_view value);
   /// The same with the tag as an index (kUntagged, kNonSpecific or a TagIndex).
-  uint32_t AddScalar(const YAML::Mark& mark, uint32_t tag, std::string_view value);
-  uint32_t AddNull(const YAML::Mark& mark);
+  uint32_t AddScalar(const YAML::Mark& mark, uint32_t tag, std::string_view value) {
+    Item it;
+    it.kind = Kind::kScalar;
+    it.tag = tag;
+    it.first = static_cast<uint32_t>(texts_.size());
+    it.count = static_cast<uint32_t>(value.size());
+    it.mark = mark;
+    texts_.append(value);
+    return Add(it);
+  }
+  uint32_t AddNull(const YAML::Mark& mark) {
+    Item it;
+    it.mark = mark;
+    return Add(it);
+  }
   uint32_t Open(Kind kind, const YAML::Mark& mark, const std::string& tag);
   uint32_t Open(Kind kind, const YAML::Mark& mark, uint32_t tag);
   /// The index of a tag: kUntagged for "?" (and ""), kNonSpecific for "!".
@@ -153,7 +166,15 @@ class YamlDoc {
   void AddAlias(uint32_t id) { Attach(id); }
 
  private:
-  void Attach(uint32_t id);
+  void Attach(uint32_t id) {
+    if (!open_.empty()) pending_.push_back(id);
+  }
+  uint32_t Add(const Item& it) {
+    const auto id = static_cast<uint32_t>(items_.size());
+    items_.push_back(it);
+    Attach(id);
+    return id;
+  }
   bool RepeatsAKey(uint32_t map) const;
   YamlNode Zombie(std::string_view key) const;
   friend class YamlNode;
