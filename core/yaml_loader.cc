@@ -920,9 +920,9 @@ void CheckDuplicateKeys(const YamlDoc& doc, const std::string& file, const std::
   }
 }
 
-/// Reads the single YAML document of a file (core/yaml_tree.h: yaml-cpp's event parser, or
-/// libyaml's for a large file). An empty file, a second document (`---`), YAML nested deeper than
-/// yaml-cpp reads, and a key given twice in one mapping are errors.
+/// Reads the single YAML document of a file (core/yaml_tree.h: the subset reader, else libyaml's
+/// event parser for a large file, else yaml-cpp's). An empty file, a second document (`---`), YAML
+/// nested deeper than yaml-cpp reads, and a key given twice in one mapping are errors.
 std::unique_ptr<YamlDoc> ParseYaml(const std::string& text, const std::string& file, const std::string& what) {
   ParsedYaml parsed;
   try {

@@ -8,57 +8,16 @@
 #include <atomic>
 #include <sstream>
 #include <unordered_map>
-#include <unordered_set>
+
+#include "core/yaml_fast.h"
 
 namespace momenta {
 
 // ---- YamlNode: yaml-cpp's answers, on the flat document ------------------------------------
 
-void YamlNode::CheckValid() const {
-  if (!IsDefined()) {
-    throw YAML::InvalidNode(doc_ && missing_key_ != kNoKey ? doc_->missing_keys_[missing_key_]
-                                                           : std::string());
-  }
-}
-
-bool YamlNode::IsNull() const {
-  CheckValid();
-  return doc_->item(id_).kind == YamlDoc::Kind::kNull;
-}
-bool YamlNode::IsScalar() const {
-  CheckValid();
-  return doc_->item(id_).kind == YamlDoc::Kind::kScalar;
-}
-bool YamlNode::IsSequence() const {
-  CheckValid();
-  return doc_->item(id_).kind == YamlDoc::Kind::kSequence;
-}
-bool YamlNode::IsMap() const {
-  CheckValid();
-  return doc_->item(id_).kind == YamlDoc::Kind::kMap;
-}
-
-std::string_view YamlNode::Scalar() const {
-  CheckValid();
-  return IsScalar() ? doc_->scalar(id_) : std::string_view();
-}
-
-const std::string& YamlNode::Tag() const {
-  CheckValid();
-  return doc_->tag(id_);
-}
-
-YAML::Mark YamlNode::Mark() const {
-  CheckValid();
-  return doc_->item(id_).mark;
-}
-
-size_t YamlNode::size() const {
-  CheckValid();
-  const YamlDoc::Item& it = doc_->item(id_);
-  if (it.kind == YamlDoc::Kind::kSequence) return it.count;
-  if (it.kind == YamlDoc::Kind::kMap) return it.count / 2;
-  return 0;
+void YamlNode::ThrowInvalid() const {
+  throw YAML::InvalidNode(doc_ && missing_key_ != kNoKey ? doc_->missing_keys_[missing_key_]
+                                                         : std::string());
 }
 
 YamlNode YamlNode::operator[](std::string_view key) const {
@@ -93,25 +52,6 @@ std::string YamlNode::as<std::string>() const {
   return std::string(Scalar());
 }
 
-YamlNode::Iterator YamlNode::begin() const { return Iterator(*this, 0); }
-
-YamlNode::Iterator YamlNode::end() const {
-  // Like yaml-cpp, an invalid node iterates as empty.
-  return Iterator(*this, IsDefined() ? size() : 0);
-}
-
-YamlNode::Entry YamlNode::Iterator::operator*() const {
-  Entry e;
-  const YamlDoc* doc = owner_.doc_;
-  if (doc->item(owner_.id_).kind == YamlDoc::Kind::kMap) {
-    e.first = YamlNode(doc, doc->child(owner_.id_, 2 * k_));
-    e.second = YamlNode(doc, doc->child(owner_.id_, 2 * k_ + 1));
-  } else {
-    static_cast<YamlNode&>(e) = YamlNode(doc, doc->child(owner_.id_, k_));
-  }
-  return e;
-}
-
 // ---- YamlDoc: building ----------------------------------------------------------------------
 
 YamlDoc::YamlDoc() : tags_{"?", "!"} {}
@@ -144,36 +84,9 @@ uint32_t YamlDoc::TagIndex(std::string_view tag) {
   return static_cast<uint32_t>(tags_.size() - 1);
 }
 
-void YamlDoc::Attach(uint32_t id) {
-  if (!open_.empty()) pending_.push_back(id);
-}
-
 uint32_t YamlDoc::AddScalar(const YAML::Mark& mark, const std::string& tag,
                             std::string_view value) {
   return AddScalar(mark, TagIndex(tag), value);
-}
-
-uint32_t YamlDoc::AddScalar(const YAML::Mark& mark, uint32_t tag, std::string_view value) {
-  Item it;
-  it.kind = Kind::kScalar;
-  it.tag = tag;
-  it.first = static_cast<uint32_t>(texts_.size());
-  it.count = static_cast<uint32_t>(value.size());
-  it.mark = mark;
-  texts_.append(value);
-  const auto id = static_cast<uint32_t>(items_.size());
-  items_.push_back(it);
-  Attach(id);
-  return id;
-}
-
-uint32_t YamlDoc::AddNull(const YAML::Mark& mark) {
-  Item it;
-  it.mark = mark;
-  const auto id = static_cast<uint32_t>(items_.size());
-  items_.push_back(it);
-  Attach(id);
-  return id;
 }
 
 uint32_t YamlDoc::Open(Kind kind, const YAML::Mark& mark, const std::string& tag) {
@@ -185,9 +98,7 @@ uint32_t YamlDoc::Open(Kind kind, const YAML::Mark& mark, uint32_t tag) {
   it.kind = kind;
   it.tag = tag;
   it.mark = mark;
-  const auto id = static_cast<uint32_t>(items_.size());
-  items_.push_back(it);
-  Attach(id);
+  const uint32_t id = Add(it);
   open_.emplace_back(id, pending_.size());
   return id;
 }
@@ -212,20 +123,36 @@ bool YamlDoc::RepeatsAKey(uint32_t map) const {
   };
   const uint32_t pairs = it.count / 2;
   std::string_view a, b;
-  // Small mappings (a component's few keys) pairwise, large ones (a model's components) by a table.
-  if (pairs <= 16) {
-    for (uint32_t i = 1; i < pairs; ++i) {
+  // This runs once per mapping and cost a third of reading the written-out chain: small mappings
+  // (a component's few keys) compare their scalar keys pairwise, gathered first into an array
+  // left uninitialised; large ones (a model's components) use an open-addressed table of key
+  // numbers (a node-based set cost a heap block per key).
+  constexpr uint32_t kPairwise = 16;
+  if (pairs <= kPairwise) {
+    const char* text[kPairwise];
+    uint32_t size[kPairwise];
+    uint32_t n = 0;
+    for (uint32_t i = 0; i < pairs; ++i) {
       if (!key(i, &a)) continue;
-      for (uint32_t j = 0; j < i; ++j) {
-        if (key(j, &b) && a == b) return true;
+      for (uint32_t j = 0; j < n; ++j) {
+        if (size[j] == a.size() && std::string_view(text[j], size[j]) == a) return true;
       }
+      text[n] = a.data();
+      size[n++] = static_cast<uint32_t>(a.size());
     }
     return false;
   }
-  std::unordered_set<std::string_view> seen;
-  seen.reserve(pairs);
+  size_t capacity = 1;
+  while (capacity < 2 * size_t{pairs}) capacity <<= 1;
+  constexpr uint32_t kEmpty = ~0u;
+  std::vector<uint32_t> slots(capacity, kEmpty);
   for (uint32_t i = 0; i < pairs; ++i) {
-    if (key(i, &a) && !seen.insert(a).second) return true;
+    if (!key(i, &a)) continue;
+    size_t h = std::hash<std::string_view>{}(a) & (capacity - 1);
+    for (; slots[h] != kEmpty; h = (h + 1) & (capacity - 1)) {
+      if (key(slots[h], &b) && a == b) return true;
+    }
+    slots[h] = i;
   }
   return false;
 }
@@ -413,6 +340,14 @@ void SetDefaultYamlReader(YamlReader reader) { g_default_reader = reader; }
 
 ParsedYaml ParseYamlDocument(const std::string& text, YamlReader reader) {
   if (reader == YamlReader::kAuto) reader = g_default_reader;
+  if (reader == YamlReader::kAuto || reader == YamlReader::kSubset) {
+    if (std::unique_ptr<YamlDoc> doc = ParseYamlSubset(text)) {
+      ParsedYaml out;
+      out.doc = std::move(doc);
+      out.documents = 1;
+      return out;
+    }
+  }
   // libyaml counts columns in characters and yaml-cpp in bytes: they agree on ASCII text only.
   const bool libyaml = reader == YamlReader::kLibyaml ||
                        (reader == YamlReader::kAuto && text.size() >= kLargeYamlBytes);

@@ -3,9 +3,11 @@
 /// parser's events, with the part of yaml-cpp's YAML::Node interface the loader uses (and the same
 /// answers and exceptions). yaml-cpp's own node tree costs a heap node, a shared pointer and a
 /// memory holder per value; for a model of 100 000 written-out components that tree took longer
-/// than everything else the loader does. Two parsers fill it (core/yaml_tree.cc): yaml-cpp's event
-/// parser, which defines the format, and, for large ASCII files, libyaml's (about 4× faster);
-/// whatever libyaml cannot read is read again with yaml-cpp, so errors are yaml-cpp's.
+/// than everything else the loader does. Three readers fill it: yaml-cpp's event parser, which
+/// defines the format; a reader of the subset of YAML that model files use (core/yaml_fast.h,
+/// several times faster than libyaml), which refuses everything else; and, for large ASCII files
+/// the subset reader refuses, libyaml's event parser (about 4× faster than yaml-cpp's). Whatever
+/// the faster readers refuse or cannot read is read again with yaml-cpp, so errors are yaml-cpp's.
 
 #include <yaml-cpp/mark.h>
 
@@ -65,7 +67,10 @@ class YamlNode {
   static constexpr uint32_t kZombie = ~0u;
   YamlNode(const YamlDoc* doc, uint32_t id, uint32_t missing_key)
       : doc_(doc), id_(id), missing_key_(missing_key) {}
-  void CheckValid() const;
+  void CheckValid() const {
+    if (!IsDefined()) ThrowInvalid();
+  }
+  [[noreturn]] void ThrowInvalid() const;
 
   const YamlDoc* doc_ = nullptr;
   uint32_t id_ = kZombie;
@@ -136,8 +141,21 @@ class YamlDoc {
   /// is open and stored together when it closes.
   uint32_t AddScalar(const YAML::Mark& mark, const std::string& tag, std::string_view value);
   /// The same with the tag as an index (kUntagged, kNonSpecific or a TagIndex).
-  uint32_t AddScalar(const YAML::Mark& mark, uint32_t tag, std::string_view value);
-  uint32_t AddNull(const YAML::Mark& mark);
+  uint32_t AddScalar(const YAML::Mark& mark, uint32_t tag, std::string_view value) {
+    Item it;
+    it.kind = Kind::kScalar;
+    it.tag = tag;
+    it.first = static_cast<uint32_t>(texts_.size());
+    it.count = static_cast<uint32_t>(value.size());
+    it.mark = mark;
+    texts_.append(value);
+    return Add(it);
+  }
+  uint32_t AddNull(const YAML::Mark& mark) {
+    Item it;
+    it.mark = mark;
+    return Add(it);
+  }
   uint32_t Open(Kind kind, const YAML::Mark& mark, const std::string& tag);
   uint32_t Open(Kind kind, const YAML::Mark& mark, uint32_t tag);
   /// The index of a tag: kUntagged for "?" (and ""), kNonSpecific for "!".
@@ -148,7 +166,15 @@ class YamlDoc {
   void AddAlias(uint32_t id) { Attach(id); }
 
  private:
-  void Attach(uint32_t id);
+  void Attach(uint32_t id) {
+    if (!open_.empty()) pending_.push_back(id);
+  }
+  uint32_t Add(const Item& it) {
+    const auto id = static_cast<uint32_t>(items_.size());
+    items_.push_back(it);
+    Attach(id);
+    return id;
+  }
   bool RepeatsAKey(uint32_t map) const;
   YamlNode Zombie(std::string_view key) const;
   friend class YamlNode;
@@ -166,17 +192,73 @@ class YamlDoc {
   bool repeated_key_ = false;
 };
 
+// The accessors the loader calls for every node, inline (a call each cost a tenth of walking the
+// written-out chain).
+inline bool YamlNode::IsNull() const {
+  CheckValid();
+  return doc_->item(id_).kind == YamlDoc::Kind::kNull;
+}
+inline bool YamlNode::IsScalar() const {
+  CheckValid();
+  return doc_->item(id_).kind == YamlDoc::Kind::kScalar;
+}
+inline bool YamlNode::IsSequence() const {
+  CheckValid();
+  return doc_->item(id_).kind == YamlDoc::Kind::kSequence;
+}
+inline bool YamlNode::IsMap() const {
+  CheckValid();
+  return doc_->item(id_).kind == YamlDoc::Kind::kMap;
+}
+inline std::string_view YamlNode::Scalar() const {
+  CheckValid();
+  return doc_->item(id_).kind == YamlDoc::Kind::kScalar ? doc_->scalar(id_) : std::string_view();
+}
+inline const std::string& YamlNode::Tag() const {
+  CheckValid();
+  return doc_->tag(id_);
+}
+inline YAML::Mark YamlNode::Mark() const {
+  CheckValid();
+  return doc_->item(id_).mark;
+}
+inline size_t YamlNode::size() const {
+  CheckValid();
+  const YamlDoc::Item& it = doc_->item(id_);
+  if (it.kind == YamlDoc::Kind::kSequence) return it.count;
+  if (it.kind == YamlDoc::Kind::kMap) return it.count / 2;
+  return 0;
+}
+inline YamlNode::Iterator YamlNode::begin() const { return Iterator(*this, 0); }
+inline YamlNode::Iterator YamlNode::end() const {
+  // Like yaml-cpp, an invalid node iterates as empty.
+  return Iterator(*this, IsDefined() ? size() : 0);
+}
+inline YamlNode::Entry YamlNode::Iterator::operator*() const {
+  Entry e;
+  const YamlDoc* doc = owner_.doc_;
+  if (doc->item(owner_.id_).kind == YamlDoc::Kind::kMap) {
+    e.first = YamlNode(doc, doc->child(owner_.id_, 2 * k_));
+    e.second = YamlNode(doc, doc->child(owner_.id_, 2 * k_ + 1));
+  } else {
+    static_cast<YamlNode&>(e) = YamlNode(doc, doc->child(owner_.id_, k_));
+  }
+  return e;
+}
+
 template <>
 std::string YamlNode::as<std::string>() const;
 
 /// Which parser reads the text (ParseYamlDocument).
 enum class YamlReader {
-  kAuto,     ///< libyaml for large ASCII texts (kLargeYamlBytes and up), yaml-cpp otherwise
+  kAuto,     ///< the subset reader (core/yaml_fast.h); what it refuses, libyaml for large ASCII
+             ///< texts (kLargeYamlBytes and up), yaml-cpp otherwise
   kYamlCpp,  ///< yaml-cpp's event parser, always
   kLibyaml,  ///< libyaml first, whatever the size (yaml-cpp again when libyaml finds an error)
+  kSubset,   ///< the subset reader first, yaml-cpp for what it refuses
 };
 
-/// From this size on, kAuto reads with libyaml.
+/// From this size on, kAuto reads with libyaml what the subset reader refuses.
 constexpr size_t kLargeYamlBytes = size_t{256} << 10;
 
 /// The first document of `text` as a YamlDoc (`documents` receives 0, 1 or 2: how many documents

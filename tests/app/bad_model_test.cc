@@ -403,9 +403,9 @@ TEST_P(BadModelTest, BuildErrorNamesTheProblem) {
   }
 }
 
-// The reader of large files (libyaml, core/yaml_tree.h) gives the same message, at the same place,
-// as yaml-cpp's.
-TEST_P(BadModelTest, LibyamlReaderGivesTheSameMessage) {
+// The faster readers (the subset reader and libyaml, core/yaml_tree.h) give the same message, at
+// the same place, as yaml-cpp's.
+TEST_P(BadModelTest, FasterReadersGiveTheSameMessage) {
   const BadModel& c = GetParam();
   ParameterOverrides overrides;
   if (!c.params.empty()) overrides = ParseOverrides(c.params);
@@ -413,8 +413,11 @@ TEST_P(BadModelTest, LibyamlReaderGivesTheSameMessage) {
   const std::string by_yaml_cpp = testing::BuildError(c.yaml, overrides);
   SetDefaultYamlReader(YamlReader::kLibyaml);
   const std::string by_libyaml = testing::BuildError(c.yaml, overrides);
+  SetDefaultYamlReader(YamlReader::kSubset);
+  const std::string by_subset = testing::BuildError(c.yaml, overrides);
   SetDefaultYamlReader(YamlReader::kAuto);
   EXPECT_EQ(by_libyaml, by_yaml_cpp) << c.name;
+  EXPECT_EQ(by_subset, by_yaml_cpp) << c.name;
 }
 
 TEST_P(BadModelTest, CliExitsWithOneAndPrintsTheMessage) {

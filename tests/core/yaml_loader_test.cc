@@ -275,6 +275,7 @@ TEST(YamlLoaderTest, ErrorInAModifierOfTheHundredthComponentNamesFileLineAndComp
   };
   for (const auto& [entry, message] : cases) {
     const std::string yaml = ChainWithEntry(entry);
+    EXPECT_EQ(LoadErrorWith(yaml, YamlReader::kSubset), message) << entry;
     EXPECT_EQ(LoadErrorWith(yaml, YamlReader::kLibyaml), message) << entry;
     EXPECT_EQ(LoadErrorWith(yaml, YamlReader::kYamlCpp), message) << entry;
   }
