@@ -95,6 +95,10 @@ EquationSystem EliminateAliases(EquationSystem sys, AliasStats* stats, const Def
   ExprPool& p = *sys.pool;
   const FlatSystem& flat = *sys.flat;
   const size_t n = flat.variables.size();
+  for (const SystemEquation& eq : sys.equations) {
+    MOMENTA_CHECK_MSG(eq.residual.valid() || deferred != nullptr,
+                      "a flat system with deferred equations goes with its DeferredEquations");
+  }
   std::vector<bool> diff = DifferentiatedVariables(sys);  // deferred equations hold no der()
   AliasForest forest(&p, n);
 
@@ -111,7 +115,6 @@ EquationSystem EliminateAliases(EquationSystem sys, AliasStats* stats, const Def
   // An equation is an alias once its terms, resolved through the forest, leave at most two roots
   // with coefficients of equal size. Resolving can turn a longer equation into one (a term whose
   // root became constant drops out), so the scan repeats until a pass finds nothing.
-  constexpr size_t kMaxTerms = kMaxAliasTerms;
   std::vector<SystemEquation> pending = std::move(sys.equations), kept;
   // Whether each pending equation may still become an alias: one that is not affine with a few
   // terms, holds a discrete variable or reduced to 0 = d never will (its residual stays as it
@@ -137,7 +140,7 @@ EquationSystem EliminateAliases(EquationSystem sys, AliasStats* stats, const Def
       bool consumed = false;
       bool may_alias = false;  // kept, and worth another look in the next pass
       ExprId d;                // the form's offset
-      if (eq.residual.valid() ? IsAffine(&p, eq.residual, kMaxTerms, &form, &terms, &d)
+      if (eq.residual.valid() ? IsAffine(&p, eq.residual, kMaxAliasTerms, &form, &terms, &d)
                               : DeferredForm(p, *deferred, eq.origin, &deferred_terms, &terms, &d)) {
         // Discrete variables are never aliased: their equations are evaluated at events.
         bool discrete = false;
@@ -230,7 +233,8 @@ EquationSystem EliminateAliases(EquationSystem sys, AliasStats* stats, const Def
   // Every part of the system has had the earlier eliminations applied: with none new (a later
   // round that found nothing), rewriting it would change nothing. Deferred equations are skipped.
   if (stats->aliases + stats->constants != eliminated_before) sys.ApplyEliminations();
-  // A deferred equation is consumed or found redundant (0 = c); should one stay, it is made.
+  // A deferred equation is consumed or found redundant (0 = c). Should one stay (flattening
+  // checks discreteness, the one reason it could), it is made here.
   for (SystemEquation& eq : sys.equations) {
     if (!eq.residual.valid()) eq.residual = s.Apply(deferred->Make(eq.origin));
   }

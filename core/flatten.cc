@@ -339,6 +339,12 @@ ExprId CopyTemplate(ExprPool* pool, const Template& t, VarId first_var, ParamId 
   return made[t.root];
 }
 
+/// For copies of templates that read no table (CopyTemplate's table_node).
+ExprId NoTable(const TNode&, const std::vector<ExprId>&) {
+  MOMENTA_CHECK_MSG(false, "a template copied without its instance's tables reads none");
+  return ExprId();
+}
+
 /// The form of an equation template that alias elimination always removes: x = ±y + c or x = c,
 /// over continuous variables, with c a number. Whatever aliases come before it, it is consumed or
 /// found redundant (0 = c): it is never needed as an expression.
@@ -348,20 +354,29 @@ struct SureAlias {
   double offset = 0;
 };
 
-/// Whether template `t` is a sure alias, read from a copy in a pool of its own (the model's pool
-/// is not touched). `discrete` and `conditional` mark the local variables that are discrete (never
-/// aliased) or of a conditional connector (whose equations may go before alias elimination); a
-/// template that names one of them, reads a table or has an if-expression is not a sure alias.
+/// Whether template `t` is a sure alias (±x ± y = c or ±x = c), read from a copy in a pool of its
+/// own (the model's pool is not touched). `discrete` and `conditional` mark the local variables
+/// that are discrete (never aliased) or of a conditional connector (whose equations may go before
+/// alias elimination); a template that names one of them, reads a table or has an if-expression
+/// is not a sure alias. Nor is one with two constants or a variable named twice: its form is
+/// folded in an order that follows node ids, which differ between the two pools, so its offset or
+/// coefficient could differ in the last bit from the form of a made copy.
 SureAlias ReadSureAlias(const Template& t, const std::vector<bool>& discrete, const std::vector<bool>& conditional) {
   SureAlias out;
+  size_t constants = 0;
+  std::vector<uint32_t> locals;
   for (const TNode& n : t.nodes) {
     switch (n.kind) {
       case TNode::kConst:
+        if (++constants > 1) return out;
+        break;
       case TNode::kLocalParam: break;
       case TNode::kLocalVar:
         if ((n.local < discrete.size() && discrete[n.local]) || (n.local < conditional.size() && conditional[n.local])) {
           return out;
         }
+        if (std::find(locals.begin(), locals.end(), n.local) != locals.end()) return out;
+        locals.push_back(n.local);
         break;
       case TNode::kOp:
         if (n.op == Op::kIf) return out;
@@ -372,8 +387,7 @@ SureAlias ReadSureAlias(const Template& t, const std::vector<bool>& discrete, co
   if (t.root < 0) return out;
   ExprPool pool;
   std::vector<ExprId> made;
-  const ExprId r = CopyTemplate(&pool, t, VarId(0), ParamId(0), &made,
-                                [](const TNode&, const std::vector<ExprId>&) { return ExprId(); }, false);
+  const ExprId r = CopyTemplate(&pool, t, VarId(0), ParamId(0), &made, NoTable, /*cached_constants=*/false);
   AffineForm form;
   if ((pool.mask(r) & (kHasDer | kHasPre | kHasTime | kHasInitial | kHasCond)) ||
       !DecomposeAffine(&pool, r, 2, &form) || form.terms.empty() || !pool.IsConst(form.offset)) {
@@ -402,7 +416,7 @@ class DeferredAliases final : public DeferredEquations {
     *offset = 0;
     switch (e.kind) {
       case kCopy: {
-        const SureAlias& a = *shapes_[e.shape];
+        const SureAlias& a = shapes_[e.shape].form;
         for (const auto& [local, c] : a.terms) terms->emplace_back(VarId(e.x + local), c);
         *offset = a.offset;
         break;
@@ -426,8 +440,7 @@ class DeferredAliases final : public DeferredEquations {
     const Entry& e = entries_[k];
     switch (e.kind) {
       case kCopy:
-        return CopyTemplate(&p, *templates_[e.shape], VarId(e.x), ParamId(e.y), &scratch_,
-                            [](const TNode&, const std::vector<ExprId>&) { return ExprId(); });
+        return CopyTemplate(&p, *shapes_[e.shape].tmpl, VarId(e.x), ParamId(e.y), &scratch_, NoTable);
       case kZero: return p.Var(VarId(e.x));
       case kEqual: return p.Sub(p.Var(VarId(e.x)), p.Var(VarId(e.y)));
       case kSum: return p.Add(p.Var(VarId(e.x)), p.Var(VarId(e.y)));
@@ -438,12 +451,9 @@ class DeferredAliases final : public DeferredEquations {
 
   /// Flat equation k is a copy of `t`, a sure alias (`alias`), for the instance whose first
   /// variable and parameter are given.
-  void AddCopy(size_t k, const Template& t, const SureAlias* alias, VarId first_var, ParamId first_param) {
+  void AddCopy(size_t k, const Template& t, const SureAlias& alias, VarId first_var, ParamId first_param) {
     auto [at, added] = shape_of_.emplace(&t, static_cast<uint32_t>(shapes_.size()));
-    if (added) {
-      shapes_.push_back(alias);
-      templates_.push_back(&t);
-    }
+    if (added) shapes_.push_back({&t, alias});
     Set(k, {kCopy, at->second, first_var.value(), first_param.value()});
   }
   /// Flat equation k is x = 0 (an unconnected flow), x = y or x + y = 0 (a connection).
@@ -451,11 +461,23 @@ class DeferredAliases final : public DeferredEquations {
   void AddEqual(size_t k, VarId x, VarId y) { Set(k, {kEqual, 0, x.value(), y.value()}); }
   void AddSum(size_t k, VarId x, VarId y) { Set(k, {kSum, 0, x.value(), y.value()}); }
   bool empty() const { return entries_.empty(); }
-  /// Takes what the copies read: the type layouts (templates) and the sure-alias forms.
-  void Keep(std::unordered_map<const ComponentType*, std::unique_ptr<TypeLayout>> layouts,
-            std::unordered_map<const Template*, SureAlias> forms) {
+  /// Makes the deferred equations that name a variable `flat` now calls discrete (a model's
+  /// when-clause assigns it, found after the components): alias elimination keeps those.
+  void MakeDiscrete(FlatSystem* flat) {
+    std::vector<std::pair<VarId, double>> terms;
+    double offset = 0;
+    for (uint32_t k = 0; k < entries_.size(); ++k) {
+      if (!Form(k, &terms, &offset)) continue;
+      const bool discrete = std::any_of(terms.begin(), terms.end(),
+                                        [&](const auto& t) { return flat->variables[t.first.value()].discrete; });
+      if (!discrete) continue;
+      flat->equations[k].residual = Make(k);
+      entries_[k].kind = kMade;
+    }
+  }
+  /// Takes the type layouts, whose templates the copies read.
+  void Keep(std::unordered_map<const ComponentType*, std::unique_ptr<TypeLayout>> layouts) {
     layouts_ = std::move(layouts);
-    forms_ = std::move(forms);
     shape_of_.clear();
   }
 
@@ -472,11 +494,13 @@ class DeferredAliases final : public DeferredEquations {
   }
   std::shared_ptr<ExprPool> pool_;
   std::vector<Entry> entries_;  ///< by flat equation
-  std::vector<const SureAlias*> shapes_;
-  std::vector<const Template*> templates_;
-  std::unordered_map<const Template*, uint32_t> shape_of_;
+  struct Shape {
+    const Template* tmpl;
+    SureAlias form;
+  };
+  std::vector<Shape> shapes_;
+  std::unordered_map<const Template*, uint32_t> shape_of_;  ///< while flattening
   std::unordered_map<const ComponentType*, std::unique_ptr<TypeLayout>> layouts_;
-  std::unordered_map<const Template*, SureAlias> forms_;
   mutable std::vector<ExprId> scratch_;
 };
 
@@ -514,7 +538,8 @@ class Flattener {
     flat_.defines = defines_;  // instances point into these types
     flat_.structural = structural_;
     if (deferred_ && !deferred_->empty()) {
-      deferred_->Keep(std::move(layouts_), std::move(sure_alias_));
+      deferred_->MakeDiscrete(&flat_);
+      deferred_->Keep(std::move(layouts_));
       flat_.deferred = std::move(deferred_);
     }
     return std::move(flat_);
@@ -1901,8 +1926,11 @@ class Flattener {
         case TNode::kTimeTable:
           return TimeTableExpr(made[n.a], made[n.b], static_cast<int>(OptionValue(made[n.c], "smoothness", loc)),
                                static_cast<int>(OptionValue(made[n.local], "extrapolation", loc)));
-        default:
+        case TNode::kBooleanTable:
           return BooleanTableSum(&p, made[n.a], made[n.b]);
+        default:
+          MOMENTA_CHECK_MSG(false, "only table nodes are made here");
+          return ExprId();
       }
     };
     return CopyTemplate(&p, t, first_var, first_param, &scratch_, table_node);
@@ -2251,11 +2279,13 @@ class Flattener {
   /// The nodes below the root of an equation that is not made, in their order: one may be
   /// shared with another equation, and the pool orders the operands of a commutative operation
   /// by node id, so every node that is made keeps the place it has when all equations are made
-  /// (and the build makes the same programs). The root is the template's last node.
+  /// (and the build makes the same programs). The root is the template's last node; a root that
+  /// is a leaf (f = 0) is made too, as Connections makes an unconnected flow's.
   void MakeBelowRoot(const Template& t, VarId first_var, ParamId first_param) {
     MOMENTA_CHECK_MSG(static_cast<size_t>(t.root) + 1 == t.nodes.size(), "a template's root is its last node");
-    CopyTemplate(&pool(), t, first_var, first_param, &scratch_,
-                 [](const TNode&, const std::vector<ExprId>&) { return ExprId(); }, true, t.nodes.size() - 1);
+    const bool leaf_root = t.nodes.back().kind != TNode::kOp;
+    CopyTemplate(&pool(), t, first_var, first_param, &scratch_, NoTable, /*cached_constants=*/true,
+                 leaf_root ? t.nodes.size() : t.nodes.size() - 1);
   }
 
   /// The local variables of L's conditional connectors and its parts' (empty when there are
@@ -2415,16 +2445,16 @@ class Flattener {
     // Equations that alias elimination surely removes are not made (DeferredAliases).
     const std::vector<bool>* conditional_locals = deferred_ ? &ConditionalLocals(L) : nullptr;
     auto add_equations = [&](const std::vector<Template>& templates, const std::vector<PartInfo>& info,
-                             uint32_t first_text, std::vector<FlatEquation>* out) {
+                             uint32_t first_text, bool may_defer, std::vector<FlatEquation>* out) {
       for (size_t k = 0; k < templates.size(); ++k) {
         const PartInfo& d = info[k];
         FlatEquation eq;
-        const SureAlias* alias = out == &flat_.equations && conditional_locals != nullptr
+        const SureAlias* alias = may_defer && conditional_locals != nullptr
                                      ? &SureAliasOf(templates[k], L.discrete, *conditional_locals)
                                      : nullptr;
         if (alias != nullptr && alias->sure) {
           MakeBelowRoot(templates[k], data.first_var, data.first_param);
-          deferred_->AddCopy(out->size(), templates[k], alias, data.first_var, data.first_param);
+          deferred_->AddCopy(out->size(), templates[k], *alias, data.first_var, data.first_param);
         } else {
           eq.residual = Instantiate(templates[k], data.first_var, data.first_param, inst, d.text, c.loc);
         }
@@ -2435,7 +2465,7 @@ class Flattener {
         out->push_back(std::move(eq));
       }
     };
-    add_equations(L.equations, L.equation_info, 0, &flat_.equations);
+    add_equations(L.equations, L.equation_info, 0, /*may_defer=*/true, &flat_.equations);
     // When-clauses and impacts.
     auto inst_expr = [&](const Template& t, const std::string& text) {
       return Instantiate(t, data.first_var, data.first_param, inst, text, c.loc);
@@ -2482,7 +2512,7 @@ class Flattener {
       flat_.equations.push_back(std::move(eq));
       flat_.impacts.push_back(std::move(im));
     }
-    add_equations(L.initial_equations, L.initial_info, static_cast<uint32_t>(L.equations.size()),
+    add_equations(L.initial_equations, L.initial_info, static_cast<uint32_t>(L.equations.size()), /*may_defer=*/false,
                   &flat_.initial_equations);
   }
 
@@ -2722,14 +2752,15 @@ class Flattener {
       auto equal = [&](VarId a, VarId b) {
         const TextRef text{TextRef::kEqual, a.value(), b.value()};
         if (deferred_ && continuous(a, b)) {
-          // The leaves, in the order the expression below makes them (its arguments are
-          // evaluated right to left by the compilers momenta is built with).
+          // The leaves, in the order the made branch below makes them.
           p.Var(b);
           p.Var(a);
           deferred_->AddEqual(flat_.equations.size(), a, b);
           add(ExprId(), text);
         } else {
-          add(p.Sub(p.Var(a), p.Var(b)), text);
+          const ExprId vb = p.Var(b);
+          const ExprId va = p.Var(a);
+          add(p.Sub(va, vb), text);
         }
       };
       if (c0.type->is_signal) {
