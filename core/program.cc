@@ -134,6 +134,8 @@ void ProgramCompiler::GrowGlobals() {
   global_of_.resize(pool_.size(), 0);
 }
 
+uint32_t ProgramCompiler::Global(uint32_t id) const { return id < global_of_.size() ? global_of_[id] : 0; }
+
 uint32_t ProgramCompiler::ParamOnlyRegister(ExprId e) {
   if (global_of_.size() <= e.value()) GrowGlobals();
   if (global_of_[e.value()]) return global_of_[e.value()];
@@ -169,26 +171,24 @@ void ProgramCompiler::EmitParamOnly(ExprId root) {
       stack.pop_back();
       continue;
     }
-    int arity = Arity(n.op);
+    // The operands' registers, looked up once each; an operand without one yet is emitted first
+    // (constants get theirs at once, in operand order).
+    const int arity = Arity(n.op);
+    const uint32_t kids[3] = {n.a, n.b, n.c};
+    uint32_t regs[3] = {0, 0, 0};
     bool ready = true;
-    auto need = [&](uint32_t c) {
-      if (pool_.IsConst(ExprId(c))) {
-        ParamOnlyRegister(ExprId(c));
-        return;
-      }
-      if (global_of_.size() <= c || !global_of_[c]) {
-        stack.push_back(c);
+    for (int j = 0; j < arity; ++j) {
+      if (pool_.IsConst(ExprId(kids[j]))) {
+        regs[j] = ParamOnlyRegister(ExprId(kids[j]));
+      } else if ((regs[j] = Global(kids[j])) == 0) {
+        stack.push_back(kids[j]);
         ready = false;
       }
-    };
-    if (arity >= 1) need(n.a);
-    if (arity >= 2) need(n.b);
-    if (arity >= 3) need(n.c);
+    }
     if (!ready) continue;
     stack.pop_back();
     uint32_t dst = Global();
-    params_.code().push_back({static_cast<uint8_t>(n.op), dst, arity >= 1 ? global_of_[n.a] : 0,
-                              arity >= 2 ? global_of_[n.b] : 0, arity >= 3 ? global_of_[n.c] : 0});
+    params_.code().push_back({static_cast<uint8_t>(n.op), dst, regs[0], regs[1], regs[2]});
     if (n.op == Op::kInterp || n.op == Op::kInterpSlope) {
       params_.code().back().c = params_.AddTable(pool_.node(ExprId(n.b)));
     }
@@ -223,9 +223,11 @@ Program ProgramCompiler::Compile(const std::vector<ExprId>& roots, const std::ve
   auto computed = [&](uint32_t id) { return local_[Visit(id)].computed; };
   // 1. The nodes this program computes, children first, and how often each is read; after each
   //    root, a marker (its index with kTempFlag): the root is stored in its turn.
-  std::vector<uint32_t> order;
+  std::vector<uint32_t>& order = order_;
+  order.clear();
   {
-    std::vector<uint32_t> stack;
+    std::vector<uint32_t>& stack = stack_;
+    stack.clear();
     for (size_t k = 0; k < roots.size(); ++k) {
       const uint32_t root = roots[k].value();
       const uint32_t r = Visit(root);
@@ -260,6 +262,10 @@ Program ProgramCompiler::Compile(const std::vector<ExprId>& roots, const std::ve
   // 2. Emit, reusing a temporary as soon as its last reader has run, the lowest free one first
   //    (last-freed first would rotate the registers of values carried from one component to the
   //    next irregularly); roots are stored in their turns (into registers: when computed).
+  // One instruction per computed node and one store per root: the program's size, known now,
+  // reserved exactly (grown by doubling, the programs held up to twice their size at the build's
+  // memory peak, and copied on the way).
+  prog.code().reserve(order.size());
   std::vector<uint32_t> free_regs;  // a min-heap
   uint32_t num_temps = 0;
   auto operand = [&](uint32_t child) -> uint32_t {

@@ -84,6 +84,8 @@ class ProgramCompiler {
 
  private:
   uint32_t Global();
+  /// The register of node `id`, or 0 when it has none yet.
+  uint32_t Global(uint32_t id) const;
   uint32_t LeafRegister(ExprId e);
   uint32_t ParamOnlyRegister(ExprId e);
   void GrowGlobals();
@@ -110,6 +112,7 @@ class ProgramCompiler {
   std::vector<uint32_t> local_of_;  ///< by node id: its number, if visited_ agrees
   std::vector<uint32_t> visited_;   ///< by number: node id
   std::vector<Local> local_;        ///< by number
+  std::vector<uint32_t> order_, stack_;  ///< Compile's walk: reused, so grown once
 };
 
 /// The flag marking a temporary register before Finish() places them.
