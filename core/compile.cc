@@ -127,7 +127,9 @@ void SortToPattern(std::vector<Entry>* entries, int32_t rows, int32_t cols, Spar
   pattern->cols = cols;
   pattern->col_start.assign(cols + 1, 0);
   pattern->row_index.clear();
+  pattern->row_index.reserve(entries->size());
   values->clear();
+  values->reserve(entries->size());
   for (const Entry& e : *entries) {
     ++pattern->col_start[e.col + 1];
     pattern->row_index.push_back(e.row);
@@ -212,6 +214,8 @@ std::shared_ptr<CompiledModel> CompileModel(EquationSystem sys, const Structure&
   ExprPool& p = *sys.pool;
   const FlatSystem& flat = *sys.flat;
   const ExprNamer names = flat.Namer();
+  // The eliminations are applied: their memo (8 bytes per pool node) is not needed here.
+  sys.eliminated->ReleaseMemo();
   auto m = std::make_shared<CompiledModel>();
   m->flat = sys.flat;
   m->pool = sys.pool;
@@ -392,8 +396,10 @@ std::shared_ptr<CompiledModel> CompileModel(EquationSystem sys, const Structure&
         merged.push_back(e);
       }
     }
+    std::vector<Entry>().swap(entries);  // merged: given back before the programs that follow
     std::vector<ExprId> values;
     SortToPattern(&merged, static_cast<int32_t>(n), static_cast<int32_t>(n), &m->jacobian_pattern, &values);
+    std::vector<Entry>().swap(merged);
     m->jacobian = compiler.Compile(values);
   }
   {
@@ -421,6 +427,7 @@ std::shared_ptr<CompiledModel> CompileModel(EquationSystem sys, const Structure&
     std::vector<ExprId> values;
     int32_t size = static_cast<int32_t>(n + m->state_y.size());
     SortToPattern(&init_entries, size, size, &m->init_pattern, &values);
+    std::vector<Entry>().swap(init_entries);
     m->init_jacobian = compiler.Compile(values);
   }
   m->outputs = compiler.Compile(m->output_exprs);
@@ -482,6 +489,7 @@ std::shared_ptr<CompiledModel> CompileModel(EquationSystem sys, const Structure&
       }
       m->whens.push_back(std::move(cw));
     }
+    sys.eliminated->ReleaseMemo();  // grown again by the reinits' targets
     m->when_conditions = compiler.Compile(cond_values);
     m->when_values = compiler.Compile(statement_values);
   }

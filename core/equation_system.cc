@@ -16,8 +16,21 @@ const char* VarRoleName(VarRole r) {
 
 size_t EquationSystem::num_unknowns() const {
   size_t n = 0;
-  for (size_t v = 0; v < role.size(); ++v) n += role[v] == VarRole::kUnknown && !flat->variables[v].discrete;
+  for (VarRole r : role) n += r == VarRole::kUnknown;
+  for (uint32_t v : DiscreteVariables()) n -= v < role.size() && role[v] == VarRole::kUnknown;
   return n;
+}
+
+const std::vector<uint32_t>& EquationSystem::DiscreteVariables() const {
+  if (discrete_vars_of_ != flat.get() || discrete_vars_count_ != flat->variables.size()) {
+    discrete_vars_.clear();
+    for (uint32_t v = 0; v < flat->variables.size(); ++v) {
+      if (flat->variables[v].discrete) discrete_vars_.push_back(v);
+    }
+    discrete_vars_of_ = flat.get();
+    discrete_vars_count_ = flat->variables.size();
+  }
+  return discrete_vars_;
 }
 
 FlatSystem& EquationSystem::MutableFlat() {
@@ -69,12 +82,18 @@ void EquationSystem::ApplyEliminations() { ApplySubstitution(eliminated.get()); 
 void EquationSystem::ApplySubstitution(Substitution* subst) {
   Substitution& s = *subst;
   // Most equations hold no replaced leaf when a later round or pass adds a few replacements to
-  // many: checking first spares those the rewrite's memo writes (the result is the same).
+  // many: checking first spares those the rewrite's memo writes (the result is the same). So
+  // for the initial equations and outputs (the fixed start values, x - start, are mostly of
+  // states, which stay).
   for (auto& e : equations) {
     if (e.residual.valid() && s.Touches(e.residual)) e.residual = s.Apply(e.residual);  // invalid: deferred
   }
-  for (auto& e : initial) e.residual = s.Apply(e.residual);
-  for (auto& o : outputs) o = s.Apply(o);
+  for (auto& e : initial) {
+    if (s.Touches(e.residual)) e.residual = s.Apply(e.residual);
+  }
+  for (auto& o : outputs) {
+    if (s.Touches(o)) o = s.Apply(o);
+  }
   ApplySubstitutionToEvents(subst);
 }
 

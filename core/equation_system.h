@@ -72,6 +72,7 @@ struct EquationSystem {
   std::vector<DiscreteEquation> discrete;  ///< in evaluation order
   bool owns_flat = false;  ///< `flat` is this system's alone (see MutableFlat)
 
+  /// The continuous unknowns: variables still solved for, less the discrete ones.
   size_t num_unknowns() const;
   /// The flat system for passes that add to it (index reduction): copied on first use, so the
   /// flat system others hold stays as flattened.
@@ -90,6 +91,15 @@ struct EquationSystem {
   /// Applies `s` to the when-clauses, impacts and discrete equations only (for a substitution
   /// whose leaves the equations and outputs are known not to hold).
   void ApplySubstitutionToEvents(Substitution* s);
+
+ private:
+  /// The discrete variables of the flat system (num_unknowns' list: the build counts unknowns
+  /// after every round, and reading each unknown's record from the flat system was a cache miss
+  /// each), taken again when the flat system is replaced or extended.
+  const std::vector<uint32_t>& DiscreteVariables() const;
+  mutable std::vector<uint32_t> discrete_vars_;
+  mutable const FlatSystem* discrete_vars_of_ = nullptr;
+  mutable size_t discrete_vars_count_ = 0;
 };
 
 /// The flat equation `eq` came from, described in the user's names (EquationSystem::Describe, for

@@ -168,10 +168,36 @@ bool ContainsLeaf(const ExprPool& pool, ExprId e, ExprId leaf) {
 // ---------------------------------------------------------------------------------------------
 // Substitution
 
+const std::vector<ExprId>* Substitution::Table(const Node& n) const {
+  switch (n.op) {
+    case Op::kVar: return &by_var_;
+    case Op::kDer: return n.b == 0 ? &by_der_ : nullptr;  // b: the order less one
+    case Op::kPre: return &by_pre_;
+    case Op::kParam: return &by_param_;
+    default: return nullptr;
+  }
+}
+
+ExprId Substitution::Replacement(uint32_t id, const Node& n) const {
+  const std::vector<ExprId>* table = Table(n);
+  if (table != nullptr) return n.a < table->size() ? (*table)[n.a] : ExprId();
+  if (other_.empty()) return ExprId();
+  auto it = other_.find(id);
+  return it == other_.end() ? ExprId() : it->second;
+}
+
 void Substitution::Set(ExprId leaf, ExprId replacement) {
-  if (map_.size() <= leaf.value()) map_.resize(leaf.value() + 1);
-  if (!map_[leaf.value()].valid()) ++num_entries_;
-  map_[leaf.value()] = replacement;
+  const Node n = pool_->node(leaf);
+  std::vector<ExprId>* table = const_cast<std::vector<ExprId>*>(Table(n));
+  ExprId* slot;
+  if (table == nullptr) {
+    slot = &other_[leaf.value()];
+  } else {
+    if (table->size() <= n.a) table->resize(n.a + 1);
+    slot = &(*table)[n.a];
+  }
+  if (!slot->valid()) ++num_entries_;
+  *slot = replacement;
   // A leaf's mask is its kind; a constant has none, and then no subtree can be skipped.
   const uint8_t kind = pool_->mask(leaf);
   mapped_kinds_ |= kind != 0 ? kind : 0xff;
@@ -186,8 +212,13 @@ bool Substitution::Touches(ExprId e) const {
   return VisitLeaves(*pool_, e, mapped_kinds_, [&](ExprId leaf) { return Has(leaf); });
 }
 
+void Substitution::ReleaseMemo() {
+  std::vector<ExprId>().swap(memo_);
+  std::vector<uint32_t>().swap(memo_gen_);
+}
+
 bool Substitution::Has(ExprId leaf) const {
-  return leaf.value() < map_.size() && map_[leaf.value()].valid();
+  return Replacement(leaf.value(), pool_->node(leaf)).valid();
 }
 
 ExprId Substitution::Apply(ExprId root) {
@@ -218,8 +249,8 @@ ExprId Substitution::Apply(ExprId root) {
     }
     const Node n = pool.node(ExprId(id));
     if (IsLeaf(n.op)) {
-      if (id < map_.size() && map_[id].valid()) {
-        uint32_t rep = map_[id].value();
+      if (const ExprId mapped = Replacement(id, n); mapped.valid()) {
+        uint32_t rep = mapped.value();
         if (rep == id) {
           store(id, ExprId(id));
           stack.pop_back();

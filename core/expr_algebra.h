@@ -42,10 +42,23 @@ class Substitution {
   /// replaced leaf check first.
   bool Touches(ExprId e) const;
   size_t size() const { return num_entries_; }
+  /// Gives back the memo (8 bytes per pool node up to the largest rewritten): it serves one
+  /// batch of Apply calls (it is void after the next Set anyway), while the map of an
+  /// accumulated substitution lives on through compilation, the peak of the build's memory.
+  void ReleaseMemo();
 
  private:
+  /// The replacement of leaf `id` (node `n`), or an invalid id.
+  ExprId Replacement(uint32_t id, const Node& n) const;
+  /// The table that holds replacements of leaves like `n` (by n.a), or null for the others.
+  const std::vector<ExprId>* Table(const Node& n) const;
+
   ExprPool* pool_;
-  std::vector<ExprId> map_;        ///< by leaf node id; invalid = keep
+  /// Replacements by the leaf's variable (values, first derivatives, pre-values) or parameter: a
+  /// few bytes per variable, where one array by node id took 4 bytes per pool node. Other
+  /// leaves (higher derivatives, constants) by node id in `other_`. Invalid = keep.
+  std::vector<ExprId> by_var_, by_der_, by_pre_, by_param_;
+  std::unordered_map<uint32_t, ExprId> other_;
   std::vector<ExprId> memo_;       ///< by node id
   std::vector<uint32_t> memo_gen_;
   uint32_t gen_ = 1;

@@ -33,13 +33,20 @@ void DerivativeAliases(EquationSystem* sys, IndexStats* stats, bool to_states = 
   // one (invalid otherwise).
   DerivativeUses uses(p, sys->role.size());
   std::vector<ExprId> only_der(sys->equations.size());
-  std::vector<ExprId> ders;
+  // The derivatives of equation k, ders[der_start[k] .. der_start[k+1]), kept for the rewrite
+  // below: the equations do not change until then, and looking up their few derivatives is
+  // cheaper than walking each equation again.
+  std::vector<uint32_t> der_start(sys->equations.size() + 1, 0);
+  std::vector<ExprId> ders, found;
   for (size_t k = 0; k < sys->equations.size(); ++k) {
+    der_start[k] = static_cast<uint32_t>(ders.size());
     if (!(p.mask(sys->equations[k].residual) & kHasDer)) continue;
-    CollectLeaves(p, sys->equations[k].residual, kHasDer, &ders);
-    for (ExprId d : ders) ++uses[d];
-    if (ders.size() == 1) only_der[k] = ders[0];
+    CollectLeaves(p, sys->equations[k].residual, kHasDer, &found);
+    for (ExprId d : found) ++uses[d];
+    if (found.size() == 1) only_der[k] = found[0];
+    ders.insert(ders.end(), found.begin(), found.end());
   }
+  der_start.back() = static_cast<uint32_t>(ders.size());
   Substitution rewrite(&p);
   std::vector<bool> defining(sys->equations.size(), false);
   AffineForm form;
@@ -64,8 +71,12 @@ void DerivativeAliases(EquationSystem* sys, IndexStats* stats, bool to_states = 
   }
   if (rewrite.size() == 0) return;
   for (size_t k = 0; k < sys->equations.size(); ++k) {
+    if (defining[k]) continue;
+    // rewrite.Touches(r): it maps derivatives only.
+    const bool touched = std::any_of(ders.begin() + der_start[k], ders.begin() + der_start[k + 1],
+                                     [&](ExprId d) { return rewrite.Has(d); });
     ExprId& r = sys->equations[k].residual;
-    if (!defining[k] && rewrite.Touches(r)) r = rewrite.Apply(r);
+    if (touched) r = rewrite.Apply(r);
   }
   for (auto& e : sys->initial) e.residual = rewrite.Apply(e.residual);
   for (auto& o : sys->outputs) o = rewrite.Apply(o);

@@ -16,9 +16,11 @@ class InitGraph {
             const std::vector<int32_t>& state_of_y)
       : n_(static_cast<uint32_t>(m.unknowns.size())), num_cols_(n_ + static_cast<uint32_t>(m.state_y.size())) {
     const ExprPool& p = *sys.pool;
+    std::vector<ExprId> leaves;  // scratch: one buffer for every row
     auto row_of = [&](ExprId e) {
       std::vector<uint32_t> row;
-      for (ExprId leaf : CollectLeaves(p, e, kHasVar | kHasDer)) {
+      CollectLeaves(p, e, kHasVar | kHasDer, &leaves);
+      for (ExprId leaf : leaves) {
         const Node& nd = p.node(leaf);
         int32_t y = y_of_var[nd.a];
         if (y < 0) continue;
@@ -33,6 +35,7 @@ class InitGraph {
       row.erase(std::unique(row.begin(), row.end()), row.end());
       return row;
     };
+    rows_.reserve(m.residual_exprs.size() + m.initial_exprs.size());
     for (ExprId r : m.residual_exprs) rows_.push_back(row_of(r));
     for (ExprId r : m.initial_exprs) rows_.push_back(row_of(r));
   }

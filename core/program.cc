@@ -127,24 +127,31 @@ uint32_t ProgramCompiler::LeafRegister(ExprId e) {
   return 0;
 }
 
-void ProgramCompiler::GrowGlobals() {
+void ProgramCompiler::GrowNodeSlots() {
   // To the pool's size with a margin for the nodes the Jacobian adds later, reserved exactly:
   // resize() alone would double the capacity, a pool-sized array more at the build's peak.
-  global_of_.reserve(pool_.size() + pool_.size() / 4);
-  global_of_.resize(pool_.size(), 0);
+  node_slot_.reserve(pool_.size() + pool_.size() / 4);
+  node_slot_.resize(pool_.size(), 0);
+}
+
+uint32_t ProgramCompiler::Global(uint32_t id) const { return id < node_slot_.size() ? node_slot_[id] : 0; }
+
+bool ProgramCompiler::Computed(uint32_t id) const {
+  const Node& n = pool_.node(ExprId(id));
+  return !IsLeaf(n.op) && n.op != Op::kConst && !pool_.IsParamOnly(ExprId(id));
 }
 
 uint32_t ProgramCompiler::ParamOnlyRegister(ExprId e) {
-  if (global_of_.size() <= e.value()) GrowGlobals();
-  if (global_of_[e.value()]) return global_of_[e.value()];
+  if (node_slot_.size() <= e.value()) GrowNodeSlots();
+  if (node_slot_[e.value()]) return node_slot_[e.value()];
   if (pool_.IsConst(e)) {
     uint32_t r = Global();
     constants_.emplace_back(r, pool_.ConstValue(e));
-    global_of_[e.value()] = r;
+    node_slot_[e.value()] = r;
     return r;
   }
   EmitParamOnly(e);
-  return global_of_[e.value()];
+  return node_slot_[e.value()];
 }
 
 /// Parameter-only subexpressions go to the parameter program, each into its own register.
@@ -153,8 +160,8 @@ void ProgramCompiler::EmitParamOnly(ExprId root) {
   stack.assign(1, root.value());
   while (!stack.empty()) {
     uint32_t id = stack.back();
-    if (global_of_.size() <= id) GrowGlobals();
-    if (global_of_[id]) {
+    if (node_slot_.size() <= id) GrowNodeSlots();
+    if (node_slot_[id]) {
       stack.pop_back();
       continue;
     }
@@ -165,75 +172,72 @@ void ProgramCompiler::EmitParamOnly(ExprId root) {
       continue;
     }
     if (IsLeaf(n.op)) {
-      global_of_[id] = LeafRegister(ExprId(id));
+      node_slot_[id] = LeafRegister(ExprId(id));
       stack.pop_back();
       continue;
     }
-    int arity = Arity(n.op);
+    // The operands' registers, looked up once each; an operand without one yet is emitted first
+    // (constants get theirs at once, in operand order).
+    const int arity = Arity(n.op);
+    const uint32_t kids[3] = {n.a, n.b, n.c};
+    uint32_t regs[3] = {0, 0, 0};
     bool ready = true;
-    auto need = [&](uint32_t c) {
-      if (pool_.IsConst(ExprId(c))) {
-        ParamOnlyRegister(ExprId(c));
-        return;
-      }
-      if (global_of_.size() <= c || !global_of_[c]) {
-        stack.push_back(c);
+    for (int j = 0; j < arity; ++j) {
+      if (pool_.IsConst(ExprId(kids[j]))) {
+        regs[j] = ParamOnlyRegister(ExprId(kids[j]));
+      } else if ((regs[j] = Global(kids[j])) == 0) {
+        stack.push_back(kids[j]);
         ready = false;
       }
-    };
-    if (arity >= 1) need(n.a);
-    if (arity >= 2) need(n.b);
-    if (arity >= 3) need(n.c);
+    }
     if (!ready) continue;
     stack.pop_back();
     uint32_t dst = Global();
-    params_.code().push_back({static_cast<uint8_t>(n.op), dst, arity >= 1 ? global_of_[n.a] : 0,
-                              arity >= 2 ? global_of_[n.b] : 0, arity >= 3 ? global_of_[n.c] : 0});
+    params_.code().push_back({static_cast<uint8_t>(n.op), dst, regs[0], regs[1], regs[2]});
     if (n.op == Op::kInterp || n.op == Op::kInterpSlope) {
       params_.code().back().c = params_.AddTable(pool_.node(ExprId(n.b)));
     }
-    global_of_[id] = dst;
+    node_slot_[id] = dst;
   }
 }
 
 uint32_t ProgramCompiler::Visit(uint32_t id) {
-  const uint32_t k = local_of_[id];
+  const uint32_t k = node_slot_[id];
   if (k < visited_.size() && visited_[k] == id) return k;
-  const Node& n = pool_.node(ExprId(id));
-  local_of_[id] = static_cast<uint32_t>(visited_.size());
+  node_slot_[id] = static_cast<uint32_t>(visited_.size());
   visited_.push_back(id);
-  // A node is computed by the program unless it is a leaf, a constant or parameter-only (those
-  // have registers of their own).
-  local_.push_back({0, 0, 0, !IsLeaf(n.op) && n.op != Op::kConst && !pool_.IsParamOnly(ExprId(id))});
+  local_.push_back({0, 0, 0});
   return static_cast<uint32_t>(visited_.size() - 1);
 }
 
 Program ProgramCompiler::Compile(const std::vector<ExprId>& roots, const std::vector<uint32_t>* registers) {
   Program prog;
   // Per-node scratch (remaining readers, temporary register, visit state) for the nodes this call
-  // visits, numbered in visit order: local_of_ (by node id, never cleared) finds a node's number,
-  // which is valid when visited_ has the node at that place (a sparse set), so nothing needs
-  // clearing and the scratch is as large as the program, not as the pool.
-  if (local_of_.size() < pool_.size()) {
-    local_of_.reserve(pool_.size() + pool_.size() / 8);
-    local_of_.resize(pool_.size());
-  }
+  // computes, numbered in visit order: node_slot_ (by node id, never cleared) finds a node's
+  // number, which is valid when visited_ has the node at that place (a sparse set), so nothing
+  // needs clearing and the scratch is as large as the program, not as the pool. The nodes the
+  // program does not compute (leaves, constants, parameter-only values) are not numbered: their
+  // slot holds their global register instead.
+  if (node_slot_.size() < pool_.size()) GrowNodeSlots();
   visited_.clear();
   local_.clear();
-  auto computed = [&](uint32_t id) { return local_[Visit(id)].computed; };
   // 1. The nodes this program computes, children first, and how often each is read; after each
   //    root, a marker (its index with kTempFlag): the root is stored in its turn.
-  std::vector<uint32_t> order;
+  std::vector<uint32_t>& order = order_;
+  order.clear();
   {
-    std::vector<uint32_t> stack;
+    std::vector<uint32_t>& stack = stack_;
+    stack.clear();
     for (size_t k = 0; k < roots.size(); ++k) {
       const uint32_t root = roots[k].value();
-      const uint32_t r = Visit(root);
-      if (local_[r].computed) ++local_[r].uses;
-      stack.push_back(r);
+      if (Computed(root)) {
+        const uint32_t r = Visit(root);
+        ++local_[r].uses;
+        stack.push_back(r);
+      }
       while (!stack.empty()) {
         const uint32_t q = stack.back();
-        if (local_[q].state == 2 || !local_[q].computed) {
+        if (local_[q].state == 2) {
           stack.pop_back();
           continue;
         }
@@ -243,8 +247,8 @@ Program ProgramCompiler::Compile(const std::vector<ExprId>& roots, const std::ve
           int arity = Arity(n.op);
           uint32_t kids[3] = {n.a, n.b, n.c};
           for (int j = arity - 1; j >= 0; --j) {
+            if (!Computed(kids[j])) continue;
             const uint32_t kid = Visit(kids[j]);
-            if (!local_[kid].computed) continue;
             ++local_[kid].uses;
             if (local_[kid].state == 0) stack.push_back(kid);
           }
@@ -260,10 +264,14 @@ Program ProgramCompiler::Compile(const std::vector<ExprId>& roots, const std::ve
   // 2. Emit, reusing a temporary as soon as its last reader has run, the lowest free one first
   //    (last-freed first would rotate the registers of values carried from one component to the
   //    next irregularly); roots are stored in their turns (into registers: when computed).
+  // One instruction per computed node and one store per root: the program's size, known now,
+  // reserved exactly (grown by doubling, the programs held up to twice their size at the build's
+  // memory peak, and copied on the way).
+  prog.code().reserve(order.size());
   std::vector<uint32_t> free_regs;  // a min-heap
   uint32_t num_temps = 0;
   auto operand = [&](uint32_t child) -> uint32_t {
-    if (const Local& c = local_[Visit(child)]; c.computed) return kTempFlag | c.reg;
+    if (Computed(child)) return kTempFlag | local_[Visit(child)].reg;
     const Node& n = pool_.node(ExprId(child));
     if (n.op != Op::kConst && IsLeaf(n.op)) return LeafRegister(ExprId(child));
     return ParamOnlyRegister(ExprId(child));
@@ -271,19 +279,19 @@ Program ProgramCompiler::Compile(const std::vector<ExprId>& roots, const std::ve
   // Per temporary: the instruction that wrote its value (the value a live register holds).
   std::vector<uint32_t> written_at;
   auto OperandOrder = [&](uint32_t child, uint32_t reg) -> uint64_t {
-    const Local& c = local_[Visit(child)];
-    return c.computed ? (uint64_t{1} << 32) | written_at[c.reg] : reg;
+    return Computed(child) ? (uint64_t{1} << 32) | written_at[local_[Visit(child)].reg] : reg;
   };
   auto release = [&](uint32_t child) {
+    if (!Computed(child)) return;
     Local& s = local_[Visit(child)];
-    if (s.computed && --s.uses == 0) {
+    if (--s.uses == 0) {
       free_regs.push_back(s.reg);
       std::push_heap(free_regs.begin(), free_regs.end(), std::greater<uint32_t>());
     }
   };
   std::unordered_map<uint32_t, std::vector<uint32_t>> root_slots;
   for (size_t k = 0; registers && k < roots.size(); ++k) {
-    if (computed(roots[k].value())) root_slots[roots[k].value()].push_back(static_cast<uint32_t>(k));
+    if (Computed(roots[k].value())) root_slots[roots[k].value()].push_back(static_cast<uint32_t>(k));
   }
   auto store = [&](uint32_t k, uint32_t src) {
     if (registers) {
@@ -298,7 +306,7 @@ Program ProgramCompiler::Compile(const std::vector<ExprId>& roots, const std::ve
       // it, so that the code of like components stays alike (loop rerolling, core/reroll.h).
       uint32_t k = q & ~kTempFlag;
       const uint32_t root = roots[k].value();
-      if (!computed(root)) {
+      if (!Computed(root)) {
         store(k, operand(root));
       } else if (!registers) {
         store(k, kTempFlag | local_[Visit(root)].reg);

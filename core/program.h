@@ -84,32 +84,39 @@ class ProgramCompiler {
 
  private:
   uint32_t Global();
+  /// The register of node `id`, or 0 when it has none yet.
+  uint32_t Global(uint32_t id) const;
   uint32_t LeafRegister(ExprId e);
   uint32_t ParamOnlyRegister(ExprId e);
-  void GrowGlobals();
+  void GrowNodeSlots();
+  /// Whether the programs compute node `id` (not a leaf, constant or parameter-only value,
+  /// which have registers of their own).
+  bool Computed(uint32_t id) const;
   void EmitParamOnly(ExprId root);
 
   const ExprPool& pool_;
   std::vector<int32_t> y_index_, disc_index_;
   RegisterLayout layout_;
   uint32_t next_global_;
-  std::vector<uint32_t> global_of_;  ///< by node id: register of a constant or parameter-only node
   std::vector<std::pair<uint32_t, double>> constants_;
   Program params_;
   std::vector<uint32_t> param_stack_;  ///< EmitParamOnly's scratch
   uint32_t max_temps_ = 0;
-  /// Compile()'s number of node `id` in this call, visiting it if new (see Compile).
+  /// Compile()'s number of the computed node `id` in this call, visiting it if new (see Compile).
   uint32_t Visit(uint32_t id);
   // Compile()'s scratch, reused across calls (see Compile).
   struct Local {
     uint32_t uses;   ///< readers not yet emitted
     uint32_t reg;    ///< temporary holding the value
     uint8_t state;   ///< 0 unvisited, 1 children pushed, 2 ordered
-    bool computed;   ///< by this program (not a leaf, constant or parameter-only value)
   };
-  std::vector<uint32_t> local_of_;  ///< by node id: its number, if visited_ agrees
+  /// By node id: for a node the programs compute, its number in this Compile() call if visited_
+  /// agrees; for any other, its global register (0: none yet). One array for both, where two
+  /// took 4 bytes per pool node each at the build's memory peak.
+  std::vector<uint32_t> node_slot_;
   std::vector<uint32_t> visited_;   ///< by number: node id
   std::vector<Local> local_;        ///< by number
+  std::vector<uint32_t> order_, stack_;  ///< Compile's walk: reused, so grown once
 };
 
 /// The flag marking a temporary register before Finish() places them.

@@ -14,7 +14,9 @@ EquationSystem Prune(EquationSystem sys, Structure* st, PruneStats* stats) {
       need_init(sys.initial.size(), false);
   std::vector<uint32_t> queue;
   auto mark = [&](uint32_t v) {
-    if (sys.role[v] == VarRole::kUnknown && !sys.flat->variables[v].discrete && !need_var[v]) {
+    // Cheapest test first: a variable is marked once per leaf that names it, and its flat record
+    // is a cache miss each time.
+    if (!need_var[v] && sys.role[v] == VarRole::kUnknown && !sys.flat->variables[v].discrete) {
       need_var[v] = true;
       queue.push_back(v);
     }
@@ -66,7 +68,7 @@ EquationSystem Prune(EquationSystem sys, Structure* st, PruneStats* stats) {
       for (uint32_t j = init_start[k]; j < init_start[k + 1] && !touches; ++j) {
         const uint32_t v = init_vars[j];
         // Discrete variables are always kept (events may need them), so are their initial values.
-        touches = need_var[v] || (sys.flat->variables[v].discrete && sys.role[v] == VarRole::kUnknown);
+        touches = need_var[v] || (sys.role[v] == VarRole::kUnknown && sys.flat->variables[v].discrete);
       }
       if (touches) {
         need_init[k] = true;

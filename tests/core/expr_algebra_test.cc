@@ -225,6 +225,41 @@ TEST_F(ExprAlgebraTest, SubstitutionResolvesChains) {
   EXPECT_EQ(s.Apply(pool.Der(VarId(0u))), pool.Der(VarId(0u)));
 }
 
+TEST_F(ExprAlgebraTest, SubstitutionKeepsEachKindOfLeafApart) {
+  // x, der(x), der(der(x)), pre(x) and the parameter with x's number are different leaves: each
+  // maps to its own replacement, and a constant leaf can be mapped too.
+  ExprId dx = pool.Der(VarId(0u)), ddx = pool.Der(VarId(0u), 2), px = pool.Pre(VarId(0u));
+  ExprId p0 = pool.Param(ParamId(0u));
+  Substitution s(&pool);
+  s.Set(ddx, pool.Mul(C(5), y));
+  EXPECT_TRUE(s.Has(ddx));
+  EXPECT_FALSE(s.Has(dx));
+  EXPECT_FALSE(s.Has(x));
+  s.Set(x, pool.Add(y, C(1)));
+  s.Set(dx, pool.Mul(C(2), y));
+  s.Set(px, z);
+  s.Set(p0, q);
+  EXPECT_EQ(s.size(), 5u);
+  for (ExprId leaf : {x, dx, ddx, px, p0}) EXPECT_TRUE(s.Has(leaf));
+  EXPECT_FALSE(s.Has(pool.Der(VarId(1u))));
+  EXPECT_FALSE(s.Has(pool.Pre(VarId(1u))));
+  EXPECT_FALSE(s.Has(pool.Param(ParamId(1u))));
+  // A variable far beyond any mapped so far.
+  EXPECT_FALSE(s.Has(pool.Var(VarId(100000u))));
+  ExprId e = pool.Add(pool.Add(x, dx), pool.Add(ddx, pool.Add(px, p0)));
+  ExprId expected = pool.Add(pool.Add(pool.Add(y, C(1)), pool.Mul(C(2), y)),
+                             pool.Add(pool.Mul(C(5), y), pool.Add(z, q)));
+  EXPECT_EQ(s.Apply(e), expected);
+  // The memo given back, the same rewrite again.
+  s.ReleaseMemo();
+  EXPECT_EQ(s.Apply(e), expected);
+  EXPECT_EQ(s.Apply(pool.Mul(e, x)), pool.Mul(expected, pool.Add(y, C(1))));
+  // A mapped constant: any subtree may hold it.
+  s.Set(C(7), C(8));
+  EXPECT_TRUE(s.Touches(pool.Add(y, C(7))));
+  EXPECT_TRUE(pool.IsConst(s.Apply(C(7)), 8.0));
+}
+
 TEST_F(ExprAlgebraTest, SubstitutionOf100000LongChain) {
   // x_k -> x_{k+1} + 1 for k < N: x_0 becomes x_N + N through a 100 000-deep chain.
   const uint32_t n = 100000;

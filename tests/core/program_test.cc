@@ -220,6 +220,9 @@ TEST(ProgramCompilerTest, TemporariesAreReused) {
   const RegisterLayout& L = compiler.layout();
   EXPECT_LT(L.size - L.temp_base, 40u) << "temporaries are not reused";
   EXPECT_EQ(prog.size(), 1024u + 1023u + 1u);  // products, sums, the store
+  // Its size is known before it is emitted: it holds no room to grow (a model's programs are
+  // most of the memory at the end of a build).
+  EXPECT_EQ(prog.code().capacity(), prog.size());
   std::vector<double> regs(L.size, 0.0);
   for (const auto& [reg, c] : compiler.constants()) regs[reg] = c;
   double want = 0;
