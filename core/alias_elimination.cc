@@ -63,29 +63,26 @@ class AliasForest {
   std::vector<uint32_t> path_;  ///< Find's scratch
 };
 
-constexpr uint8_t kNeverAlias = kHasDer | kHasPre | kHasTime | kHasInitial | kHasCond;
-
 /// Whether `e` is an alias candidate: affine in at most `max_terms` variables, with numeric
 /// coefficients; sets the terms (variable, coefficient) and the offset.
 bool IsAffine(ExprPool* p, ExprId e, size_t max_terms, AffineForm* form,
-              std::vector<std::pair<uint32_t, double>>* terms, ExprId* offset) {
-  if (p->mask(e) & kNeverAlias) return false;
+              std::vector<std::pair<VarId, double>>* terms, ExprId* offset) {
+  if (p->mask(e) & kNeverAliasLeaves) return false;
   if (!DecomposeAffine(p, e, max_terms, form) || form->terms.empty()) return false;
   terms->clear();
-  for (const auto& [leaf, c] : form->terms) terms->emplace_back(p->node(leaf).a, c);
+  for (const auto& [leaf, c] : form->terms) terms->emplace_back(VarId(p->node(leaf).a), c);
   *offset = form->offset;
   return true;
 }
 
-/// The form of a deferred equation (DeferredEquations), as IsAffine gives a made one's.
-bool DeferredForm(ExprPool& p, const DeferredEquations& deferred, uint32_t k,
-                  std::vector<std::pair<VarId, double>>* scratch, std::vector<std::pair<uint32_t, double>>* terms,
-                  ExprId* offset) {
+/// The form of flat equation k, which flattening did not make (DeferredEquations), as IsAffine
+/// gives a made one's.
+bool DeferredForm(ExprPool* p, const DeferredEquations* deferred, uint32_t k,
+                  std::vector<std::pair<VarId, double>>* terms, ExprId* offset) {
+  MOMENTA_CHECK_MSG(deferred != nullptr, "a flat system with deferred equations goes with its DeferredEquations");
   double c = 0;
-  if (!deferred.Form(k, scratch, &c)) return false;
-  terms->clear();
-  for (const auto& [v, coef] : *scratch) terms->emplace_back(v.value(), coef);
-  *offset = p.Const(c);
+  if (!deferred->Form(k, terms, &c)) return false;
+  *offset = p->Const(c);
   return true;
 }
 
@@ -95,10 +92,6 @@ EquationSystem EliminateAliases(EquationSystem sys, AliasStats* stats, const Def
   ExprPool& p = *sys.pool;
   const FlatSystem& flat = *sys.flat;
   const size_t n = flat.variables.size();
-  for (const SystemEquation& eq : sys.equations) {
-    MOMENTA_CHECK_MSG(eq.residual.valid() || deferred != nullptr,
-                      "a flat system with deferred equations goes with its DeferredEquations");
-  }
   std::vector<bool> diff = DifferentiatedVariables(sys);  // deferred equations hold no der()
   AliasForest forest(&p, n);
 
@@ -121,8 +114,7 @@ EquationSystem EliminateAliases(EquationSystem sys, AliasStats* stats, const Def
   // is during this scan), so later passes skip it instead of decomposing it again.
   std::vector<uint8_t> candidate(pending.size(), 1), kept_candidate;
   AffineForm form;
-  std::vector<std::pair<uint32_t, double>> terms;  // scratch: c_k per variable of one equation
-  std::vector<std::pair<VarId, double>> deferred_terms;  // scratch
+  std::vector<std::pair<VarId, double>> terms;  // scratch: c_k per variable of one equation
   std::vector<std::pair<uint32_t, double>> roots;  // scratch: a_r per root of one equation
   for (int pass = 0; pass < 10; ++pass) {
     kept.clear();
@@ -141,14 +133,14 @@ EquationSystem EliminateAliases(EquationSystem sys, AliasStats* stats, const Def
       bool may_alias = false;  // kept, and worth another look in the next pass
       ExprId d;                // the form's offset
       if (eq.residual.valid() ? IsAffine(&p, eq.residual, kMaxAliasTerms, &form, &terms, &d)
-                              : DeferredForm(p, *deferred, eq.origin, &deferred_terms, &terms, &d)) {
+                              : DeferredForm(&p, deferred, eq.origin, &terms, &d)) {
         // Discrete variables are never aliased: their equations are evaluated at events.
         bool discrete = false;
-        for (const auto& t : terms) discrete = discrete || flat.variables[t.first].discrete;
+        for (const auto& t : terms) discrete = discrete || flat.variables[t.first.value()].discrete;
         // sum c_k x_k + offset with x_k = s_k r_k + o_k: collect a_r per root and the constant d.
         roots.clear();
         for (const auto& [var, c] : terms) {
-          Link l = forest.Find(var);
+          Link l = forest.Find(var.value());
           if (!p.IsConst(l.offset, 0)) d = p.Add(d, p.Mul(p.Const(c), l.offset));
           if (l.parent == kConstantRoot) continue;
           auto it = std::find_if(roots.begin(), roots.end(), [&](const auto& r) { return r.first == l.parent; });

@@ -42,7 +42,7 @@ SureAlias ReadSureAlias(const Template& t, const std::vector<bool>& discrete, co
   std::vector<ExprId> made;
   const ExprId r = CopyTemplate(&pool, t, VarId(0), ParamId(0), &made, NoTable, /*cached_constants=*/false);
   AffineForm form;
-  if ((pool.mask(r) & (kHasDer | kHasPre | kHasTime | kHasInitial | kHasCond)) ||
+  if ((pool.mask(r) & kNeverAliasLeaves) ||
       !DecomposeAffine(&pool, r, 2, &form) || form.terms.empty() || !pool.IsConst(form.offset)) {
     return out;
   }

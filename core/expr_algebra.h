@@ -104,6 +104,10 @@ class PartialDerivatives {
 ExprId TimeDerivative(ExprPool* pool, ExprId e);
 
 /// e = sum(coef_k * leaf_k) + offset, with numeric coefficients and a parameter-only offset.
+/// The leaf kinds an alias equation never holds: derivatives, pre-values, time, initial() and
+/// conditions (alias elimination; the sure aliases of core/equation_template.h).
+constexpr uint8_t kNeverAliasLeaves = kHasDer | kHasPre | kHasTime | kHasInitial | kHasCond;
+
 struct AffineForm {
   std::vector<std::pair<ExprId, double>> terms;  ///< leaf (kVar or kDer) and its coefficient
   ExprId offset;

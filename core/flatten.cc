@@ -303,23 +303,26 @@ class DeferredAliases final : public DeferredEquations {
   ExprId Make(uint32_t k) const override {
     ExprPool& p = *pool_;
     const Entry& e = entries_[k];
-    switch (e.kind) {
-      case kCopy:
-        return CopyTemplate(&p, *shapes_[e.shape].tmpl, VarId(e.x), ParamId(e.y), &scratch_, NoTable);
-      case kZero: return p.Var(VarId(e.x));
-      case kEqual: return p.Sub(p.Var(VarId(e.x)), p.Var(VarId(e.y)));
-      case kSum: return p.Add(p.Var(VarId(e.x)), p.Var(VarId(e.y)));
-      case kMade: break;
+    if (e.kind == kCopy) return CopyTemplate(&p, *shapes_[e.shape].tmpl, VarId(e.x), ParamId(e.y), &scratch_, NoTable);
+    // The leaves in the order Connections makes them.
+    if (e.kind == kZero) return p.Var(VarId(e.x));
+    if (e.kind == kEqual) {
+      const ExprId y = p.Var(VarId(e.y));
+      return p.Sub(p.Var(VarId(e.x)), y);
     }
-    return ExprId();
+    const ExprId x = p.Var(VarId(e.x));
+    return p.Add(x, p.Var(VarId(e.y)));
   }
 
-  /// Flat equation k is a copy of `t`, a sure alias (`alias`), for the instance whose first
-  /// variable and parameter are given.
-  void AddCopy(size_t k, const Template& t, const SureAlias& alias, VarId first_var, ParamId first_param) {
-    auto [at, added] = shape_of_.emplace(&t, static_cast<uint32_t>(shapes_.size()));
-    if (added) shapes_.push_back({&t, alias});
-    Set(k, {kCopy, at->second, first_var.value(), first_param.value()});
+  /// A sure-alias template (`form` is ReadSureAlias's) whose copies AddCopy records.
+  uint32_t AddShape(const Template& t, const SureAlias& form) {
+    shapes_.push_back({&t, form});
+    return static_cast<uint32_t>(shapes_.size() - 1);
+  }
+  /// Flat equation k is a copy of `shape` for the instance whose first variable and parameter
+  /// are given.
+  void AddCopy(size_t k, uint32_t shape, VarId first_var, ParamId first_param) {
+    Set(k, {kCopy, shape, first_var.value(), first_param.value()});
   }
   /// Flat equation k is x = 0 (an unconnected flow), x = y or x + y = 0 (a connection).
   void AddZero(size_t k, VarId x) { Set(k, {kZero, 0, x.value(), 0}); }
@@ -343,7 +346,6 @@ class DeferredAliases final : public DeferredEquations {
   /// Takes the type layouts, whose templates the copies read.
   void Keep(std::unordered_map<const ComponentType*, std::unique_ptr<TypeLayout>> layouts) {
     layouts_ = std::move(layouts);
-    shape_of_.clear();
   }
 
  private:
@@ -364,10 +366,12 @@ class DeferredAliases final : public DeferredEquations {
     SureAlias form;
   };
   std::vector<Shape> shapes_;
-  std::unordered_map<const Template*, uint32_t> shape_of_;  ///< while flattening
   std::unordered_map<const ComponentType*, std::unique_ptr<TypeLayout>> layouts_;
   mutable std::vector<ExprId> scratch_;
 };
+
+/// No DeferredAliases shape: the equation's copies are made (Flattener::SureAliasShapes).
+constexpr uint32_t kNotSure = UINT32_MAX;
 
 class Flattener {
  public:
@@ -403,7 +407,7 @@ class Flattener {
     flat_.defines = defines_;  // instances point into these types
     flat_.structural = structural_;
     if (deferred_ && !deferred_->empty()) {
-      deferred_->MakeDiscrete(&flat_);
+      if (model_assigns_) deferred_->MakeDiscrete(&flat_);
       deferred_->Keep(std::move(layouts_));
       flat_.deferred = std::move(deferred_);
     }
@@ -2134,13 +2138,6 @@ class Flattener {
     return static_cast<uint32_t>(n);
   }
 
-  /// The sure-alias form of template `t` (ReadSureAlias), read once.
-  const SureAlias& SureAliasOf(const Template& t, const std::vector<bool>& discrete, const std::vector<bool>& conditional) {
-    auto it = sure_alias_.find(&t);
-    if (it == sure_alias_.end()) it = sure_alias_.emplace(&t, ReadSureAlias(t, discrete, conditional)).first;
-    return it->second;
-  }
-
   /// The nodes below the root of an equation that is not made, in their order: one may be
   /// shared with another equation, and the pool orders the operands of a commutative operation
   /// by node id, so every node that is made keeps the place it has when all equations are made
@@ -2153,24 +2150,29 @@ class Flattener {
                  leaf_root ? t.nodes.size() : t.nodes.size() - 1);
   }
 
-  /// The local variables of L's conditional connectors and its parts' (empty when there are
-  /// none): an equation that names one may go when its connector is absent
-  /// (ResolveConditionalConnectors), so it is made now.
-  const std::vector<bool>& ConditionalLocals(const TypeLayout& L) {
-    auto [at, added] = conditional_locals_.emplace(&L, std::vector<bool>());
+  /// For each equation of L, the DeferredAliases shape of its copies, or kNotSure when they are
+  /// made; read once per layout. A local variable of a conditional connector (L's or a part's)
+  /// makes its equations made: they may go when the connector is absent
+  /// (ResolveConditionalConnectors).
+  const std::vector<uint32_t>& SureAliasShapes(const TypeLayout& L) {
+    auto [at, added] = sure_shapes_.emplace(&L, std::vector<uint32_t>());
     if (!added) return at->second;
-    std::vector<bool>& locals = at->second;
+    std::vector<bool> conditional(L.vars.size(), false);
     auto mark = [&](const TypeLayout& T, uint32_t var_off) {
       for (const ConnectorSlot& cs : T.connectors) {
         if (cs.decl->condition.empty()) continue;
-        locals.resize(L.vars.size(), false);
         const size_t count = cs.type->is_signal ? 1 : cs.type->potentials.size() + cs.type->flows.size();
-        for (size_t j = 0; j < count; ++j) locals[var_off + cs.first_local_var + j] = true;
+        for (size_t j = 0; j < count; ++j) conditional[var_off + cs.first_local_var + j] = true;
       }
     };
     mark(L, 0);
     for (const SubInstance& sub : L.subs) mark(*sub.layout, sub.first_var);
-    return locals;
+    std::vector<uint32_t>& shapes = at->second;
+    for (const Template& t : L.equations) {
+      const SureAlias form = ReadSureAlias(t, L.discrete, conditional);
+      shapes.push_back(form.sure ? deferred_->AddShape(t, form) : kNotSure);
+    }
+    return shapes;
   }
 
   /// The names of L's variables, parameters, equations and when-clauses (FlatSystem::type_names),
@@ -2308,18 +2310,15 @@ class Flattener {
     }
     // Equations.
     // Equations that alias elimination surely removes are not made (DeferredAliases).
-    const std::vector<bool>* conditional_locals = deferred_ ? &ConditionalLocals(L) : nullptr;
+    const std::vector<uint32_t>* sure_shapes = deferred_ ? &SureAliasShapes(L) : nullptr;
     auto add_equations = [&](const std::vector<Template>& templates, const std::vector<PartInfo>& info,
-                             uint32_t first_text, bool may_defer, std::vector<FlatEquation>* out) {
+                             uint32_t first_text, const std::vector<uint32_t>* shapes, std::vector<FlatEquation>* out) {
       for (size_t k = 0; k < templates.size(); ++k) {
         const PartInfo& d = info[k];
         FlatEquation eq;
-        const SureAlias* alias = may_defer && conditional_locals != nullptr
-                                     ? &SureAliasOf(templates[k], L.discrete, *conditional_locals)
-                                     : nullptr;
-        if (alias != nullptr && alias->sure) {
+        if (shapes != nullptr && (*shapes)[k] != kNotSure) {
           MakeBelowRoot(templates[k], data.first_var, data.first_param);
-          deferred_->AddCopy(out->size(), templates[k], *alias, data.first_var, data.first_param);
+          deferred_->AddCopy(out->size(), (*shapes)[k], data.first_var, data.first_param);
         } else {
           eq.residual = Instantiate(templates[k], data.first_var, data.first_param, inst, d.text, c.loc);
         }
@@ -2330,7 +2329,7 @@ class Flattener {
         out->push_back(std::move(eq));
       }
     };
-    add_equations(L.equations, L.equation_info, 0, /*may_defer=*/true, &flat_.equations);
+    add_equations(L.equations, L.equation_info, 0, sure_shapes, &flat_.equations);
     // When-clauses and impacts.
     auto inst_expr = [&](const Template& t, const std::string& text) {
       return Instantiate(t, data.first_var, data.first_param, inst, text, c.loc);
@@ -2377,7 +2376,7 @@ class Flattener {
       flat_.equations.push_back(std::move(eq));
       flat_.impacts.push_back(std::move(im));
     }
-    add_equations(L.initial_equations, L.initial_info, static_cast<uint32_t>(L.equations.size()), /*may_defer=*/false,
+    add_equations(L.initial_equations, L.initial_info, static_cast<uint32_t>(L.equations.size()), nullptr,
                   &flat_.initial_equations);
   }
 
@@ -2734,6 +2733,7 @@ class Flattener {
         } else {
           fw.assigns.emplace_back(v, value);
           flat_.variables[v.value()].discrete = true;
+          model_assigns_ = true;
         }
       }
       fw.text = flat_.Own(w.text);
@@ -2843,8 +2843,9 @@ class Flattener {
   std::unordered_map<const TypeLayout*, int32_t> names_of_;  ///< index in flat_.type_names
   std::vector<InstanceData> instance_data_;
   std::shared_ptr<DeferredAliases> deferred_;  ///< with defer_equations
-  std::unordered_map<const Template*, SureAlias> sure_alias_;  ///< ReadSureAlias, by template
-  std::unordered_map<const TypeLayout*, std::vector<bool>> conditional_locals_;  ///< ConditionalLocals
+  /// SureAliasShapes, by layout.
+  std::unordered_map<const TypeLayout*, std::vector<uint32_t>> sure_shapes_;
+  bool model_assigns_ = false;  ///< a model when-clause assigns a variable (made discrete)
   std::vector<uint32_t> slot_instance_;  ///< connector slot -> instance
   std::vector<uint32_t> parent_;         ///< union-find over connector slots
   /// The model's conditional connector slots -> their FlatSystem::conditional_connectors entry.
