@@ -116,13 +116,11 @@ namespace {
 constexpr uint64_t kEmptySlot = ~0ull;
 
 uint64_t HashNode(const Node& n) {
-  uint64_t bits;
-  std::memcpy(&bits, &n.value, sizeof bits);
   uint64_t h = static_cast<uint64_t>(n.op) * 0x9E3779B97F4A7C15ull;
   h ^= (static_cast<uint64_t>(n.a) + 0x632BE59BD9B4E019ull + (h << 6) + (h >> 2));
   h ^= (static_cast<uint64_t>(n.b) * 0xC2B2AE3D27D4EB4Full + (h << 6) + (h >> 2));
   h ^= (static_cast<uint64_t>(n.c) * 0x165667B19E3779F9ull + (h << 6) + (h >> 2));
-  h ^= bits + n.flags + (h << 6) + (h >> 2);
+  h ^= n.flags + (h << 6) + (h >> 2);
   h ^= h >> 33;
   h *= 0xff51afd7ed558ccdull;
   h ^= h >> 33;
@@ -144,8 +142,7 @@ size_t NextSlot(size_t slot, size_t size) { return slot + 1 == size ? 0 : slot +
 bool TooFull(size_t entries, size_t slots) { return entries * 4 > slots * 3; }
 
 bool SameNode(const Node& x, const Node& y) {
-  return x.op == y.op && x.a == y.a && x.b == y.b && x.c == y.c && x.flags == y.flags &&
-         std::memcmp(&x.value, &y.value, sizeof x.value) == 0;
+  return x.op == y.op && x.a == y.a && x.b == y.b && x.c == y.c && x.flags == y.flags;
 }
 
 bool IsCommutative(Op op) {
@@ -327,13 +324,13 @@ ExprId ExprPool::Leaf(Op op, uint32_t payload) {
 }
 
 ExprId ExprPool::Table(ParamId first, uint32_t rows, uint32_t cols, uint32_t column) {
-  MOMENTA_CHECK_MSG(rows >= 1 && column >= 1 && column <= cols, "a table column lies in the table");
+  MOMENTA_CHECK_MSG(rows >= 1 && column >= 1 && column <= cols && cols <= kMaxTableColumns,
+                    "a table column lies in the table");
   Node n;
   n.op = Op::kTable;
   n.a = first.value();
   n.b = rows;
-  n.c = cols;
-  n.value = column;
+  n.c = cols | column << 16;
   return Intern(n);
 }
 
@@ -344,19 +341,19 @@ ExprId ExprPool::Const(double v) {
   if (v == -1.0 && minus_one_.valid()) return minus_one_;
   Node n;
   n.op = Op::kConst;
-  n.value = (v == 0.0) ? 0.0 : v;  // one zero, not two
+  n.set_value((v == 0.0) ? 0.0 : v);  // one zero, not two
   return Intern(n);
 }
 
 bool ExprPool::IsTruthValued(ExprId id) const {
   const Node& n = node(id);
-  if (n.op == Op::kConst) return n.value == 0.0 || n.value == 1.0;
+  if (n.op == Op::kConst) return n.value() == 0.0 || n.value() == 1.0;
   return IsBooleanOp(n.op);
 }
 
 bool ExprPool::IsConst(ExprId id, double v) const {
   const Node& n = node(id);
-  return n.op == Op::kConst && n.value == v;
+  return n.op == Op::kConst && n.value() == v;
 }
 
 ExprId ExprPool::Add(ExprId a, ExprId b) { return Binary(Op::kAdd, a, b); }
@@ -367,7 +364,7 @@ ExprId ExprPool::Pow(ExprId a, ExprId b) { return Binary(Op::kPow, a, b); }
 
 ExprId ExprPool::Neg(ExprId a) {
   const Node& n = node(a);
-  if (n.op == Op::kConst) return Const(-n.value);
+  if (n.op == Op::kConst) return Const(-n.value());
   if (n.op == Op::kNeg) return ExprId(n.a);
   if (n.op == Op::kSub) return Sub(ExprId(n.b), ExprId(n.a));
   Node m;

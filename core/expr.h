@@ -6,6 +6,7 @@
 /// substitutions) stay small.
 
 #include <cstdint>
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -26,8 +27,8 @@ enum class Op : uint8_t {
   kCj,       ///< IDA's coefficient cj in dF/dy + cj dF/dy' (Jacobians only)
   kCond,     ///< a = condition index: an event relation's value, frozen between events
   /// A column of a table parameter (docs/FORMAT.md, "Tables"): a = ParamId of its element [1,1],
-  /// b = rows, c = columns (elements row by row in consecutive parameters), value = the column
-  /// read (1-based). Read only as the second operand of kInterp and kInterpSlope.
+  /// b = rows, c = the columns (elements row by row in consecutive parameters) and the column
+  /// read (1-based; Node::TableColumns, Node::TableColumn). Read only as the second operand of kInterp and kInterpSlope.
   kTable,
   // Arithmetic.
   kAdd, kSub, kMul, kDiv, kPow, kNeg,
@@ -63,13 +64,37 @@ enum LeafMask : uint8_t {
   kHasCond = 128,
 };
 
+/// One node of the pool: 16 bytes, so that four share a cache line. The operands (a, b, c) are
+/// node ids or payloads as Op says; a constant's value is held in b and c, and a table leaf's
+/// column count and column in c (TableColumns, TableColumn).
 struct Node {
   Op op = Op::kConst;
   uint8_t flags = 0;
   uint8_t mask = 0;  ///< LeafMask bits of the subtree
+  uint8_t unused = 0;
   uint32_t a = 0, b = 0, c = 0;
-  double value = 0;
+
+  /// kConst: the number.
+  double value() const {
+    const uint64_t bits = static_cast<uint64_t>(b) | static_cast<uint64_t>(c) << 32;
+    double v;
+    std::memcpy(&v, &bits, sizeof v);
+    return v;
+  }
+  void set_value(double v) {
+    uint64_t bits;
+    std::memcpy(&bits, &v, sizeof bits);
+    b = static_cast<uint32_t>(bits);
+    c = static_cast<uint32_t>(bits >> 32);
+  }
+  /// kTable: the table's number of columns (at most kMaxTableColumns) and the column read (1-based).
+  uint32_t TableColumns() const { return c & 0xFFFFu; }
+  uint32_t TableColumn() const { return c >> 16; }
 };
+static_assert(sizeof(Node) == 16, "a node is 16 bytes");
+
+/// The most columns a table may have (a table leaf keeps its column count and column in 16 bits each).
+constexpr uint32_t kMaxTableColumns = 0xFFFF;
 
 int Arity(Op op);
 bool IsLeaf(Op op);
@@ -131,7 +156,7 @@ class ExprPool {
   /// The value is 0 or 1 by construction (a relation, and/or/not, or the constants 0 and 1).
   bool IsTruthValued(ExprId id) const;
   bool IsConst(ExprId id, double v) const;
-  double ConstValue(ExprId id) const { return node(id).value; }
+  double ConstValue(ExprId id) const { return node(id).value(); }
   /// No variables, derivatives, pre-values, time or initial(): a function of parameters only.
   bool IsParamOnly(ExprId id) const {
     return (node(id).mask & (kHasVar | kHasDer | kHasTime | kHasPre | kHasInitial | kHasCond)) == 0;

@@ -872,7 +872,7 @@ void Print(const ExprPool& pool, ExprId e, const ExprNamer& names, int depth, st
   };
   switch (n.op) {
     case Op::kConst:
-      *out += FormatNumber(n.value);
+      *out += FormatNumber(n.value());
       return;
     case Op::kVar: *out += names.var ? names.var(n.a) : "x" + std::to_string(n.a); return;
     case Op::kDer:
@@ -900,7 +900,7 @@ void Print(const ExprPool& pool, ExprId e, const ExprNamer& names, int depth, st
       Print(pool, ExprId(n.b), names, depth + 1, out);
       *out += ", ";
       Print(pool, ExprId(n.a), names, depth + 1, out);
-      *out += ", " + FormatNumber(pool.node(ExprId(n.b)).value) + ")";
+      *out += ", " + std::to_string(pool.node(ExprId(n.b)).TableColumn()) + ")";
       return;
     case Op::kNeg: *out += "-"; child(n.a, Precedence(Op::kNeg) + 1); return;
     case Op::kNot: *out += "not "; child(n.a, Precedence(Op::kNot)); return;

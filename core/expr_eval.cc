@@ -8,7 +8,7 @@ namespace {
 
 double LeafValue(const Node& n, const LeafValues& lv) {
   switch (n.op) {
-    case Op::kConst: return n.value;
+    case Op::kConst: return n.value();
     case Op::kVar: return lv.vars ? lv.vars[n.a] : 0.0;
     case Op::kDer: return lv.ders ? lv.ders[n.a] : 0.0;
     case Op::kPre: return lv.pres ? lv.pres[n.a] : (lv.vars ? lv.vars[n.a] : 0.0);
@@ -53,7 +53,7 @@ double Evaluate(const ExprPool& pool, ExprId root, const LeafValues& leaves) {
     if (n.op == Op::kInterp || n.op == Op::kInterpSlope) {
       // The table's elements are parameters: read them from the parameter values.
       const Node& t = pool.node(ExprId(n.b));
-      r = leaves.params ? InterpolateTable(leaves.params + t.a, t.b, t.c, static_cast<uint32_t>(t.value),
+      r = leaves.params ? InterpolateTable(leaves.params + t.a, t.b, t.TableColumns(), t.TableColumn(),
                                            value.at(n.a), n.op == Op::kInterpSlope)
                         : 0.0;
     } else if (arity == 1) {

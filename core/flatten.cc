@@ -1786,6 +1786,11 @@ class Flattener {
         case TNode::kTable: {
           const InstanceTable& table = instance_tables_.at(n.local);
           const auto column = static_cast<uint32_t>(n.c >= 0 ? OptionValue(made[n.c], "column", loc) : n.value);
+          if (table.cols > kMaxTableColumns) {
+            throw ModelError(loc, flat_.InstancePath(inst) + ": interpolate() reads a table with " + std::to_string(table.cols) +
+                                      " columns, more than the " + std::to_string(kMaxTableColumns) + " a table may have, in '" +
+                                      Excerpt(text, 0) + "'");
+          }
           if (column < 1 || column > table.cols) {
             throw ModelError(loc, flat_.InstancePath(inst) + ": interpolate() reads column " + std::to_string(column) + " of a table with " +
                                       std::to_string(table.cols) + " columns, in '" + Excerpt(text, 0) + "'");
@@ -1852,7 +1857,7 @@ class Flattener {
     FlatTable& flat_table = FlatTableAt(t.a);
     flat_table.jumps.assign(t.b, 0);
     for (uint32_t r = 0; r + 1 < t.b; ++r) {
-      flat_table.jumps[r] = BuildValue(ParamId(t.a + r * t.c)) == BuildValue(ParamId(t.a + (r + 1) * t.c));
+      flat_table.jumps[r] = BuildValue(ParamId(t.a + r * t.TableColumns())) == BuildValue(ParamId(t.a + (r + 1) * t.TableColumns()));
     }
     return TimeTableSum(&pool(), x, table, smoothness, extrapolation, flat_table.jumps);
   }

@@ -67,7 +67,7 @@ void RunInstructions(const Instruction* code, size_t n, const TableShape* tables
 
 uint32_t Program::AddTable(const Node& table) {
   MOMENTA_CHECK(table.op == Op::kTable);
-  TableShape shape{table.b, table.c, static_cast<uint32_t>(table.value)};
+  TableShape shape{table.b, table.TableColumns(), table.TableColumn()};
   for (size_t k = 0; k < tables_.size(); ++k) {
     if (tables_[k].rows == shape.rows && tables_[k].cols == shape.cols && tables_[k].column == shape.column) {
       return static_cast<uint32_t>(k);

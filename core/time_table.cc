@@ -16,7 +16,7 @@ ExprId TimeTableSum(ExprPool* pool, ExprId x, ExprId table, int smoothness, int 
                     const std::vector<uint8_t>& jumps) {
   ExprPool& p = *pool;
   const Node t = p.node(table);
-  const uint32_t n = t.b, cols = t.c, column = static_cast<uint32_t>(t.value);
+  const uint32_t n = t.b, cols = t.TableColumns(), column = t.TableColumn();
   auto abscissa = [&](uint32_t r) { return p.Param(ParamId(t.a + r * cols)); };
   auto ordinate = [&](uint32_t r) { return p.Param(ParamId(t.a + r * cols + column - 1)); };
   auto reached = [&](uint32_t r) { return p.Binary(Op::kGe, x, abscissa(r)); };
@@ -60,7 +60,7 @@ ExprId BooleanTableSum(ExprPool* pool, ExprId x, ExprId table) {
   const Node t = p.node(table);
   std::vector<ExprId> terms;
   for (uint32_t r = 0; r < t.b; ++r) {
-    ExprId c = p.Binary(Op::kGe, x, p.Param(ParamId(t.a + r * t.c)));
+    ExprId c = p.Binary(Op::kGe, x, p.Param(ParamId(t.a + r * t.TableColumns())));
     terms.push_back(r % 2 == 0 ? c : p.Neg(c));
   }
   return SumOf(pool, terms);

@@ -379,7 +379,7 @@ std::string Exact(const ExprPool& pool, ExprId e) {
   const Node& n = pool.node(e);
   char buf[64];
   if (n.op == Op::kConst) {
-    std::snprintf(buf, sizeof buf, "%a", n.value);
+    std::snprintf(buf, sizeof buf, "%a", n.value());
     return buf;
   }
   if (IsLeaf(n.op)) {

@@ -670,8 +670,8 @@ TEST_F(ExprAlgebraTest, ToStringRoundTripsThroughTheParser) {
       stack.pop_back();
       if (nd.op == Op::kConst) {
         char buf[64];
-        std::snprintf(buf, sizeof buf, "%.15g", nd.value);
-        if (std::strtod(buf, nullptr) != nd.value) return false;
+        std::snprintf(buf, sizeof buf, "%.15g", nd.value());
+        if (std::strtod(buf, nullptr) != nd.value()) return false;
       }
       if (Arity(nd.op) >= 1) stack.push_back(ExprId(nd.a));
       if (Arity(nd.op) >= 2) stack.push_back(ExprId(nd.b));
