@@ -171,5 +171,26 @@ equations: ["y = interpolate(g, time)"]
   EXPECT_NE(e.find("interpolate() takes 2 or 3 arguments, found 1"), std::string::npos) << e;
 }
 
+TEST(TableTest, ATableHasAtMost65535Columns) {
+  // A table leaf keeps its column count in 16 bits (core/expr.h, kMaxTableColumns).
+  std::string row;
+  for (int k = 0; k < 65536; ++k) row += k == 0 ? "0" : ", 0";
+  const std::string e = testing::BuildError(R"yaml(
+model: Wide
+define:
+  Wide:
+    parameters:
+      f: {shape: [":", 65536], value: [[)yaml" + row + R"yaml(]]}
+    variables: {y: {}}
+    equations: ["y = interpolate(f, time)"]
+components:
+  w: {type: Wide}
+)yaml");
+  EXPECT_NE(e.find("w: interpolate() reads a table with 65536 columns, more than the 65535 a table may have, in "
+                   "'y = interpolate(f, time)'"),
+            std::string::npos)
+      << e;
+}
+
 }  // namespace
 }  // namespace momenta
