@@ -2,26 +2,48 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <deque>
 #include <mutex>
-#include <set>
+#include <string_view>
+#include <unordered_map>
 
 namespace momenta {
 
 namespace {
-const std::string* Intern(const std::string& name) {
-  static std::mutex mutex;
-  static std::set<std::string>* names = new std::set<std::string>();
-  std::lock_guard<std::mutex> lock(mutex);
-  return &*names->insert(name).first;
+
+/// Every file name a SourceLoc has named, by number (0: none). Names are never removed, and a
+/// deque does not move its elements, so a reference to one stays valid after the lock.
+struct FileNames {
+  std::mutex mutex;
+  std::deque<std::string> names{std::string()};
+  std::unordered_map<std::string_view, uint32_t> number{{std::string_view(names.front()), 0}};
+};
+
+FileNames& Files() {
+  static FileNames* files = new FileNames();  // never destroyed: locations outlive static order
+  return *files;
 }
+
+uint32_t Intern(const std::string& name) {
+  FileNames& f = Files();
+  std::lock_guard<std::mutex> lock(f.mutex);
+  auto at = f.number.find(name);
+  if (at != f.number.end()) return at->second;
+  const auto k = static_cast<uint32_t>(f.names.size());
+  f.names.push_back(name);
+  f.number.emplace(f.names.back(), k);
+  return k;
+}
+
 }  // namespace
 
 SourceLoc::SourceLoc(const std::string& file_name, int line_number, int column_number)
     : line(line_number), column(column_number), file_(Intern(file_name)) {}
 
 const std::string& SourceLoc::file() const {
-  static const std::string kNone;
-  return file_ ? *file_ : kNone;
+  FileNames& f = Files();
+  std::lock_guard<std::mutex> lock(f.mutex);
+  return f.names[file_];
 }
 
 void SourceLoc::set_file(const std::string& file_name) { file_ = Intern(file_name); }

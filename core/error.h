@@ -3,6 +3,7 @@
 /// cause, reported with file:line:col and the user's names; MOMENTA_CHECK for the code's own
 /// invariants, which aborts. Never MOMENTA_CHECK on user input.
 
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 
@@ -28,7 +29,9 @@ struct SourceLoc {
   SourceLoc Shifted(int columns) const;
 
  private:
-  const std::string* file_ = nullptr;
+  /// The file name's number in a table of every name seen (0: none), so that a location is 12
+  /// bytes: the flat system holds one per variable, parameter and equation.
+  uint32_t file_ = 0;
 };
 
 /// An error in the user's model: exit code 1. The message starts with "file:line:col: ".

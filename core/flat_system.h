@@ -3,6 +3,7 @@
 /// connection, in the user's names. The simplification and analysis passes take a FlatSystem and
 /// return a smaller one; the expression pool is shared between them.
 
+#include <limits>
 #include <map>
 #include <memory>
 #include <optional>
@@ -54,9 +55,10 @@ struct TypeNames {
 // (millions in a large one): their fields are ordered by size so that no padding falls between
 // them (FlatVariable 88 -> 64 bytes, FlatParameter 104 -> 96, FlatInstance 64 -> 40).
 
+/// 48 bytes: the largest member first, the flags in bits (a flat system holds one per scalar).
 struct FlatVariable {
-  SourceLoc loc;          ///< where start/fixed were given, else where declared
   double nominal = 1.0;
+  SourceLoc loc;          ///< where start/fixed were given, else where declared
   /// Full path, e.g. "A.flange_a.s" (FlatSystem::VariableName); its unit is its type's
   /// (FlatSystem::VariableUnit).
   TextRef name;
@@ -65,19 +67,21 @@ struct FlatVariable {
   /// For a variable that index reduction made for a derivative (a dummy derivative, or a state of
   /// the first-order form of der(der(x))): it stands for der^derivative_order(derivative_of).
   VarId derivative_of;
-  uint32_t derivative_order = 0;
-  int8_t state_priority = 0;  ///< stateSelect: never -2, avoid -1, default 0, prefer 1, always 2
+  uint16_t derivative_order = 0;  ///< at most the written order plus kMaxDifferentiations
   ValueType type = ValueType::kReal;
-  bool fixed = false;
-  bool is_flow = false;
-  bool is_input = false;  ///< an unconnected signal input would be one of these
+  int8_t state_priority : 4 = 0;  ///< stateSelect: never -2, avoid -1, default 0, prefer 1, always 2
+  bool fixed : 1 = false;
+  bool is_flow : 1 = false;
+  bool is_input : 1 = false;  ///< an unconnected signal input would be one of these
   /// Constant between events: Boolean and Integer variables, Reals assigned in when-clauses,
   /// impact contact modes.
-  bool discrete = false;
+  bool discrete : 1 = false;
 };
+static_assert(sizeof(FlatVariable) == 48, "a flat variable is 48 bytes");
 
 struct FlatParameter {
-  std::optional<double> min, max;
+  /// The bounds its value is checked against; infinite where none is declared.
+  double min = -std::numeric_limits<double>::infinity(), max = std::numeric_limits<double>::infinity();
   SourceLoc loc;       ///< where its value was set
   TextRef name;      ///< "mA" for a model parameter, "A.m" for a component's (FlatSystem::ParameterName)
   TextRef unit, doc;
@@ -95,9 +99,11 @@ struct FlatEquation {
   TextRef text;         ///< the equation as written, or a description (FlatSystem::EquationText)
   /// Index reduction: the flat equation this one is the time derivative of (-1: as written).
   int32_t differentiated_from = -1;
-  uint32_t differentiations = 0;  ///< how many times the written equation was differentiated
+  /// How many times the written equation was differentiated (at most kMaxDifferentiations).
+  uint16_t differentiations = 0;
   EquationOrigin origin = EquationOrigin::kComponent;
 };
+static_assert(sizeof(FlatEquation) == 40, "a flat equation is 40 bytes");
 
 /// Equations that a build does not make as expressions (Flatten's `defer_equations`): those that
 /// alias elimination surely removes, x = ±y + c or x = c over two (one) continuous variables with

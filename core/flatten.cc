@@ -426,8 +426,8 @@ class Flattener {
       FlatParameter fp;
       fp.name = flat_.Own(p.name);
       fp.type = p.type;
-      fp.min = p.min;
-      fp.max = p.max;
+      if (p.min) fp.min = *p.min;
+      if (p.max) fp.max = *p.max;
       fp.unit = flat_.Own(p.unit);
       fp.doc = flat_.Own(p.doc);
       fp.loc = p.loc;
@@ -2268,8 +2268,8 @@ class Flattener {
       const TextRef local{TextRef::kType, inst.value(), static_cast<uint32_t>(k)};
       fp.name = local;
       fp.type = d.type;
-      fp.min = d.min;
-      fp.max = d.max;
+      if (d.min) fp.min = *d.min;
+      if (d.max) fp.max = *d.max;
       if (!d.unit.empty()) fp.unit = local;
       if (!d.doc.empty()) fp.doc = local;
       fp.instance = instance_of(lp.sub);
@@ -2407,8 +2407,8 @@ class Flattener {
         fp.name = flat_.Own(path + "." + ElementName(d.name, shape, e));
         fp.unit = unit;
         fp.doc = doc;
-        fp.min = d.min;  // every element: a table of friction forces has min: 0
-        fp.max = d.max;
+        if (d.min) fp.min = *d.min;  // every element: a table of friction forces has min: 0
+        if (d.max) fp.max = *d.max;
         fp.instance = inst;
         if (m) {
           fp.binding = ModelExpr(*given[e], m->value_text, m->loc, index, false);
@@ -2954,8 +2954,8 @@ std::vector<double> EvaluateParameters(const FlatSystem& flat, const ParameterOv
       s << x;
       return s.str();
     };
-    if (p.min && v < *p.min) fail(what() + " = " + num(v) + " is below its minimum " + num(*p.min));
-    if (p.max && v > *p.max) fail(what() + " = " + num(v) + " is above its maximum " + num(*p.max));
+    if (v < p.min) fail(what() + " = " + num(v) + " is below its minimum " + num(p.min));
+    if (v > p.max) fail(what() + " = " + num(v) + " is above its maximum " + num(p.max));
     values[id.value()] = v;
   }
   CheckTables(flat, values);

@@ -243,7 +243,7 @@ DifferentiatedSystem Pantelides(EquationSystem* sys) {
         out.antiderivative.push_back(static_cast<int32_t>(l));
         out.derivative[l] = static_cast<int32_t>(d);
         g.AddRow(d);
-        out.structural_index = std::max(out.structural_index, sys->flat->equations.back().differentiations + 1);
+        out.structural_index = std::max<uint32_t>(out.structural_index, sys->flat->equations.back().differentiations + 1u);
         ++out.num_differentiated;
       }
       // The derivative of each visited unknown is matched to the derivative of its equation.
