@@ -1984,14 +1984,9 @@ class Flattener {
       slots += u.count * L->connectors.size();
       vars += u.count * L->vars.size();
       params += u.count * L->params.size();
-      // A connection set of s physical connectors makes s times their potentials' count of
-      // equations (s - 1 equal potentials and one flow sum each, as many flows as potentials); a
-      // signal set fewer than its connectors.
-      size_t joins = 0;
-      for (const ConnectorSlot& c : L->connectors) joins += c.type->is_signal ? 1 : c.type->potentials.size();
-      equations += u.count * (L->equations.size() + L->impacts.size() + joins);
+      equations += u.count * (L->equations.size() + L->impacts.size() + Joins(*L));
       initials += u.count * L->initial_equations.size();
-      nodes += u.count * (InstanceNodes(*L) + joins);
+      nodes += u.count * (InstanceNodes(*L) + Joins(*L));
     }
     equations += spec_.equations.size();
     initials += spec_.initial_equations.size();
@@ -2006,6 +2001,15 @@ class Flattener {
     // The build reserves twice the flattened pool for the passes after flattening (core/build.cc):
     // the table is made at that size at once, not grown through the sizes on the way.
     pool().Reserve(2 * (pool().size() + nodes));
+  }
+
+  /// About how many connection equations an instance of L adds: a connection set of s physical
+  /// connectors makes s times their potentials' count of equations (s - 1 equal potentials and
+  /// one flow sum each, as many flows as potentials); a signal set fewer than its connectors.
+  static size_t Joins(const TypeLayout& L) {
+    size_t joins = 0;
+    for (const ConnectorSlot& c : L.connectors) joins += c.type->is_signal ? 1 : c.type->potentials.size();
+    return joins;
   }
 
   /// About how many new nodes of the expression pool an instance of L makes: its templates'
@@ -2076,6 +2080,10 @@ class Flattener {
     room(&flat_.parameters, L.params.size());  // tables' elements come on top
     room(&flat_.equations, L.equations.size() + L.impacts.size());
     room(&flat_.initial_equations, L.initial_equations.size());
+    // The pool's table at the size the build reserves after flattening (twice the flattened
+    // pool, core/build.cc), so that it is made once per array instead of grown through the sizes
+    // on the way (the RC ladder: a rehash every half again).
+    pool().Reserve(2 * (pool().size() + size_t{count} * (InstanceNodes(L) + Joins(L))));
   }
 
   [[noreturn]] void UnknownType(const ComponentSpec& c) const {
