@@ -568,7 +568,7 @@ class Flattener {
       if (k > 1) local += ".";
       local += a.path[k].name;
       if (a.path[k].index) {  // an element of a part array inside a composite: arm.links[2].phi
-        double i = StructuralWhole(*a.path[k].index, AstToString(*a.path[k].index), loc, loop, "an index");
+        double i = Index(*a.path[k].index, loc, loop);
         local += "[" + NumberText(i) + "]";
       }
     }
@@ -590,6 +590,41 @@ class Flattener {
                               JoinNames(names) + ")");
   }
 
+  /// The value of a subscript. A whole number, the loop index, or a sum of these is added up
+  /// here, exactly (whole numbers below 2^52); anything else is built and evaluated as a structural
+  /// value, whose text only a message needs (a for: connection resolves two subscripts per
+  /// iteration).
+  double Index(const Ast& a, const SourceLoc& loc, const std::pair<std::string, double>* loop) {
+    if (std::optional<double> v = WholeSum(a, loop)) return *v;
+    return StructuralWhole(a, AstToString(a), loc, loop, "an index");
+  }
+
+  static std::optional<double> WholeSum(const Ast& a, const std::pair<std::string, double>* loop) {
+    constexpr double kExact = 4503599627370496.0;  // 2^52: sums of whole numbers below it are exact
+    auto whole = [&](double x) -> std::optional<double> {
+      if (x == std::floor(x) && std::fabs(x) < kExact) return x;
+      return std::nullopt;
+    };
+    switch (a.kind) {
+      case Ast::Kind::kNumber:
+        return whole(a.number);
+      case Ast::Kind::kName:
+        if (loop && a.path.size() == 1 && !a.path[0].index && a.path[0].name == loop->first) return whole(loop->second);
+        return std::nullopt;
+      case Ast::Kind::kSum: {
+        double r = 0;
+        for (size_t k = 0; k < a.args.size(); ++k) {
+          std::optional<double> x = WholeSum(*a.args[k], loop);
+          if (!x) return std::nullopt;
+          r += a.op[k] == '-' ? -*x : *x;
+        }
+        return whole(r);
+      }
+      default:
+        return std::nullopt;
+    }
+  }
+
   uint32_t ElementOf(const ComponentArray& arr, const NameSegment& seg, const SourceLoc& loc,
                      const std::pair<std::string, double>* loop, const std::string& text) {
     if (!arr.is_array) {
@@ -600,7 +635,7 @@ class Flattener {
       throw ModelError(loc, seg.name + " is an array of " + std::to_string(arr.count) +
                                 " components; name one element, e.g. " + seg.name + "[1]");
     }
-    double k = StructuralWhole(*seg.index, AstToString(*seg.index), loc, loop, "an index");
+    double k = Index(*seg.index, loc, loop);
     if (k < 1 || k > arr.count) {
       throw ModelError(loc, seg.name + "[" + NumberText(k) + "] is out of range 1.." +
                                 std::to_string(arr.count) + " in '" + text + "'");
