@@ -384,6 +384,25 @@ components:
   R: {type: Resistor, count: n}
 )");
   EXPECT_NE(msg.find("count of R must be a whole number"), std::string::npos) << msg;
+  // Subscripts of a for: connection: sums of the loop index and whole numbers are added up
+  // directly, the rest is evaluated as a structural value; both report the same way.
+  auto loop_error = [](const std::string& end) {
+    return FlattenError(R"(
+model: Loop
+components:
+  R: {type: Resistor, count: 3}
+  g: {type: Ground}
+connections:
+  - for: i in 1:3
+    connect: [")" + end + R"(", g.p]
+)");
+  };
+  msg = loop_error("R[i - 1 + 2].n");
+  EXPECT_NE(msg.find("R[4] is out of range 1..3 in 'R[i - 1 + 2].n'"), std::string::npos) << msg;
+  msg = loop_error("R[i + 0.5].n");
+  EXPECT_NE(msg.find("an index must be a whole number, found 1.5"), std::string::npos) << msg;
+  msg = loop_error("R[2*i].n");
+  EXPECT_NE(msg.find("R[4] is out of range 1..3 in 'R[2*i].n'"), std::string::npos) << msg;
 }
 
 TEST(FlattenTest, IndexInParameterAndStartExpressions) {
