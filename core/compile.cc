@@ -526,7 +526,7 @@ std::shared_ptr<CompiledModel> CompileModel(EquationSystem sys, const Structure&
                    &m->zero_crossings, &m->zero_crossing_rates, &m->when_conditions,
                    &m->when_values, &m->impact_values,
                    &compiler.parameter_program()});
-  m->parameters = compiler.parameter_program();
+  m->parameters = std::move(compiler.parameter_program());
   m->layout = compiler.layout();
   m->constants = compiler.constants();
   std::ostringstream note;

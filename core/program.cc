@@ -1,7 +1,10 @@
 #include "core/program.h"
 
+#include <sys/mman.h>
+
 #include <algorithm>
 #include <cmath>
+#include <new>
 #include <unordered_map>
 
 #include "core/error.h"
@@ -127,12 +130,27 @@ uint32_t ProgramCompiler::LeafRegister(ExprId e) {
   return 0;
 }
 
-void ProgramCompiler::GrowNodeSlots() {
-  // To the pool's size with a margin for the nodes the Jacobian adds later, reserved exactly:
-  // resize() alone would double the capacity, a pool-sized array more at the build's peak.
-  node_slot_.reserve(pool_.size() + pool_.size() / 4);
-  node_slot_.resize(pool_.size(), 0);
+NodeArray::~NodeArray() { Release(); }
+
+void NodeArray::Release() {
+  if (data_) munmap(data_, size_ * sizeof(uint32_t));
+  data_ = nullptr;
+  size_ = 0;
 }
+
+void NodeArray::Grow(size_t n) {
+  if (n <= size_) return;
+  // Whole pages, and at least an eighth more: the Jacobian adds nodes between the programs.
+  constexpr size_t kPage = 4096;
+  const size_t bytes = ((std::max(n, size_ + size_ / 8) * sizeof(uint32_t)) + kPage - 1) / kPage * kPage;
+  void* p = data_ ? mremap(data_, size_ * sizeof(uint32_t), bytes, MREMAP_MAYMOVE)
+                  : mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+  if (p == MAP_FAILED) throw std::bad_alloc();
+  data_ = static_cast<uint32_t*>(p);
+  size_ = bytes / sizeof(uint32_t);
+}
+
+void ProgramCompiler::GrowNodeSlots() { node_slot_.Grow(pool_.size()); }
 
 uint32_t ProgramCompiler::Global(uint32_t id) const { return id < node_slot_.size() ? node_slot_[id] : 0; }
 
@@ -359,6 +377,12 @@ Program ProgramCompiler::Compile(const std::vector<ExprId>& roots, const std::ve
 }
 
 void ProgramCompiler::Finish(std::vector<Program*> programs) {
+  node_slot_.Release();
+  std::vector<uint32_t>().swap(visited_);
+  std::vector<Local>().swap(local_);
+  std::vector<uint32_t>().swap(order_);
+  std::vector<uint32_t>().swap(stack_);
+  std::vector<uint32_t>().swap(param_stack_);
   layout_.temp_base = next_global_;
   layout_.size = next_global_ + max_temps_ + 1;
   auto place = [&](uint32_t& r) {
