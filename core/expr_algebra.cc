@@ -608,7 +608,14 @@ ExprId PartialDerivatives::Of(ExprId leaf) {
   for (uint32_t q : w.above) {
     const Node n = p.node(ExprId(w.ids[q]));  // a copy: new nodes may move the pool
     const auto& k = w.kids[q];
-    w.value[q] = ChainRule(p, n, ExprId(w.ids[q]), derivative(k[0]), derivative(k[1]), derivative(k[2]));
+    const ExprId da = derivative(k[0]), db = derivative(k[1]);
+    if (n.op == Op::kDiv && p.IsConst(db, 0)) {
+      // (a/b)' with b' = 0: ChainRule's a'/b - a*0/(b*b) comes to a'/b, but makes b*b, which
+      // nothing reads (a node per division by a parameter in a Jacobian row).
+      w.value[q] = p.Div(da, ExprId(n.b));
+    } else {
+      w.value[q] = ChainRule(p, n, ExprId(w.ids[q]), da, db, derivative(k[2]));
+    }
   }
   const uint32_t root = static_cast<uint32_t>(w.ids.size() - 1);
   return w.mark[root] == stamp ? w.value[root] : p.Zero();

@@ -80,9 +80,9 @@ ExprId PartialDerivative(ExprPool* pool, ExprId e, ExprId leaf);
 
 /// The partial derivatives of one expression with respect to several of its leaves (a Jacobian
 /// row), one leaf at a time: Of(leaf) is PartialDerivative(pool, e, leaf), node for node, for
-/// less work. The expression is walked once (Reset); each partial then visits only the nodes
-/// above its leaf. The nodes without the leaf have the derivative 0 and make no nodes (where
-/// PartialDerivative makes some that nothing reads, such as b*b for a/b with b' = 0).
+/// less work, except for nodes PartialDerivative makes and nothing reads. The expression is
+/// walked once (Reset); each partial then visits only the nodes above its leaf. The nodes
+/// without the leaf have the derivative 0 and make no nodes, nor does a/b's b*b when b' = 0.
 class PartialDerivatives {
  public:
   explicit PartialDerivatives(ExprPool* pool);
