@@ -81,9 +81,9 @@ uint32_t Program::AddTable(const Node& table) {
 }
 
 ProgramCompiler::ProgramCompiler(const ExprPool& pool, uint32_t num_params,
-                                 const std::vector<int32_t>& y_index, const std::vector<int32_t>& disc_index,
+                                 std::vector<int32_t> y_index, std::vector<int32_t> disc_index,
                                  uint32_t num_conditions)
-    : pool_(pool), y_index_(y_index), disc_index_(disc_index) {
+    : pool_(pool), y_index_(std::move(y_index)), disc_index_(std::move(disc_index)) {
   uint32_t n = 0, nd = 0;
   for (int32_t i : y_index_) n = std::max<uint32_t>(n, static_cast<uint32_t>(i + 1));
   for (int32_t i : disc_index_) nd = std::max<uint32_t>(nd, static_cast<uint32_t>(i + 1));

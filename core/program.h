@@ -85,12 +85,11 @@ class NodeArray {
 
 /// Turns expression DAGs into Programs. Leaves map to fixed registers: kVar(v) -> y or the
 /// discrete values, kDer(v) -> y', kPre(v) -> pre, kCond(r) -> conditions, through `y_index` and
-/// `disc_index` (flat variable -> position, or -1), which must outlive the compiler (they are
-/// read, not copied: a few bytes per flat variable).
+/// `disc_index` (flat variable -> position, or -1).
 class ProgramCompiler {
  public:
-  ProgramCompiler(const ExprPool& pool, uint32_t num_params, const std::vector<int32_t>& y_index,
-                  const std::vector<int32_t>& disc_index, uint32_t num_conditions);
+  ProgramCompiler(const ExprPool& pool, uint32_t num_params, std::vector<int32_t> y_index,
+                  std::vector<int32_t> disc_index, uint32_t num_conditions);
 
   /// A program that stores roots[k] into out[k] in its turn, right after the code for roots[k]
   /// (a value several roots share is computed once and stored in each one's turn), or, with
@@ -122,8 +121,7 @@ class ProgramCompiler {
   void EmitParamOnly(ExprId root);
 
   const ExprPool& pool_;
-  const std::vector<int32_t>& y_index_;
-  const std::vector<int32_t>& disc_index_;
+  std::vector<int32_t> y_index_, disc_index_;
   RegisterLayout layout_;
   uint32_t next_global_;
   std::vector<std::pair<uint32_t, double>> constants_;
