@@ -391,13 +391,10 @@ std::shared_ptr<CompiledModel> CompileModel(EquationSystem sys, const Structure&
   // partials (columns: y, then the states' y').
   m->residual = compiler.Compile(m->residual_exprs);
   std::vector<Entry> entries, init_entries;
-  std::vector<ExprId> leaves;  // scratch
   PartialDerivatives partials(&p);
   for (uint32_t i = 0; i < n; ++i) {
-    ExprId r = m->residual_exprs[i];
-    CollectLeaves(p, r, kHasVar | kHasDer, &leaves);
-    partials.Reset(r, kHasVar | kHasDer);
-    for (ExprId leaf : leaves) {
+    partials.Reset(m->residual_exprs[i], kHasVar | kHasDer);
+    for (ExprId leaf : partials.Leaves()) {
       const Node nd_leaf = p.node(leaf);  // a copy: new nodes may move the pool
       int32_t y = slots.y_of_var[nd_leaf.a];
       if (y < 0) continue;
@@ -435,11 +432,9 @@ std::shared_ptr<CompiledModel> CompileModel(EquationSystem sys, const Structure&
     m->init_residual = compiler.Compile(roots);
     m->redundant_residual = compiler.Compile(m->redundant_exprs);
     for (size_t gi = 0; gi < m->initial_exprs.size(); ++gi) {
-      ExprId r = m->initial_exprs[gi];
       int32_t row = static_cast<int32_t>(n + gi);
-      CollectLeaves(p, r, kHasVar | kHasDer, &leaves);
-      partials.Reset(r, kHasVar | kHasDer);
-      for (ExprId leaf : leaves) {
+      partials.Reset(m->initial_exprs[gi], kHasVar | kHasDer);
+      for (ExprId leaf : partials.Leaves()) {
         const Node nd_leaf = p.node(leaf);  // a copy: new nodes may move the pool
         int32_t y = slots.y_of_var[nd_leaf.a];
         if (y < 0) continue;

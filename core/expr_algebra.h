@@ -89,6 +89,9 @@ class PartialDerivatives {
   ~PartialDerivatives();
   /// Takes `e`, whose leaves of the kinds in `mask` (kHasVar, kHasDer, kHasParam) are asked for.
   void Reset(ExprId e, uint8_t mask);
+  /// The distinct leaves of those kinds below `e`, in CollectLeaves' order (for a Jacobian row;
+  /// usually found by Reset's walk, without walking again).
+  const std::vector<ExprId>& Leaves();
   /// d e / d leaf for a leaf of those kinds; 0 where it occurs only in if-conditions or not at all.
   ExprId Of(ExprId leaf);
 
