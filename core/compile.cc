@@ -53,45 +53,58 @@ std::vector<ExprId> PropagatedStartGuesses(ExprPool* pool, const EquationSystem&
     starts[y] = sys.guess[v];
   }
   constexpr uint8_t kOther = kHasDer | kHasTime | kHasPre | kHasRelation | kHasInitial | kHasCond;
+  // The rows and their unknowns (none is known yet), and each unknown's rows: two flat lists
+  // with offsets, where a vector per row and per unknown made hundreds of thousands.
   std::vector<ExprId> rows;
-  std::vector<std::vector<uint32_t>> row_ys;
-  std::vector<std::vector<uint32_t>> rows_of_y(n);
+  std::vector<uint32_t> row_start{0}, row_ys;
   std::vector<uint32_t> missing;
   std::vector<uint32_t> ready;
   std::vector<ExprId> leaves;  // scratch
   auto add_row = [&](ExprId e) {
     if (p.node(e).mask & kOther) return;
-    std::vector<uint32_t> ys;
     CollectLeaves(p, e, kHasVar, &leaves);
+    const size_t first = row_ys.size();
     for (ExprId leaf : leaves) {
       const int32_t y = slots.y_of_var[p.node(leaf).a];
-      if (y < 0) return;  // a discrete value: not known before the start values
-      ys.push_back(static_cast<uint32_t>(y));
+      if (y < 0) {  // a discrete value: not known before the start values
+        row_ys.resize(first);
+        return;
+      }
+      row_ys.push_back(static_cast<uint32_t>(y));
     }
     const uint32_t r = static_cast<uint32_t>(rows.size());
-    uint32_t count = 0;
-    for (uint32_t y : ys) {
-      if (known[y]) continue;
-      ++count;
-      rows_of_y[y].push_back(r);
-    }
+    const uint32_t count = static_cast<uint32_t>(row_ys.size() - first);
     rows.push_back(e);
-    row_ys.push_back(std::move(ys));
+    row_start.push_back(static_cast<uint32_t>(row_ys.size()));
     missing.push_back(count);
     if (count == 1) ready.push_back(r);
   };
   for (ExprId e : m.residual_exprs) add_row(e);
   for (ExprId e : m.initial_exprs) add_row(e);
+  std::vector<uint32_t> y_start(n + 1, 0), y_rows(row_ys.size());
+  for (uint32_t y : row_ys) ++y_start[y + 1];
+  for (uint32_t y = 0; y < n; ++y) y_start[y + 1] += y_start[y];
+  {
+    std::vector<uint32_t> next(y_start.begin(), y_start.end() - 1);
+    for (uint32_t r = 0; r < rows.size(); ++r) {
+      for (uint32_t k = row_start[r]; k < row_start[r + 1]; ++k) y_rows[next[row_ys[k]]++] = r;
+    }
+  }
+  // Row r2 has one unknown fewer to find now that y is known.
+  auto now_known = [&](uint32_t y) {
+    known[y] = true;
+    for (uint32_t k = y_start[y]; k < y_start[y + 1]; ++k) {
+      const uint32_t r2 = y_rows[k];
+      if (--missing[r2] == 1) ready.push_back(r2);
+    }
+  };
   std::unordered_map<uint32_t, ExprId> map;  // known unknowns -> their guesses, for one row
   for (size_t k = 0, next_open = 0;; ++k) {
     if (k == ready.size()) {
       // No explicit equation left: the first variable still open takes its start value.
       while (next_open < n && known[next_open]) ++next_open;
       if (next_open == n) break;
-      known[next_open] = true;
-      for (uint32_t r2 : rows_of_y[next_open]) {
-        if (--missing[r2] == 1) ready.push_back(r2);
-      }
+      now_known(static_cast<uint32_t>(next_open));
       --k;
       continue;
     }
@@ -99,7 +112,8 @@ std::vector<ExprId> PropagatedStartGuesses(ExprPool* pool, const EquationSystem&
     if (missing[r] != 1) continue;
     uint32_t target = n;
     map.clear();
-    for (uint32_t y : row_ys[r]) {
+    for (uint32_t j = row_start[r]; j < row_start[r + 1]; ++j) {
+      const uint32_t y = row_ys[j];
       if (!known[y]) {
         target = y;
       } else {
@@ -112,10 +126,7 @@ std::vector<ExprId> PropagatedStartGuesses(ExprPool* pool, const EquationSystem&
     ExprId value = SolveFor(&p, e, p.Var(m.unknowns[target]), false, &coefficient);
     if (!value.valid() || !p.IsParamOnly(value)) continue;
     starts[target] = value;
-    known[target] = true;
-    for (uint32_t r2 : rows_of_y[target]) {
-      if (--missing[r2] == 1) ready.push_back(r2);
-    }
+    now_known(target);
   }
   return starts;
 }
