@@ -296,9 +296,7 @@ Program ProgramCompiler::Compile(const std::vector<ExprId>& roots, const std::ve
   };
   // Per temporary: the instruction that wrote its value (the value a live register holds).
   std::vector<uint32_t> written_at;
-  auto OperandOrder = [&](uint32_t child, uint32_t reg) -> uint64_t {
-    return Computed(child) ? (uint64_t{1} << 32) | written_at[local_[Visit(child)].reg] : reg;
-  };
+  constexpr uint32_t kNotComputed = ~0u;
   auto release = [&](uint32_t child) {
     if (!Computed(child)) return;
     Local& s = local_[Visit(child)];
@@ -334,22 +332,38 @@ Program ProgramCompiler::Compile(const std::vector<ExprId>& roots, const std::ve
     }
     const uint32_t id = visited_[q];
     const Node& n = pool_.node(ExprId(id));
-    int arity = Arity(n.op);
-    Instruction in{static_cast<uint8_t>(n.op), 0, 0, 0, 0};
-    if (arity >= 1) in.a = operand(n.a);
-    if (arity >= 2) in.b = operand(n.b);
+    const int arity = Arity(n.op);
+    // The operands' registers, in operand order (a parameter-only operand may be emitted into
+    // the parameter program here), and for a computed one its number: looked up once each.
+    const uint32_t kids[3] = {n.a, n.b, n.c};
+    uint32_t regs[3] = {0, 0, 0};
+    uint32_t kid_number[3] = {kNotComputed, kNotComputed, kNotComputed};
+    for (int j = 0; j < arity; ++j) {
+      if (Computed(kids[j])) {
+        kid_number[j] = Visit(kids[j]);
+        regs[j] = kTempFlag | local_[kid_number[j]].reg;
+      } else {
+        regs[j] = operand(kids[j]);
+      }
+    }
+    Instruction in{static_cast<uint8_t>(n.op), 0, regs[0], regs[1], regs[2]};
     // Operands of + and * in an order that does not depend on node ids (which follow the order
     // the expressions were made in): inputs first by register, then computed values oldest
     // first, so that like components give like code (loop rerolling, core/reroll.h). Both are
     // commutative in IEEE arithmetic: the value is the same bit for bit.
-    if ((n.op == Op::kAdd || n.op == Op::kMul) && OperandOrder(n.b, in.b) < OperandOrder(n.a, in.a)) {
-      std::swap(in.a, in.b);
-    }
-    if (arity >= 3) in.c = operand(n.c);
+    auto operand_order = [&](int j) -> uint64_t {
+      return kid_number[j] != kNotComputed ? (uint64_t{1} << 32) | written_at[local_[kid_number[j]].reg] : regs[j];
+    };
+    if ((n.op == Op::kAdd || n.op == Op::kMul) && operand_order(1) < operand_order(0)) std::swap(in.a, in.b);
     if (n.op == Op::kInterp || n.op == Op::kInterpSlope) in.c = prog.AddTable(pool_.node(ExprId(n.b)));
-    if (arity >= 1) release(n.a);
-    if (arity >= 2) release(n.b);
-    if (arity >= 3) release(n.c);
+    for (int j = 0; j < arity; ++j) {
+      if (kid_number[j] == kNotComputed) continue;
+      Local& s = local_[kid_number[j]];
+      if (--s.uses == 0) {
+        free_regs.push_back(s.reg);
+        std::push_heap(free_regs.begin(), free_regs.end(), std::greater<uint32_t>());
+      }
+    }
     uint32_t dst;
     if (!free_regs.empty()) {
       std::pop_heap(free_regs.begin(), free_regs.end(), std::greater<uint32_t>());
