@@ -548,20 +548,21 @@ void PartialDerivatives::Reset(ExprId e, uint8_t mask) {
     const int arity = IsLeaf(n.op) ? 0 : Arity(n.op);
     const uint32_t kid_ids[3] = {n.op == Op::kIf ? 0 : n.a, n.b, n.c};
     if (n.op == Op::kIf && differentiated(n.a)) w.leaves_in_order = false;
+    // The operands' local numbers (-1: not differentiated); one not numbered yet comes first.
     bool ready = true;
+    std::array<int32_t, 3> kids{-1, -1, -1};
     for (int j = n.op == Op::kIf ? 1 : 0; j < arity; ++j) {
-      if (differentiated(kid_ids[j]) && !w.local.Has(kid_ids[j])) {
+      if (!differentiated(kid_ids[j])) continue;
+      const ExprId k = w.local.Find(kid_ids[j]);
+      if (k.valid()) {
+        kids[j] = static_cast<int32_t>(k.value());
+      } else {
         w.stack.push_back(kid_ids[j]);
         ready = false;
       }
     }
     if (!ready) continue;
     w.stack.pop_back();
-    std::array<int32_t, 3> kids{-1, -1, -1};
-    for (int j = n.op == Op::kIf ? 1 : 0; j < arity; ++j) {
-      const ExprId k = w.local.Find(kid_ids[j]);
-      if (k.valid()) kids[j] = static_cast<int32_t>(k.value());
-    }
     w.local.Insert(id, ExprId(static_cast<uint32_t>(w.ids.size())));
     w.ids.push_back(id);
     w.kids.push_back(kids);
