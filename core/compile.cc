@@ -403,6 +403,16 @@ std::shared_ptr<CompiledModel> CompileModel(EquationSystem sys, const Structure&
   m->residual = compiler.Compile(m->residual_exprs);
   std::vector<Entry> entries, init_entries;
   PartialDerivatives partials(&p);
+  // cj * d: most y' partials are the same number (the -1 of v - der(x)), so the last is kept
+  // (the same node; only the lookup in the pool is spared).
+  ExprId last_d, last_cj_d;
+  auto times_cj = [&](ExprId d) {
+    if (d != last_d) {
+      last_d = d;
+      last_cj_d = p.Mul(p.Cj(), d);
+    }
+    return last_cj_d;
+  };
   for (uint32_t i = 0; i < n; ++i) {
     partials.Reset(m->residual_exprs[i], kHasVar | kHasDer);
     for (ExprId leaf : partials.Leaves()) {
@@ -412,7 +422,7 @@ std::shared_ptr<CompiledModel> CompileModel(EquationSystem sys, const Structure&
       ExprId d = partials.Of(leaf);
       if (p.IsConst(d, 0)) continue;
       bool der = nd_leaf.op == Op::kDer;
-      entries.push_back({static_cast<int32_t>(i), y, der ? p.Mul(p.Cj(), d) : d, der});
+      entries.push_back({static_cast<int32_t>(i), y, der ? times_cj(d) : d, der});
       if (!der) {
         init_entries.push_back({static_cast<int32_t>(i), y, d});
       } else if (slots.state_of_y[y] >= 0) {
