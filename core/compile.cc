@@ -53,45 +53,58 @@ std::vector<ExprId> PropagatedStartGuesses(ExprPool* pool, const EquationSystem&
     starts[y] = sys.guess[v];
   }
   constexpr uint8_t kOther = kHasDer | kHasTime | kHasPre | kHasRelation | kHasInitial | kHasCond;
+  // The rows and their unknowns (none is known yet), and each unknown's rows: two flat lists
+  // with offsets, where a vector per row and per unknown made hundreds of thousands.
   std::vector<ExprId> rows;
-  std::vector<std::vector<uint32_t>> row_ys;
-  std::vector<std::vector<uint32_t>> rows_of_y(n);
+  std::vector<uint32_t> row_start{0}, row_ys;
   std::vector<uint32_t> missing;
   std::vector<uint32_t> ready;
   std::vector<ExprId> leaves;  // scratch
   auto add_row = [&](ExprId e) {
     if (p.node(e).mask & kOther) return;
-    std::vector<uint32_t> ys;
     CollectLeaves(p, e, kHasVar, &leaves);
+    const size_t first = row_ys.size();
     for (ExprId leaf : leaves) {
       const int32_t y = slots.y_of_var[p.node(leaf).a];
-      if (y < 0) return;  // a discrete value: not known before the start values
-      ys.push_back(static_cast<uint32_t>(y));
+      if (y < 0) {  // a discrete value: not known before the start values
+        row_ys.resize(first);
+        return;
+      }
+      row_ys.push_back(static_cast<uint32_t>(y));
     }
     const uint32_t r = static_cast<uint32_t>(rows.size());
-    uint32_t count = 0;
-    for (uint32_t y : ys) {
-      if (known[y]) continue;
-      ++count;
-      rows_of_y[y].push_back(r);
-    }
+    const uint32_t count = static_cast<uint32_t>(row_ys.size() - first);
     rows.push_back(e);
-    row_ys.push_back(std::move(ys));
+    row_start.push_back(static_cast<uint32_t>(row_ys.size()));
     missing.push_back(count);
     if (count == 1) ready.push_back(r);
   };
   for (ExprId e : m.residual_exprs) add_row(e);
   for (ExprId e : m.initial_exprs) add_row(e);
+  std::vector<uint32_t> y_start(n + 1, 0), y_rows(row_ys.size());
+  for (uint32_t y : row_ys) ++y_start[y + 1];
+  for (uint32_t y = 0; y < n; ++y) y_start[y + 1] += y_start[y];
+  {
+    std::vector<uint32_t> next(y_start.begin(), y_start.end() - 1);
+    for (uint32_t r = 0; r < rows.size(); ++r) {
+      for (uint32_t k = row_start[r]; k < row_start[r + 1]; ++k) y_rows[next[row_ys[k]]++] = r;
+    }
+  }
+  // Row r2 has one unknown fewer to find now that y is known.
+  auto now_known = [&](uint32_t y) {
+    known[y] = true;
+    for (uint32_t k = y_start[y]; k < y_start[y + 1]; ++k) {
+      const uint32_t r2 = y_rows[k];
+      if (--missing[r2] == 1) ready.push_back(r2);
+    }
+  };
   std::unordered_map<uint32_t, ExprId> map;  // known unknowns -> their guesses, for one row
   for (size_t k = 0, next_open = 0;; ++k) {
     if (k == ready.size()) {
       // No explicit equation left: the first variable still open takes its start value.
       while (next_open < n && known[next_open]) ++next_open;
       if (next_open == n) break;
-      known[next_open] = true;
-      for (uint32_t r2 : rows_of_y[next_open]) {
-        if (--missing[r2] == 1) ready.push_back(r2);
-      }
+      now_known(static_cast<uint32_t>(next_open));
       --k;
       continue;
     }
@@ -99,7 +112,8 @@ std::vector<ExprId> PropagatedStartGuesses(ExprPool* pool, const EquationSystem&
     if (missing[r] != 1) continue;
     uint32_t target = n;
     map.clear();
-    for (uint32_t y : row_ys[r]) {
+    for (uint32_t j = row_start[r]; j < row_start[r + 1]; ++j) {
+      const uint32_t y = row_ys[j];
       if (!known[y]) {
         target = y;
       } else {
@@ -112,17 +126,40 @@ std::vector<ExprId> PropagatedStartGuesses(ExprPool* pool, const EquationSystem&
     ExprId value = SolveFor(&p, e, p.Var(m.unknowns[target]), false, &coefficient);
     if (!value.valid() || !p.IsParamOnly(value)) continue;
     starts[target] = value;
-    known[target] = true;
-    for (uint32_t r2 : rows_of_y[target]) {
-      if (--missing[r2] == 1) ready.push_back(r2);
-    }
+    now_known(target);
   }
   return starts;
 }
 
+/// Sorts `entries` (columns below `cols`) by ColumnMajor. They are made row by row, so a stable
+/// counting sort by column orders them by (column, row) in linear time, and leaves only a y and
+/// a y' partial of one (row, column) to put in order (std::sort, a call per comparison, was a
+/// tenth of compilation on a large model). Entries in neither order are sorted the general way.
+void SortColumnMajor(std::vector<Entry>* entries, int32_t cols) {
+  std::vector<Entry>& in = *entries;
+  auto column_major = [](const Entry& a, const Entry& b) { return ColumnMajor(a, b); };
+  if (std::is_sorted(in.begin(), in.end(), column_major)) return;
+  for (size_t k = 1; k < in.size(); ++k) {
+    if (in[k].row < in[k - 1].row) {
+      std::sort(in.begin(), in.end(), column_major);
+      return;
+    }
+  }
+  std::vector<uint32_t> next(static_cast<size_t>(cols) + 1, 0);  // per column: its next place
+  for (const Entry& e : in) ++next[e.col + 1];
+  for (int32_t c = 0; c < cols; ++c) next[c + 1] += next[c];
+  std::vector<Entry> sorted(in.size());
+  for (const Entry& e : in) sorted[next[e.col]++] = e;
+  for (size_t k = 1; k < sorted.size(); ++k) {
+    if (ColumnMajor(sorted[k], sorted[k - 1])) std::swap(sorted[k], sorted[k - 1]);
+  }
+  in.swap(sorted);
+}
+
+/// The pattern and values of `entries`, sorted by ColumnMajor.
 void SortToPattern(std::vector<Entry>* entries, int32_t rows, int32_t cols, SparsePattern* pattern,
                    std::vector<ExprId>* values) {
-  std::sort(entries->begin(), entries->end(), ColumnMajor);
+  SortColumnMajor(entries, cols);
   pattern->rows = rows;
   pattern->cols = cols;
   pattern->col_start.assign(cols + 1, 0);
@@ -365,20 +402,27 @@ std::shared_ptr<CompiledModel> CompileModel(EquationSystem sys, const Structure&
   // partials (columns: y, then the states' y').
   m->residual = compiler.Compile(m->residual_exprs);
   std::vector<Entry> entries, init_entries;
-  std::vector<ExprId> leaves;  // scratch
   PartialDerivatives partials(&p);
+  // cj * d: most y' partials are the same number (the -1 of v - der(x)), so the last is kept
+  // (the same node; only the lookup in the pool is spared).
+  ExprId last_d, last_cj_d;
+  auto times_cj = [&](ExprId d) {
+    if (d != last_d) {
+      last_d = d;
+      last_cj_d = p.Mul(p.Cj(), d);
+    }
+    return last_cj_d;
+  };
   for (uint32_t i = 0; i < n; ++i) {
-    ExprId r = m->residual_exprs[i];
-    CollectLeaves(p, r, kHasVar | kHasDer, &leaves);
-    partials.Reset(r, kHasVar | kHasDer);
-    for (ExprId leaf : leaves) {
+    partials.Reset(m->residual_exprs[i], kHasVar | kHasDer);
+    for (ExprId leaf : partials.Leaves()) {
       const Node nd_leaf = p.node(leaf);  // a copy: new nodes may move the pool
       int32_t y = slots.y_of_var[nd_leaf.a];
       if (y < 0) continue;
       ExprId d = partials.Of(leaf);
       if (p.IsConst(d, 0)) continue;
       bool der = nd_leaf.op == Op::kDer;
-      entries.push_back({static_cast<int32_t>(i), y, der ? p.Mul(p.Cj(), d) : d, der});
+      entries.push_back({static_cast<int32_t>(i), y, der ? times_cj(d) : d, der});
       if (!der) {
         init_entries.push_back({static_cast<int32_t>(i), y, d});
       } else if (slots.state_of_y[y] >= 0) {
@@ -387,19 +431,20 @@ std::shared_ptr<CompiledModel> CompileModel(EquationSystem sys, const Structure&
     }
   }
   {
-    std::sort(entries.begin(), entries.end(), ColumnMajor);
-    std::vector<Entry> merged;
+    SortColumnMajor(&entries, static_cast<int32_t>(n));
+    // A y and a y' partial of one (row, column), now next to each other, make one entry.
+    size_t merged = 0;
     for (const Entry& e : entries) {
-      if (!merged.empty() && merged.back().row == e.row && merged.back().col == e.col) {
-        merged.back().value = p.Add(merged.back().value, e.value);
+      if (merged > 0 && entries[merged - 1].row == e.row && entries[merged - 1].col == e.col) {
+        entries[merged - 1].value = p.Add(entries[merged - 1].value, e.value);
       } else {
-        merged.push_back(e);
+        entries[merged++] = e;
       }
     }
-    std::vector<Entry>().swap(entries);  // merged: given back before the programs that follow
+    entries.resize(merged);
     std::vector<ExprId> values;
-    SortToPattern(&merged, static_cast<int32_t>(n), static_cast<int32_t>(n), &m->jacobian_pattern, &values);
-    std::vector<Entry>().swap(merged);
+    SortToPattern(&entries, static_cast<int32_t>(n), static_cast<int32_t>(n), &m->jacobian_pattern, &values);
+    std::vector<Entry>().swap(entries);  // given back before the programs that follow
     m->jacobian = compiler.Compile(values);
   }
   {
@@ -408,11 +453,9 @@ std::shared_ptr<CompiledModel> CompileModel(EquationSystem sys, const Structure&
     m->init_residual = compiler.Compile(roots);
     m->redundant_residual = compiler.Compile(m->redundant_exprs);
     for (size_t gi = 0; gi < m->initial_exprs.size(); ++gi) {
-      ExprId r = m->initial_exprs[gi];
       int32_t row = static_cast<int32_t>(n + gi);
-      CollectLeaves(p, r, kHasVar | kHasDer, &leaves);
-      partials.Reset(r, kHasVar | kHasDer);
-      for (ExprId leaf : leaves) {
+      partials.Reset(m->initial_exprs[gi], kHasVar | kHasDer);
+      for (ExprId leaf : partials.Leaves()) {
         const Node nd_leaf = p.node(leaf);  // a copy: new nodes may move the pool
         int32_t y = slots.y_of_var[nd_leaf.a];
         if (y < 0) continue;
@@ -526,7 +569,7 @@ std::shared_ptr<CompiledModel> CompileModel(EquationSystem sys, const Structure&
                    &m->zero_crossings, &m->zero_crossing_rates, &m->when_conditions,
                    &m->when_values, &m->impact_values,
                    &compiler.parameter_program()});
-  m->parameters = compiler.parameter_program();
+  m->parameters = std::move(compiler.parameter_program());
   m->layout = compiler.layout();
   m->constants = compiler.constants();
   std::ostringstream note;

@@ -513,6 +513,12 @@ struct PartialDerivatives::Walk {
   std::vector<ExprId> value;               ///< derivative of each marked node
   std::vector<uint32_t> stack, above;      ///< scratch
   uint32_t stamp = 0;
+  ExprId root;
+  uint8_t mask = 0;
+  /// The leaves in completion order, which is CollectLeaves' order unless an if-condition holds
+  /// leaves of the kinds asked for (CollectLeaves visits it, this walk does not).
+  std::vector<ExprId> leaves;
+  bool leaves_in_order = true;
 };
 
 PartialDerivatives::PartialDerivatives(ExprPool* pool) : pool_(pool), walk_(std::make_unique<Walk>()) {}
@@ -524,6 +530,10 @@ void PartialDerivatives::Reset(ExprId e, uint8_t mask) {
   w.local.Clear();
   w.ids.clear();
   w.kids.clear();
+  w.root = e;
+  w.mask = mask;
+  w.leaves.clear();
+  w.leaves_in_order = true;
   // The local nodes in completion order (Derive's walk, restricted to subtrees with such leaves).
   auto differentiated = [&](uint32_t id) { return (p.node(ExprId(id)).mask & mask) != 0; };
   w.stack.clear();
@@ -537,23 +547,30 @@ void PartialDerivatives::Reset(ExprId e, uint8_t mask) {
     const Node& n = p.node(ExprId(id));
     const int arity = IsLeaf(n.op) ? 0 : Arity(n.op);
     const uint32_t kid_ids[3] = {n.op == Op::kIf ? 0 : n.a, n.b, n.c};
+    if (n.op == Op::kIf && differentiated(n.a)) w.leaves_in_order = false;
+    // The operands' local numbers (-1: not differentiated); one not numbered yet comes first.
     bool ready = true;
+    std::array<int32_t, 3> kids{-1, -1, -1};
     for (int j = n.op == Op::kIf ? 1 : 0; j < arity; ++j) {
-      if (differentiated(kid_ids[j]) && !w.local.Has(kid_ids[j])) {
+      if (!differentiated(kid_ids[j])) continue;
+      const ExprId k = w.local.Find(kid_ids[j]);
+      if (k.valid()) {
+        kids[j] = static_cast<int32_t>(k.value());
+      } else {
         w.stack.push_back(kid_ids[j]);
         ready = false;
       }
     }
     if (!ready) continue;
     w.stack.pop_back();
-    std::array<int32_t, 3> kids{-1, -1, -1};
-    for (int j = n.op == Op::kIf ? 1 : 0; j < arity; ++j) {
-      const ExprId k = w.local.Find(kid_ids[j]);
-      if (k.valid()) kids[j] = static_cast<int32_t>(k.value());
-    }
     w.local.Insert(id, ExprId(static_cast<uint32_t>(w.ids.size())));
     w.ids.push_back(id);
     w.kids.push_back(kids);
+    // Both walks take a node's operands last first and each node once: the leaves are reached
+    // in the same order.
+    if (arity == 0 && (n.op == Op::kVar || n.op == Op::kDer || n.op == Op::kPre || n.op == Op::kParam)) {
+      w.leaves.push_back(ExprId(id));
+    }
   }
   // Readers of each node, for the walk up from a leaf.
   const size_t count = w.ids.size();
@@ -575,6 +592,15 @@ void PartialDerivatives::Reset(ExprId e, uint8_t mask) {
   w.mark.assign(count, 0);
   w.value.resize(count);
   w.stamp = 0;
+}
+
+const std::vector<ExprId>& PartialDerivatives::Leaves() {
+  Walk& w = *walk_;
+  if (!w.leaves_in_order) {
+    CollectLeaves(*pool_, w.root, w.mask, &w.leaves);
+    w.leaves_in_order = true;
+  }
+  return w.leaves;
 }
 
 ExprId PartialDerivatives::Of(ExprId leaf) {
@@ -608,7 +634,14 @@ ExprId PartialDerivatives::Of(ExprId leaf) {
   for (uint32_t q : w.above) {
     const Node n = p.node(ExprId(w.ids[q]));  // a copy: new nodes may move the pool
     const auto& k = w.kids[q];
-    w.value[q] = ChainRule(p, n, ExprId(w.ids[q]), derivative(k[0]), derivative(k[1]), derivative(k[2]));
+    const ExprId da = derivative(k[0]), db = derivative(k[1]);
+    if (n.op == Op::kDiv && p.IsConst(db, 0)) {
+      // (a/b)' with b' = 0: ChainRule's a'/b - a*0/(b*b) comes to a'/b, but makes b*b, which
+      // nothing reads (a node per division by a parameter in a Jacobian row).
+      w.value[q] = p.Div(da, ExprId(n.b));
+    } else {
+      w.value[q] = ChainRule(p, n, ExprId(w.ids[q]), da, db, derivative(k[2]));
+    }
   }
   const uint32_t root = static_cast<uint32_t>(w.ids.size() - 1);
   return w.mark[root] == stamp ? w.value[root] : p.Zero();

@@ -1,7 +1,10 @@
 #include "core/program.h"
 
+#include <sys/mman.h>
+
 #include <algorithm>
 #include <cmath>
+#include <new>
 #include <unordered_map>
 
 #include "core/error.h"
@@ -127,12 +130,27 @@ uint32_t ProgramCompiler::LeafRegister(ExprId e) {
   return 0;
 }
 
-void ProgramCompiler::GrowNodeSlots() {
-  // To the pool's size with a margin for the nodes the Jacobian adds later, reserved exactly:
-  // resize() alone would double the capacity, a pool-sized array more at the build's peak.
-  node_slot_.reserve(pool_.size() + pool_.size() / 4);
-  node_slot_.resize(pool_.size(), 0);
+NodeArray::~NodeArray() { Release(); }
+
+void NodeArray::Release() {
+  if (data_) munmap(data_, size_ * sizeof(uint32_t));
+  data_ = nullptr;
+  size_ = 0;
 }
+
+void NodeArray::Grow(size_t n) {
+  if (n <= size_) return;
+  // Whole pages, and at least an eighth more: the Jacobian adds nodes between the programs.
+  constexpr size_t kPage = 4096;
+  const size_t bytes = ((std::max(n, size_ + size_ / 8) * sizeof(uint32_t)) + kPage - 1) / kPage * kPage;
+  void* p = data_ ? mremap(data_, size_ * sizeof(uint32_t), bytes, MREMAP_MAYMOVE)
+                  : mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+  if (p == MAP_FAILED) throw std::bad_alloc();
+  data_ = static_cast<uint32_t*>(p);
+  size_ = bytes / sizeof(uint32_t);
+}
+
+void ProgramCompiler::GrowNodeSlots() { node_slot_.Grow(pool_.size()); }
 
 uint32_t ProgramCompiler::Global(uint32_t id) const { return id < node_slot_.size() ? node_slot_[id] : 0; }
 
@@ -278,9 +296,7 @@ Program ProgramCompiler::Compile(const std::vector<ExprId>& roots, const std::ve
   };
   // Per temporary: the instruction that wrote its value (the value a live register holds).
   std::vector<uint32_t> written_at;
-  auto OperandOrder = [&](uint32_t child, uint32_t reg) -> uint64_t {
-    return Computed(child) ? (uint64_t{1} << 32) | written_at[local_[Visit(child)].reg] : reg;
-  };
+  constexpr uint32_t kNotComputed = ~0u;
   auto release = [&](uint32_t child) {
     if (!Computed(child)) return;
     Local& s = local_[Visit(child)];
@@ -316,22 +332,38 @@ Program ProgramCompiler::Compile(const std::vector<ExprId>& roots, const std::ve
     }
     const uint32_t id = visited_[q];
     const Node& n = pool_.node(ExprId(id));
-    int arity = Arity(n.op);
-    Instruction in{static_cast<uint8_t>(n.op), 0, 0, 0, 0};
-    if (arity >= 1) in.a = operand(n.a);
-    if (arity >= 2) in.b = operand(n.b);
+    const int arity = Arity(n.op);
+    // The operands' registers, in operand order (a parameter-only operand may be emitted into
+    // the parameter program here), and for a computed one its number: looked up once each.
+    const uint32_t kids[3] = {n.a, n.b, n.c};
+    uint32_t regs[3] = {0, 0, 0};
+    uint32_t kid_number[3] = {kNotComputed, kNotComputed, kNotComputed};
+    for (int j = 0; j < arity; ++j) {
+      if (Computed(kids[j])) {
+        kid_number[j] = Visit(kids[j]);
+        regs[j] = kTempFlag | local_[kid_number[j]].reg;
+      } else {
+        regs[j] = operand(kids[j]);
+      }
+    }
+    Instruction in{static_cast<uint8_t>(n.op), 0, regs[0], regs[1], regs[2]};
     // Operands of + and * in an order that does not depend on node ids (which follow the order
     // the expressions were made in): inputs first by register, then computed values oldest
     // first, so that like components give like code (loop rerolling, core/reroll.h). Both are
     // commutative in IEEE arithmetic: the value is the same bit for bit.
-    if ((n.op == Op::kAdd || n.op == Op::kMul) && OperandOrder(n.b, in.b) < OperandOrder(n.a, in.a)) {
-      std::swap(in.a, in.b);
-    }
-    if (arity >= 3) in.c = operand(n.c);
+    auto operand_order = [&](int j) -> uint64_t {
+      return kid_number[j] != kNotComputed ? (uint64_t{1} << 32) | written_at[local_[kid_number[j]].reg] : regs[j];
+    };
+    if ((n.op == Op::kAdd || n.op == Op::kMul) && operand_order(1) < operand_order(0)) std::swap(in.a, in.b);
     if (n.op == Op::kInterp || n.op == Op::kInterpSlope) in.c = prog.AddTable(pool_.node(ExprId(n.b)));
-    if (arity >= 1) release(n.a);
-    if (arity >= 2) release(n.b);
-    if (arity >= 3) release(n.c);
+    for (int j = 0; j < arity; ++j) {
+      if (kid_number[j] == kNotComputed) continue;
+      Local& s = local_[kid_number[j]];
+      if (--s.uses == 0) {
+        free_regs.push_back(s.reg);
+        std::push_heap(free_regs.begin(), free_regs.end(), std::greater<uint32_t>());
+      }
+    }
     uint32_t dst;
     if (!free_regs.empty()) {
       std::pop_heap(free_regs.begin(), free_regs.end(), std::greater<uint32_t>());
@@ -359,6 +391,12 @@ Program ProgramCompiler::Compile(const std::vector<ExprId>& roots, const std::ve
 }
 
 void ProgramCompiler::Finish(std::vector<Program*> programs) {
+  node_slot_.Release();
+  std::vector<uint32_t>().swap(visited_);
+  std::vector<Local>().swap(local_);
+  std::vector<uint32_t>().swap(order_);
+  std::vector<uint32_t>().swap(stack_);
+  std::vector<uint32_t>().swap(param_stack_);
   layout_.temp_base = next_global_;
   layout_.size = next_global_ + max_temps_ + 1;
   auto place = [&](uint32_t& r) {

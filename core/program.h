@@ -59,6 +59,30 @@ struct RegisterLayout {
   uint32_t num_params = 0, num_unknowns = 0, num_discrete = 0, num_conditions = 0;
 };
 
+/// A zero-filled array of 32-bit values by expression node id, for the few per-node arrays sized
+/// to a pool of millions of nodes: it is mapped on its own, so a new element is zero without a
+/// write (the kernel gives zeroed pages, only those an id reaches), and growing it with the pool
+/// moves page tables (mremap) instead of copying, so the old and the new array never both take
+/// memory.
+class NodeArray {
+ public:
+  NodeArray() = default;
+  NodeArray(const NodeArray&) = delete;
+  NodeArray& operator=(const NodeArray&) = delete;
+  ~NodeArray();
+  /// Room for ids below `n`; new elements are 0.
+  void Grow(size_t n);
+  /// Unmaps the array; it is empty afterwards.
+  void Release();
+  size_t size() const { return size_; }
+  uint32_t& operator[](size_t k) { return data_[k]; }
+  uint32_t operator[](size_t k) const { return data_[k]; }
+
+ private:
+  uint32_t* data_ = nullptr;
+  size_t size_ = 0;  ///< elements mapped
+};
+
 /// Turns expression DAGs into Programs. Leaves map to fixed registers: kVar(v) -> y or the
 /// discrete values, kDer(v) -> y', kPre(v) -> pre, kCond(r) -> conditions, through `y_index` and
 /// `disc_index` (flat variable -> position, or -1).
@@ -75,6 +99,8 @@ class ProgramCompiler {
   /// (core/reroll.h).
   Program Compile(const std::vector<ExprId>& roots, const std::vector<uint32_t>* registers = nullptr);
   /// Finalises the layout (after every Compile): temporaries go after the global registers.
+  /// Gives back Compile's scratch first (no Compile may follow), which holds a few bytes per
+  /// pool node at the build's memory peak.
   void Finish(std::vector<Program*> programs);
 
   const RegisterLayout& layout() const { return layout_; }
@@ -113,7 +139,7 @@ class ProgramCompiler {
   /// By node id: for a node the programs compute, its number in this Compile() call if visited_
   /// agrees; for any other, its global register (0: none yet). One array for both, where two
   /// took 4 bytes per pool node each at the build's memory peak.
-  std::vector<uint32_t> node_slot_;
+  NodeArray node_slot_;
   std::vector<uint32_t> visited_;   ///< by number: node id
   std::vector<Local> local_;        ///< by number
   std::vector<uint32_t> order_, stack_;  ///< Compile's walk: reused, so grown once

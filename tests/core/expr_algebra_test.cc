@@ -124,9 +124,13 @@ TEST_F(ExprAlgebraTest, PartialDerivativesOfARowAreThoseOfPartialDerivative) {
       {"pow", pool.Pow(pool.Add(y, C(2)), pool.Mul(x, z))},
       {"leaf", x},
   };
+  // An if-condition with a leaf that comes again later in the walk: the leaves' order is
+  // CollectLeaves' all the same.
+  cases.push_back({"condition leaf again", pool.Add(pool.If(pool.Binary(Op::kGt, z, y), x, dx), pool.Mul(z, x))});
   PartialDerivatives partials(&pool);
   for (const auto& [name, e] : cases) {
     partials.Reset(e, kHasVar | kHasDer);
+    EXPECT_EQ(partials.Leaves(), CollectLeaves(pool, e, kHasVar | kHasDer)) << name;
     for (ExprId leaf : {x, y, z, dx}) {
       const ExprId ours = partials.Of(leaf);
       EXPECT_EQ(ours, PartialDerivative(&pool, e, leaf)) << name;
@@ -135,6 +139,18 @@ TEST_F(ExprAlgebraTest, PartialDerivativesOfARowAreThoseOfPartialDerivative) {
   // z occurs only in the if's condition: its partial is 0.
   partials.Reset(cases[2].second, kHasVar | kHasDer);
   EXPECT_EQ(partials.Of(z), pool.Zero());
+}
+
+TEST_F(ExprAlgebraTest, PartialDerivativesOfADivisionByAParameterMakeOnlyTheirValue) {
+  // d/dx (x - y)/p = 1/p: one node, and no p*p (the general quotient rule's, which nothing reads).
+  const ExprId e = pool.Div(pool.Sub(x, y), p);
+  PartialDerivatives partials(&pool);
+  partials.Reset(e, kHasVar);
+  const size_t before = pool.size();
+  const ExprId d = partials.Of(x);
+  EXPECT_EQ(pool.size(), before + 1);
+  EXPECT_EQ(d, pool.Div(pool.One(), p));
+  EXPECT_EQ(partials.Of(y), PartialDerivative(&pool, e, y));
 }
 
 TEST_F(ExprAlgebraTest, PartialDerivativeByParameterAndByDerivative) {

@@ -200,6 +200,26 @@ TEST_P(ProgramTest, CompiledProgramsMatchEvaluate) {
 
 INSTANTIATE_TEST_SUITE_P(Seeds, ProgramTest, ::testing::Values(1u, 2u, 3u, 4u, 5u, 6u, 7u, 8u));
 
+TEST(NodeArrayTest, NewElementsAreZeroAndGrowingKeepsTheOthers) {
+  NodeArray a;
+  EXPECT_EQ(a.size(), 0u);
+  a.Grow(10);
+  ASSERT_GE(a.size(), 10u);
+  for (size_t k = 0; k < a.size(); ++k) EXPECT_EQ(a[k], 0u);
+  for (size_t k = 0; k < 10; ++k) a[k] = static_cast<uint32_t>(k + 1);
+  // Past a million elements (moved by mremap): the old values stay, the new ones are zero.
+  a.Grow(3u << 20);
+  ASSERT_GE(a.size(), 3u << 20);
+  for (size_t k = 0; k < 10; ++k) EXPECT_EQ(a[k], k + 1);
+  EXPECT_EQ(a[10], 0u);
+  EXPECT_EQ(a[(3u << 20) - 1], 0u);
+  a[(3u << 20) - 1] = 7;
+  a.Release();
+  EXPECT_EQ(a.size(), 0u);
+  a.Grow(4);
+  EXPECT_EQ(a[3], 0u);
+}
+
 TEST(ProgramCompilerTest, TemporariesAreReused) {
   // A balanced sum of 1024 products: 1024 intermediate values, but at most ~log2(1024) of them
   // alive at a time.
