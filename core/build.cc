@@ -87,13 +87,14 @@ std::shared_ptr<const CompiledModel> Build(const ModelSpec& spec, ModelSpec* rel
   // Simplify: aliases, derivative aliases and constrained states, until nothing changes.
   AliasStats alias;
   IndexStats index;
+  EquationLeaves leaves;  // of the equations, from one round's index reduction to the next
   for (int round = 0; round < 20; ++round) {
     size_t before = sys.num_unknowns();
-    sys = EliminateAliases(std::move(sys), &alias, deferred.get());
+    sys = EliminateAliases(std::move(sys), &alias, deferred.get(), &leaves);
     deferred.reset();  // every equation is made now
     size_t changes_before = index.derivative_aliases + index.constrained_states;
     size_t kept_before = index.kept_constraints;
-    sys = ReduceIndex(std::move(sys), &index);
+    sys = ReduceIndex(std::move(sys), &index, &leaves);
     // Only index reduction makes new alias equations: when it changed nothing, we are done. A
     // constraint kept as an equation removes no unknown but turns a derivative's definition into
     // a new constraint for the next round.
