@@ -116,14 +116,6 @@ EquationSystem EliminateAliases(EquationSystem sys, AliasStats* stats, const Def
   // terms, holds a discrete variable or reduced to 0 = d never will (its residual stays as it
   // is during this scan), so later passes skip it instead of decomposing it again.
   std::vector<uint8_t> candidate(pending.size(), 1), kept_candidate;
-  // 2: not affine in a few variables (IsAffine), here or, for a residual unchanged since, in the
-  // round before (`leaves`): a fact about the residual, recorded for the next round.
-  constexpr uint8_t kNotAffine = 2;
-  if (have_leaves) {
-    for (size_t k = 0; k < pending.size(); ++k) {
-      if (pending[k].residual == leaves->not_affine(k)) candidate[k] = kNotAffine;
-    }
-  }
   // With `leaves`, each pending equation's index in sys.equations as it came (its leaves).
   std::vector<uint32_t> index, kept_index;
   if (have_leaves) {
@@ -142,19 +134,17 @@ EquationSystem EliminateAliases(EquationSystem sys, AliasStats* stats, const Def
     size_t consumed_here = 0;
     for (size_t k = 0; k < pending.size(); ++k) {
       const SystemEquation& eq = pending[k];
-      if (candidate[k] != 1) {
+      if (!candidate[k]) {
         if (have_leaves) kept_index.push_back(index[k]);
         kept.push_back(eq);
-        kept_candidate.push_back(candidate[k]);
+        kept_candidate.push_back(0);
         continue;
       }
       bool consumed = false;
       bool may_alias = false;  // kept, and worth another look in the next pass
       ExprId d;                // the form's offset
-      const bool affine = eq.residual.valid() ? IsAffine(&p, eq.residual, kMaxAliasTerms, &form, &terms, &d)
-                                              : DeferredForm(&p, deferred, eq.origin, &terms, &d);
-      const bool not_affine = !affine && eq.residual.valid();
-      if (affine) {
+      if (eq.residual.valid() ? IsAffine(&p, eq.residual, kMaxAliasTerms, &form, &terms, &d)
+                              : DeferredForm(&p, deferred, eq.origin, &terms, &d)) {
         // Discrete variables are never aliased: their equations are evaluated at events.
         bool discrete = false;
         for (const auto& t : terms) discrete = discrete || flat.variables[t.first.value()].discrete;
@@ -210,7 +200,7 @@ EquationSystem EliminateAliases(EquationSystem sys, AliasStats* stats, const Def
       } else {
         if (have_leaves) kept_index.push_back(index[k]);
         kept.push_back(eq);
-        kept_candidate.push_back(not_affine ? kNotAffine : may_alias ? 1 : 0);
+        kept_candidate.push_back(may_alias ? 1 : 0);
       }
     }
     pending.swap(kept);
@@ -258,9 +248,6 @@ EquationSystem EliminateAliases(EquationSystem sys, AliasStats* stats, const Def
   const bool eliminated_new = stats->aliases + stats->constants != eliminated_before;
   if (leaves != nullptr) {
     if (!leaves->valid()) leaves->Collect(sys);
-    for (size_t k = 0; k < sys.equations.size(); ++k) {
-      if (candidate[k] == kNotAffine) leaves->not_affine(k) = sys.equations[k].residual;
-    }
     if (eliminated_new) ApplyEliminations(&sys, leaves);
   } else if (eliminated_new) {
     sys.ApplyEliminations();

@@ -217,14 +217,16 @@ void EquationLeavesOf(const ExprPool& pool, ExprId e, uint8_t mask, std::vector<
 
 void EquationLeaves::Invalidate() {
   valid_ = false;
-  entries_.clear();
+  begin_.clear();
+  end_.clear();
   leaves_.clear();
 }
 
 void EquationLeaves::Collect(const EquationSystem& sys) {
   const ExprPool& p = *sys.pool;
   const size_t n = sys.equations.size();
-  entries_.assign(n, Entry());
+  begin_.resize(n);
+  end_.resize(n);
   leaves_.clear();
   for (size_t k = 0; k < n; ++k) {
     const ExprId r = sys.equations[k].residual;
@@ -233,38 +235,45 @@ void EquationLeaves::Collect(const EquationSystem& sys) {
     } else {
       scratch_.clear();  // deferred: none until made (Update)
     }
-    entries_[k].begin = static_cast<uint32_t>(leaves_.size());
+    begin_[k] = static_cast<uint32_t>(leaves_.size());
     leaves_.insert(leaves_.end(), scratch_.begin(), scratch_.end());
-    entries_[k].end = static_cast<uint32_t>(leaves_.size());
+    end_[k] = static_cast<uint32_t>(leaves_.size());
   }
   valid_ = true;
 }
 
 void EquationLeaves::Update(const ExprPool& pool, size_t k, ExprId residual) {
   EquationLeavesOf(pool, residual, kKinds, &scratch_);
-  Entry& e = entries_[k];
-  if (scratch_.size() <= e.end - e.begin) {
+  if (scratch_.size() <= end_[k] - begin_[k]) {
     // Fewer or as many leaves (a substitution most often replaces one by one): in place.
-    std::copy(scratch_.begin(), scratch_.end(), leaves_.begin() + e.begin);
-    e.end = e.begin + static_cast<uint32_t>(scratch_.size());
+    std::copy(scratch_.begin(), scratch_.end(), leaves_.begin() + begin_[k]);
+    end_[k] = begin_[k] + static_cast<uint32_t>(scratch_.size());
     return;
   }
-  e.begin = static_cast<uint32_t>(leaves_.size());
+  begin_[k] = static_cast<uint32_t>(leaves_.size());
   leaves_.insert(leaves_.end(), scratch_.begin(), scratch_.end());
-  e.end = static_cast<uint32_t>(leaves_.size());
+  end_[k] = static_cast<uint32_t>(leaves_.size());
 }
 
 void EquationLeaves::Keep(const std::vector<uint32_t>& kept) {
-  for (size_t j = 0; j < kept.size(); ++j) entries_[j] = entries_[kept[j]];
-  entries_.resize(kept.size());
+  for (size_t j = 0; j < kept.size(); ++j) {
+    begin_[j] = begin_[kept[j]];
+    end_[j] = end_[kept[j]];
+  }
+  begin_.resize(kept.size());
+  end_.resize(kept.size());
 }
 
 void EquationLeaves::Drop(const std::vector<bool>& drop) {
   size_t j = 0;
-  for (size_t k = 0; k < entries_.size(); ++k) {
-    if (!drop[k]) entries_[j++] = entries_[k];
+  for (size_t k = 0; k < begin_.size(); ++k) {
+    if (drop[k]) continue;
+    begin_[j] = begin_[k];
+    end_[j] = end_[k];
+    ++j;
   }
-  entries_.resize(j);
+  begin_.resize(j);
+  end_.resize(j);
 }
 
 bool EquationLeaves::Touches(const Substitution& s, size_t k) const {
@@ -276,7 +285,7 @@ bool EquationLeaves::Touches(const Substitution& s, size_t k) const {
 
 std::vector<bool> EquationLeaves::Differentiated(const ExprPool& pool, size_t num_variables) const {
   std::vector<bool> diff(num_variables, false);
-  for (size_t k = 0; k < entries_.size(); ++k) {
+  for (size_t k = 0; k < begin_.size(); ++k) {
     for (const ExprId* l = begin(k); l != end(k); ++l) {
       const Node& n = pool.node(*l);
       if (n.op == Op::kDer) diff[n.a] = true;

@@ -147,38 +147,18 @@ class EquationLeaves {
   /// Keeps the lists of the equations whose `drop` flag is false.
   void Drop(const std::vector<bool>& drop);
 
-  size_t size() const { return entries_.size(); }
-  const ExprId* begin(size_t k) const { return leaves_.data() + entries_[k].begin; }
-  const ExprId* end(size_t k) const { return leaves_.data() + entries_[k].end; }
+  size_t size() const { return begin_.size(); }
+  const ExprId* begin(size_t k) const { return leaves_.data() + begin_[k]; }
+  const ExprId* end(size_t k) const { return leaves_.data() + end_[k]; }
   /// Whether `s` maps a leaf of equation k: s.Touches(residual), for a substitution that maps
   /// variables, derivatives and pre-values only.
   bool Touches(const Substitution& s, size_t k) const;
   /// Variables whose derivative appears in the equations: DifferentiatedVariables(sys).
   std::vector<bool> Differentiated(const ExprPool& pool, size_t num_variables) const;
 
-  // What a round found of equation k's residual, for the next round to skip the same work while
-  // the residual stays as it was: the answers are functions of the residual alone, and asking
-  // again would make no node either (every node it makes exists from the first time).
-
-  /// The residual of equation k that alias elimination found not affine in a few variables
-  /// (its IsAffine), or none.
-  ExprId& not_affine(size_t k) { return entries_[k].not_affine; }
-  /// Whether `residual` defines a variable u as the derivative of another, x:
-  /// u = c*der(x) + offset (index reduction's derivative definitions); x and u, or -1.
-  struct Definition {
-    ExprId residual;  ///< the residual looked at, or none
-    int32_t x = -1, u = -1;
-  };
-  Definition& definition(size_t k) { return entries_[k].definition; }
-
  private:
-  struct Entry {
-    uint32_t begin = 0, end = 0;  ///< the leaves, leaves_[begin .. end)
-    ExprId not_affine;
-    Definition definition;
-  };
-  std::vector<Entry> entries_;  ///< by equation
-  std::vector<ExprId> leaves_;  ///< an updated equation's list is appended anew
+  std::vector<uint32_t> begin_, end_;  ///< by equation, into leaves_
+  std::vector<ExprId> leaves_;         ///< an updated equation's list is appended anew
   std::vector<ExprId> scratch_;
   bool valid_ = false;
 };

@@ -106,20 +106,12 @@ void ConstrainedStates(EquationSystem* sys, IndexStats* stats, EquationLeaves* l
       ExprId r = sys->equations[k].residual;
       const uint8_t m = p.mask(r);
       if (!(m & kHasDer) || (m & (kHasPre | kHasTime | kHasInitial))) continue;
-      // What an earlier round found of this residual holds while it is unchanged.
-      EquationLeaves::Definition& found = leaves->definition(k);
-      if (found.residual != r) {
-        found = {r, kNone, kNone};
-        if (!DecomposeAffine(&p, r, 2, &form) || form.terms.size() != 2) continue;
-        const auto& [t0, t1] = std::pair{form.terms[0], form.terms[1]};
-        const bool d0 = p.op(t0.first) == Op::kDer && p.DerOrder(t0.first) == 1 && p.op(t1.first) == Op::kVar;
-        const bool d1 = p.op(t1.first) == Op::kDer && p.DerOrder(t1.first) == 1 && p.op(t0.first) == Op::kVar;
-        if (d0 == d1) continue;
-        found.x = static_cast<int32_t>(p.node((d0 ? t0 : t1).first).a);
-        found.u = static_cast<int32_t>(p.node((d0 ? t1 : t0).first).a);
-      }
-      if (found.x == kNone) continue;
-      int32_t& definition = derivative_definition[found.x];
+      if (!DecomposeAffine(&p, r, 2, &form) || form.terms.size() != 2) continue;
+      const auto& [t0, t1] = std::pair{form.terms[0], form.terms[1]};
+      const bool d0 = p.op(t0.first) == Op::kDer && p.DerOrder(t0.first) == 1 && p.op(t1.first) == Op::kVar;
+      const bool d1 = p.op(t1.first) == Op::kDer && p.DerOrder(t1.first) == 1 && p.op(t0.first) == Op::kVar;
+      if (d0 == d1) continue;
+      int32_t& definition = derivative_definition[p.node((d0 ? t0 : t1).first).a];
       if (definition == kNone) definition = static_cast<int32_t>(k);
       // A velocity that should be a state (MSL's v_rel = der(s_rel) with stateSelect prefer)
       // takes part in constraints among states as if it were differentiated: a constraint
@@ -127,7 +119,8 @@ void ConstrainedStates(EquationSystem* sys, IndexStats* stats, EquationLeaves* l
       // der(v_a) + der(v_rel), so v_rel is a state, as Dymola chooses. Without this, v_rel
       // stays algebraic and a reinit of v_a (a hard stop) would make v_rel jump where MSL's
       // reference keeps it.
-      if (flat.variables[found.u].state_priority >= kStatePrefer) diff[found.u] = true;
+      const uint32_t u = p.node((d0 ? t1 : t0).first).a;
+      if (flat.variables[u].state_priority >= kStatePrefer) diff[u] = true;
     }
   }
   // How many constraints each state occurs in. Eliminating a variable that occurs in one
