@@ -88,11 +88,14 @@ bool DeferredForm(ExprPool* p, const DeferredEquations* deferred, uint32_t k,
 
 }  // namespace
 
-EquationSystem EliminateAliases(EquationSystem sys, AliasStats* stats, const DeferredEquations* deferred) {
+EquationSystem EliminateAliases(EquationSystem sys, AliasStats* stats, const DeferredEquations* deferred,
+                                EquationLeaves* leaves) {
   ExprPool& p = *sys.pool;
   const FlatSystem& flat = *sys.flat;
   const size_t n = flat.variables.size();
-  std::vector<bool> diff = DifferentiatedVariables(sys);  // deferred equations hold no der()
+  const bool have_leaves = leaves != nullptr && leaves->valid();
+  std::vector<bool> diff = have_leaves ? leaves->Differentiated(p, sys.role.size())
+                                       : DifferentiatedVariables(sys);  // deferred equations hold no der()
   AliasForest forest(&p, n);
 
   // Which root survives: impact forces, states, `stateSelect: prefer`, a fixed start, then order.
@@ -113,6 +116,12 @@ EquationSystem EliminateAliases(EquationSystem sys, AliasStats* stats, const Def
   // terms, holds a discrete variable or reduced to 0 = d never will (its residual stays as it
   // is during this scan), so later passes skip it instead of decomposing it again.
   std::vector<uint8_t> candidate(pending.size(), 1), kept_candidate;
+  // With `leaves`, each pending equation's index in sys.equations as it came (its leaves).
+  std::vector<uint32_t> index, kept_index;
+  if (have_leaves) {
+    index.resize(pending.size());
+    for (uint32_t k = 0; k < index.size(); ++k) index[k] = k;
+  }
   AffineForm form;
   std::vector<std::pair<VarId, double>> terms;  // scratch: c_k per variable of one equation
   std::vector<std::pair<uint32_t, double>> roots;  // scratch: a_r per root of one equation
@@ -121,10 +130,12 @@ EquationSystem EliminateAliases(EquationSystem sys, AliasStats* stats, const Def
     kept.reserve(pending.size());
     kept_candidate.clear();
     kept_candidate.reserve(pending.size());
+    kept_index.clear();
     size_t consumed_here = 0;
     for (size_t k = 0; k < pending.size(); ++k) {
       const SystemEquation& eq = pending[k];
       if (!candidate[k]) {
+        if (have_leaves) kept_index.push_back(index[k]);
         kept.push_back(eq);
         kept_candidate.push_back(0);
         continue;
@@ -157,6 +168,10 @@ EquationSystem EliminateAliases(EquationSystem sys, AliasStats* stats, const Def
           // the structural check reports it as an equation without unknowns.
           SystemEquation plain = eq;
           plain.residual = d;
+          if (have_leaves) {
+            leaves->Update(p, index[k], d);
+            kept_index.push_back(index[k]);
+          }
           kept.push_back(plain);
           kept_candidate.push_back(0);
           continue;
@@ -183,15 +198,18 @@ EquationSystem EliminateAliases(EquationSystem sys, AliasStats* stats, const Def
       if (consumed) {
         ++consumed_here;
       } else {
+        if (have_leaves) kept_index.push_back(index[k]);
         kept.push_back(eq);
         kept_candidate.push_back(may_alias ? 1 : 0);
       }
     }
     pending.swap(kept);
     candidate.swap(kept_candidate);
+    index.swap(kept_index);
     if (consumed_here == 0) break;
   }
   sys.equations = std::move(pending);
+  if (have_leaves) leaves->Keep(index);
 
   // Record the eliminations and carry start values over to the roots that stay.
   Substitution& s = *sys.eliminated;
@@ -224,11 +242,23 @@ EquationSystem EliminateAliases(EquationSystem sys, AliasStats* stats, const Def
   }
   // Every part of the system has had the earlier eliminations applied: with none new (a later
   // round that found nothing), rewriting it would change nothing. Deferred equations are skipped.
-  if (stats->aliases + stats->constants != eliminated_before) sys.ApplyEliminations();
+  // With `leaves`, the leaves tell which equations hold an eliminated one (collected first, in
+  // the build's first round: the walk that collects an equation's leaves replaces the one that
+  // looked for eliminated leaves in it).
+  const bool eliminated_new = stats->aliases + stats->constants != eliminated_before;
+  if (leaves != nullptr) {
+    if (!leaves->valid()) leaves->Collect(sys);
+    if (eliminated_new) ApplyEliminations(&sys, leaves);
+  } else if (eliminated_new) {
+    sys.ApplyEliminations();
+  }
   // A deferred equation is consumed or found redundant (0 = c). Should one stay (flattening
   // checks discreteness, the one reason it could), it is made here.
-  for (SystemEquation& eq : sys.equations) {
-    if (!eq.residual.valid()) eq.residual = s.Apply(deferred->Make(eq.origin));
+  for (size_t k = 0; k < sys.equations.size(); ++k) {
+    SystemEquation& eq = sys.equations[k];
+    if (eq.residual.valid()) continue;
+    eq.residual = s.Apply(deferred->Make(eq.origin));
+    if (leaves != nullptr) leaves->Update(p, k, eq.residual);
   }
   return sys;
 }

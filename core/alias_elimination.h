@@ -16,8 +16,11 @@ struct AliasStats {
 /// preference: one whose derivative appears, one with `stateSelect: prefer`, the first declared.
 /// The build's first call passes the flattening's `deferred` equations (their residuals in `sys`
 /// are invalid): it reads one form per template, and makes only the equations that stay, with
-/// the aliases substituted; every equation in the system it returns is made.
+/// the aliases substituted; every equation in the system it returns is made. `leaves`, when
+/// given, holds the equations' leaves (ReduceIndex's, from the round before; collected here when
+/// not valid) and is kept current.
 EquationSystem EliminateAliases(EquationSystem sys, AliasStats* stats,
-                                const DeferredEquations* deferred = nullptr);
+                                const DeferredEquations* deferred = nullptr,
+                                EquationLeaves* leaves = nullptr);
 
 }  // namespace momenta

@@ -87,13 +87,16 @@ std::shared_ptr<const CompiledModel> Build(const ModelSpec& spec, ModelSpec* rel
   // Simplify: aliases, derivative aliases and constrained states, until nothing changes.
   AliasStats alias;
   IndexStats index;
+  // The equations' leaves, from one round's alias elimination to the next (collected in the
+  // first, kept current by both passes); let go after the rounds.
+  auto leaves = std::make_unique<EquationLeaves>();
   for (int round = 0; round < 20; ++round) {
     size_t before = sys.num_unknowns();
-    sys = EliminateAliases(std::move(sys), &alias, deferred.get());
+    sys = EliminateAliases(std::move(sys), &alias, deferred.get(), leaves.get());
     deferred.reset();  // every equation is made now
     size_t changes_before = index.derivative_aliases + index.constrained_states;
     size_t kept_before = index.kept_constraints;
-    sys = ReduceIndex(std::move(sys), &index);
+    sys = ReduceIndex(std::move(sys), &index, leaves.get());
     // Only index reduction makes new alias equations: when it changed nothing, we are done. A
     // constraint kept as an equation removes no unknown but turns a derivative's definition into
     // a new constraint for the next round.
@@ -103,6 +106,7 @@ std::shared_ptr<const CompiledModel> Build(const ModelSpec& spec, ModelSpec* rel
     }
     if (sys.num_unknowns() == before && index.kept_constraints == kept_before) break;
   }
+  leaves.reset();
   {
     std::ostringstream note;
     note << alias.aliases << " aliases, " << alias.constants << " constants";

@@ -10,7 +10,7 @@ namespace {
 VarId NamedAbsent(const ExprPool& p, ExprId e, const std::vector<bool>& absent) {
   if (!(p.mask(e) & (kHasVar | kHasDer | kHasPre))) return VarId();
   thread_local std::vector<ExprId> leaves;  // one buffer for every equation
-  CollectLeaves(p, e, kHasVar | kHasDer | kHasPre, &leaves);
+  EquationLeavesOf(p, e, kHasVar | kHasDer | kHasPre, &leaves);
   for (ExprId leaf : leaves) {
     const Node& n = p.node(leaf);
     if ((n.op == Op::kVar || n.op == Op::kDer || n.op == Op::kPre) && absent[n.a]) return VarId(n.a);
@@ -31,9 +31,10 @@ size_t ResolveConditionalConnectors(EquationSystem* sys, const std::vector<doubl
   std::vector<uint32_t> by_var(flat.variables.size(), 0);  // absent variable -> its connector in `gone`
   for (const FlatConditionalConnector& cc : flat.conditional_connectors) {
     if (params[cc.condition.value()] != 0) continue;
-    const FlatInstance& inst = flat.instances[cc.instance.value()];
-    const std::string cond = flat.ParameterName(cc.condition);
     if (cc.connected_at.known()) {
+      // The names are made for the message only (one per absent connector otherwise).
+      const FlatInstance& inst = flat.instances[cc.instance.value()];
+      const std::string cond = flat.ParameterName(cc.condition);
       const std::string path = flat.InstancePath(cc.instance);
       throw ModelError(cc.connected_at, "cannot connect " + path + "." + cc.name + ": " + path + " (" +
                                             inst.type->name + ") has the connector " + cc.name + " only when " +

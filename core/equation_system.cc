@@ -1,5 +1,7 @@
 #include "core/equation_system.h"
 
+#include <algorithm>
+
 namespace momenta {
 
 const char* VarRoleName(VarRole r) {
@@ -88,6 +90,11 @@ void EquationSystem::ApplySubstitution(Substitution* subst) {
   for (auto& e : equations) {
     if (e.residual.valid() && s.Touches(e.residual)) e.residual = s.Apply(e.residual);  // invalid: deferred
   }
+  ApplySubstitutionButEquations(subst);
+}
+
+void EquationSystem::ApplySubstitutionButEquations(Substitution* subst) {
+  Substitution& s = *subst;
   for (auto& e : initial) {
     if (s.Touches(e.residual)) e.residual = s.Apply(e.residual);
   }
@@ -149,12 +156,154 @@ std::vector<bool> DifferentiatedVariables(const EquationSystem& sys) {
   std::vector<ExprId> ders;
   for (const auto& e : sys.equations) {
     if (!e.residual.valid() || !(sys.pool->mask(e.residual) & kHasDer)) continue;  // invalid: deferred
-    CollectLeaves(*sys.pool, e.residual, kHasDer, &ders);
+    EquationLeavesOf(*sys.pool, e.residual, kHasDer, &ders);
     for (ExprId leaf : ders) {
       diff[sys.pool->node(leaf).a] = true;
     }
   }
   return diff;
+}
+
+}  // namespace momenta
+
+namespace momenta {
+
+namespace {
+
+/// Past this many inner nodes, or this many leaves, EquationLeavesOf hands over to CollectLeaves.
+constexpr size_t kWalkBudget = 256;
+constexpr size_t kLeafBudget = 48;
+
+}  // namespace
+
+void EquationLeavesOf(const ExprPool& pool, ExprId e, uint8_t mask, std::vector<ExprId>* out) {
+  out->clear();
+  if (!(pool.mask(e) & mask)) return;
+  thread_local std::vector<uint32_t> stack;
+  stack.assign(1, e.value());
+  size_t inner = 0;
+  while (!stack.empty()) {
+    const uint32_t id = stack.back();
+    stack.pop_back();
+    const Node& n = pool.node(ExprId(id));
+    if (!(n.mask & mask)) continue;
+    switch (n.op) {
+      case Op::kVar:
+      case Op::kDer:
+      case Op::kPre:
+      case Op::kParam:
+        // Found again below a shared subtree walked twice: its first finding holds its place.
+        if (std::find(out->begin(), out->end(), ExprId(id)) != out->end()) continue;
+        if (out->size() == kLeafBudget) {
+          CollectLeaves(pool, e, mask, out);
+          return;
+        }
+        out->push_back(ExprId(id));
+        continue;
+      default:
+        break;
+    }
+    if (++inner > kWalkBudget) {
+      CollectLeaves(pool, e, mask, out);
+      return;
+    }
+    // Children pushed as VisitLeaves pushes them (the last popped first): the same order.
+    const int arity = Arity(n.op);
+    if (arity >= 1) stack.push_back(n.a);
+    if (arity >= 2) stack.push_back(n.b);
+    if (arity >= 3) stack.push_back(n.c);
+  }
+}
+
+void EquationLeaves::Invalidate() {
+  valid_ = false;
+  begin_.clear();
+  end_.clear();
+  leaves_.clear();
+}
+
+void EquationLeaves::Collect(const EquationSystem& sys) {
+  const ExprPool& p = *sys.pool;
+  const size_t n = sys.equations.size();
+  begin_.resize(n);
+  end_.resize(n);
+  leaves_.clear();
+  for (size_t k = 0; k < n; ++k) {
+    const ExprId r = sys.equations[k].residual;
+    if (r.valid()) {
+      EquationLeavesOf(p, r, kKinds, &scratch_);
+    } else {
+      scratch_.clear();  // deferred: none until made (Update)
+    }
+    begin_[k] = static_cast<uint32_t>(leaves_.size());
+    leaves_.insert(leaves_.end(), scratch_.begin(), scratch_.end());
+    end_[k] = static_cast<uint32_t>(leaves_.size());
+  }
+  valid_ = true;
+}
+
+void EquationLeaves::Update(const ExprPool& pool, size_t k, ExprId residual) {
+  EquationLeavesOf(pool, residual, kKinds, &scratch_);
+  if (scratch_.size() <= end_[k] - begin_[k]) {
+    // Fewer or as many leaves (a substitution most often replaces one by one): in place.
+    std::copy(scratch_.begin(), scratch_.end(), leaves_.begin() + begin_[k]);
+    end_[k] = begin_[k] + static_cast<uint32_t>(scratch_.size());
+    return;
+  }
+  begin_[k] = static_cast<uint32_t>(leaves_.size());
+  leaves_.insert(leaves_.end(), scratch_.begin(), scratch_.end());
+  end_[k] = static_cast<uint32_t>(leaves_.size());
+}
+
+void EquationLeaves::Keep(const std::vector<uint32_t>& kept) {
+  for (size_t j = 0; j < kept.size(); ++j) {
+    begin_[j] = begin_[kept[j]];
+    end_[j] = end_[kept[j]];
+  }
+  begin_.resize(kept.size());
+  end_.resize(kept.size());
+}
+
+void EquationLeaves::Drop(const std::vector<bool>& drop) {
+  size_t j = 0;
+  for (size_t k = 0; k < begin_.size(); ++k) {
+    if (drop[k]) continue;
+    begin_[j] = begin_[k];
+    end_[j] = end_[k];
+    ++j;
+  }
+  begin_.resize(j);
+  end_.resize(j);
+}
+
+bool EquationLeaves::Touches(const Substitution& s, size_t k) const {
+  for (const ExprId* l = begin(k); l != end(k); ++l) {
+    if (s.Has(*l)) return true;
+  }
+  return false;
+}
+
+std::vector<bool> EquationLeaves::Differentiated(const ExprPool& pool, size_t num_variables) const {
+  std::vector<bool> diff(num_variables, false);
+  for (size_t k = 0; k < begin_.size(); ++k) {
+    for (const ExprId* l = begin(k); l != end(k); ++l) {
+      const Node& n = pool.node(*l);
+      if (n.op == Op::kDer) diff[n.a] = true;
+    }
+  }
+  return diff;
+}
+
+void ApplyEliminations(EquationSystem* sys, EquationLeaves* leaves) {
+  Substitution& s = *sys->eliminated;
+  const ExprPool& p = *sys->pool;
+  for (size_t k = 0; k < sys->equations.size(); ++k) {
+    if (!leaves->Touches(s, k)) continue;  // also a deferred equation's (none)
+    ExprId& r = sys->equations[k].residual;
+    r = s.Apply(r);
+    leaves->Update(p, k, r);
+  }
+  sys->ApplySubstitutionButEquations(&s);
 }
 
 }  // namespace momenta

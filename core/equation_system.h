@@ -85,6 +85,9 @@ struct EquationSystem {
   std::string Describe(const SystemEquation& eq) const;
   /// Applies `eliminated` to every equation, initial equation, output and guess.
   void ApplyEliminations();
+  /// Applies `s` to every initial equation, output, when-clause, impact and discrete equation:
+  /// ApplySubstitution but for the equations (see ApplyEliminations(sys, leaves)).
+  void ApplySubstitutionButEquations(Substitution* s);
   /// Applies `s` to every equation, initial equation, output, when-clause, impact and discrete
   /// equation.
   void ApplySubstitution(Substitution* s);
@@ -112,5 +115,56 @@ EquationSystem MakeEquationSystem(std::shared_ptr<const FlatSystem> flat);
 
 /// Variables whose derivative appears in the equations (the candidate states), by flat variable.
 std::vector<bool> DifferentiatedVariables(const EquationSystem& sys);
+
+/// CollectLeaves(pool, e, mask, out), the same leaves in the same order, for the small trees of
+/// equations: a walk that does not remember the inner nodes it has passed (a subtree shared within
+/// `e` is walked again, and its leaves, found before, are skipped) costs a few instructions per
+/// node where remembering them costs a search of those seen. A large or much shared tree is
+/// handed over to CollectLeaves.
+void EquationLeavesOf(const ExprPool& pool, ExprId e, uint8_t mask, std::vector<ExprId>* out);
+
+/// The variable, derivative and pre-value leaves of each equation of a system, collected once and
+/// kept current by the passes that rewrite or drop equations: the rounds of alias elimination and
+/// index reduction ask several questions of every equation (is it touched by a substitution? are
+/// all its variables states? which derivatives does it hold?), and reading a few leaves is cheaper
+/// than walking the equation's tree for each.
+class EquationLeaves {
+ public:
+  /// The kinds of leaf held (a substitution of the passes maps only these).
+  static constexpr uint8_t kKinds = kHasVar | kHasDer | kHasPre;
+
+  /// Whether the lists are collected (Collect) and current.
+  bool valid() const { return valid_; }
+  /// Forgets the lists (a pass rewrote the equations without keeping them current).
+  void Invalidate();
+  /// Collects the leaves of every equation of `sys` (all made).
+  void Collect(const EquationSystem& sys);
+  /// Equation k's residual is now `residual`: collects its leaves again.
+  void Update(const ExprPool& pool, size_t k, ExprId residual);
+  /// Keeps the lists of the equations `kept` (indices, increasing), renumbered 0, 1, ...: the
+  /// system's equations were filtered the same way.
+  void Keep(const std::vector<uint32_t>& kept);
+  /// Keeps the lists of the equations whose `drop` flag is false.
+  void Drop(const std::vector<bool>& drop);
+
+  size_t size() const { return begin_.size(); }
+  const ExprId* begin(size_t k) const { return leaves_.data() + begin_[k]; }
+  const ExprId* end(size_t k) const { return leaves_.data() + end_[k]; }
+  /// Whether `s` maps a leaf of equation k: s.Touches(residual), for a substitution that maps
+  /// variables, derivatives and pre-values only.
+  bool Touches(const Substitution& s, size_t k) const;
+  /// Variables whose derivative appears in the equations: DifferentiatedVariables(sys).
+  std::vector<bool> Differentiated(const ExprPool& pool, size_t num_variables) const;
+
+ private:
+  std::vector<uint32_t> begin_, end_;  ///< by equation, into leaves_
+  std::vector<ExprId> leaves_;         ///< an updated equation's list is appended anew
+  std::vector<ExprId> scratch_;
+  bool valid_ = false;
+};
+
+/// Applies `sys.eliminated` to the system's equations that `leaves` says it touches, keeping the
+/// lists current, and to everything else as EquationSystem::ApplyEliminations does.
+void ApplyEliminations(EquationSystem* sys, EquationLeaves* leaves);
 
 }  // namespace momenta

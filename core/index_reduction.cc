@@ -26,27 +26,23 @@ class DerivativeUses {
 
 /// Step 1: der(s) -> expression of v, from a defining equation v = c*der(s) + offset. With
 /// `to_states`, only where v is differentiated itself (a state: known to the causal order).
-void DerivativeAliases(EquationSystem* sys, IndexStats* stats, bool to_states = false) {
+/// `leaves` holds the equations' leaves, and is kept current.
+void DerivativeAliases(EquationSystem* sys, IndexStats* stats, EquationLeaves* leaves, bool to_states = false) {
   ExprPool& p = *sys->pool;
-  const std::vector<bool> diff = to_states ? DifferentiatedVariables(*sys) : std::vector<bool>();
+  const std::vector<bool> diff = to_states ? leaves->Differentiated(p, sys->role.size()) : std::vector<bool>();
   // How many equations hold each der(s), and the one der(s) of each equation that holds exactly
   // one (invalid otherwise).
   DerivativeUses uses(p, sys->role.size());
   std::vector<ExprId> only_der(sys->equations.size());
-  // The derivatives of equation k, ders[der_start[k] .. der_start[k+1]), kept for the rewrite
-  // below: the equations do not change until then, and looking up their few derivatives is
-  // cheaper than walking each equation again.
-  std::vector<uint32_t> der_start(sys->equations.size() + 1, 0);
-  std::vector<ExprId> ders, found;
   for (size_t k = 0; k < sys->equations.size(); ++k) {
-    der_start[k] = static_cast<uint32_t>(ders.size());
     if (!(p.mask(sys->equations[k].residual) & kHasDer)) continue;
-    CollectLeaves(p, sys->equations[k].residual, kHasDer, &found);
-    for (ExprId d : found) ++uses[d];
-    if (found.size() == 1) only_der[k] = found[0];
-    ders.insert(ders.end(), found.begin(), found.end());
+    size_t found = 0;
+    for (const ExprId* l = leaves->begin(k); l != leaves->end(k); ++l) {
+      if (p.op(*l) != Op::kDer) continue;
+      ++uses[*l];
+      only_der[k] = found++ == 0 ? *l : ExprId();
+    }
   }
-  der_start.back() = static_cast<uint32_t>(ders.size());
   Substitution rewrite(&p);
   std::vector<bool> defining(sys->equations.size(), false);
   AffineForm form;
@@ -72,11 +68,10 @@ void DerivativeAliases(EquationSystem* sys, IndexStats* stats, bool to_states = 
   if (rewrite.size() == 0) return;
   for (size_t k = 0; k < sys->equations.size(); ++k) {
     if (defining[k]) continue;
-    // rewrite.Touches(r): it maps derivatives only.
-    const bool touched = std::any_of(ders.begin() + der_start[k], ders.begin() + der_start[k + 1],
-                                     [&](ExprId d) { return rewrite.Has(d); });
+    if (!leaves->Touches(rewrite, k)) continue;
     ExprId& r = sys->equations[k].residual;
-    if (touched) r = rewrite.Apply(r);
+    r = rewrite.Apply(r);
+    leaves->Update(p, k, r);
   }
   for (auto& e : sys->initial) e.residual = rewrite.Apply(e.residual);
   for (auto& o : sys->outputs) o = rewrite.Apply(o);
@@ -84,12 +79,22 @@ void DerivativeAliases(EquationSystem* sys, IndexStats* stats, bool to_states = 
 
 /// stateSelect priorities (FlatVariable::state_priority).
 
-/// Step 2: constraints among differentiated variables.
-void ConstrainedStates(EquationSystem* sys, IndexStats* stats) {
+/// Whether every variable leaf among `leaves` (an equation's) has `members` set.
+bool AllVariablesIn(const ExprPool& p, const ExprId* begin, const ExprId* end, const std::vector<bool>& members) {
+  for (const ExprId* l = begin; l != end; ++l) {
+    const Node& n = p.node(*l);
+    if (n.op == Op::kVar && !members[n.a]) return false;
+  }
+  return true;
+}
+
+/// Step 2: constraints among differentiated variables. `leaves` holds the equations' leaves, and
+/// is kept current.
+void ConstrainedStates(EquationSystem* sys, IndexStats* stats, EquationLeaves* leaves) {
   ExprPool& p = *sys->pool;
   const FlatSystem& flat = *sys->flat;
   Substitution& s = *sys->eliminated;
-  std::vector<bool> diff = DifferentiatedVariables(*sys);
+  std::vector<bool> diff = leaves->Differentiated(p, sys->role.size());
   // Equations that define a variable as the derivative of another, u = c*der(x) + offset (a
   // body's v = der(r)), by x (the first such equation): a constrained x with such a u can stay
   // an unknown.
@@ -130,11 +135,10 @@ void ConstrainedStates(EquationSystem* sys, IndexStats* stats) {
     const ExprId r = sys->equations[k].residual;
     const uint8_t m = p.mask(r);
     if ((m & (kHasDer | kHasPre | kHasInitial)) || !(m & kHasVar)) continue;
-    // Most equations hold an algebraic variable: found, the walk stops there.
-    if (!AllLeavesIn(p, r, kHasVar, diff)) continue;
-    CollectLeaves(p, r, kHasVar, &vars);
+    // Without derivatives and pre-values, the equation's leaves are its variables.
+    if (!AllVariablesIn(p, leaves->begin(k), leaves->end(k), diff)) continue;
     maybe_constraint[k] = true;
-    for (ExprId v : vars) ++constraint_count[p.node(v).a];
+    for (const ExprId* v = leaves->begin(k); v != leaves->end(k); ++v) ++constraint_count[p.node(*v).a];
   }
   std::vector<bool> drop(sys->equations.size(), false);
   // Variables replaced by the solution of a constraint they share with another: a second such
@@ -145,13 +149,14 @@ void ConstrainedStates(EquationSystem* sys, IndexStats* stats) {
     SystemEquation& eq = sys->equations[k];
     const ExprId original = eq.residual;
     // Rewritten by what this pass replaced so far (only if it holds some of it: the same result).
-    ExprId r = changed && s.Touches(eq.residual) ? s.Apply(eq.residual) : eq.residual;
+    ExprId r = changed && leaves->Touches(s, k) ? s.Apply(eq.residual) : eq.residual;
     eq.residual = r;
+    if (r != original) leaves->Update(p, k, r);
     if (r == original && !maybe_constraint[k]) continue;
     const uint8_t m = p.mask(r);
     if ((m & (kHasDer | kHasPre | kHasInitial)) || !(m & kHasVar)) continue;
-    if (!AllLeavesIn(p, r, kHasVar, diff)) continue;
-    CollectLeaves(p, r, kHasVar, &vars);
+    if (!AllVariablesIn(p, leaves->begin(k), leaves->end(k), diff)) continue;
+    vars.assign(leaves->begin(k), leaves->end(k));
     // Eliminate a `stateSelect: never` variable first, then the variable in the fewest
     // constraints, then the one that least wants to be a state (avoid < default < prefer), then
     // the one declared last. An `always` variable is never eliminated here, nor anything while a
@@ -200,6 +205,7 @@ void ConstrainedStates(EquationSystem* sys, IndexStats* stats) {
         der_value = SolveFor(&p, u_eq, der, false, &unused);
         if (der_value.valid() && !(p.mask(der_value) & kHasDer)) {
           definition.residual = ReplaceLeaf(&p, u_eq, der, dvalue);
+          leaves->Update(p, def, definition.residual);
           maybe_constraint[def] = true;  // a new residual: looked at afresh
           s.Set(der, der_value);
           derivative_definition[v] = kNone;
@@ -226,20 +232,26 @@ void ConstrainedStates(EquationSystem* sys, IndexStats* stats) {
     if (!drop[k]) kept.push_back(sys->equations[k]);
   }
   sys->equations.swap(kept);
-  if (changed) sys->ApplyEliminations();
+  leaves->Drop(drop);
+  if (changed) ApplyEliminations(sys, leaves);
 }
 
 }  // namespace
 
 size_t SubstituteDerivativeAliases(EquationSystem* sys) {
   IndexStats stats;
-  DerivativeAliases(sys, &stats, /*to_states=*/true);
+  EquationLeaves leaves;
+  leaves.Collect(*sys);
+  DerivativeAliases(sys, &stats, &leaves, /*to_states=*/true);
   return stats.derivative_aliases;
 }
 
-EquationSystem ReduceIndex(EquationSystem sys, IndexStats* stats) {
-  DerivativeAliases(&sys, stats);
-  ConstrainedStates(&sys, stats);
+EquationSystem ReduceIndex(EquationSystem sys, IndexStats* stats, EquationLeaves* leaves) {
+  EquationLeaves own;
+  if (leaves == nullptr) leaves = &own;
+  if (!leaves->valid()) leaves->Collect(sys);
+  DerivativeAliases(&sys, stats, leaves);
+  ConstrainedStates(&sys, stats, leaves);
   return sys;
 }
 

@@ -31,7 +31,9 @@ struct IndexStats {
   size_t kept_constraints = 0;
 };
 
-EquationSystem ReduceIndex(EquationSystem sys, IndexStats* stats);
+/// Steps 1 and 2. `leaves`, when given, holds the equations' leaves (collected here when not
+/// valid) and is kept current, for the next round of alias elimination.
+EquationSystem ReduceIndex(EquationSystem sys, IndexStats* stats, EquationLeaves* leaves = nullptr);
 
 /// Step 1 again, after Pantelides' algorithm and the dummy derivatives, for the defining equations
 /// v = c*der(x) + offset whose v is itself a state (differentiated); returns how many der(x) it
