@@ -28,7 +28,8 @@ enum class Op : uint8_t {
   kCond,     ///< a = condition index: an event relation's value, frozen between events
   /// A column of a table parameter (docs/FORMAT.md, "Tables"): a = ParamId of its element [1,1],
   /// b = rows, c = the columns (elements row by row in consecutive parameters) and the column
-  /// read (1-based; Node::TableColumns, Node::TableColumn). Read only as the second operand of kInterp and kInterpSlope.
+  /// read (1-based; Node::TableColumns, Node::TableColumn). Read only as the second operand of
+  /// kInterp and kInterpSlope.
   kTable,
   // Arithmetic.
   kAdd, kSub, kMul, kDiv, kPow, kNeg,

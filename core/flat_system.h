@@ -67,7 +67,7 @@ struct FlatVariable {
   /// For a variable that index reduction made for a derivative (a dummy derivative, or a state of
   /// the first-order form of der(der(x))): it stands for der^derivative_order(derivative_of).
   VarId derivative_of;
-  uint16_t derivative_order = 0;  ///< at most the written order plus kMaxDifferentiations
+  uint16_t derivative_order = 0;  ///< at most the parser's depth (256) plus kMaxDifferentiations
   ValueType type = ValueType::kReal;
   int8_t state_priority : 4 = 0;  ///< stateSelect: never -2, avoid -1, default 0, prefer 1, always 2
   bool fixed : 1 = false;
