@@ -10,7 +10,7 @@ namespace {
 VarId NamedAbsent(const ExprPool& p, ExprId e, const std::vector<bool>& absent) {
   if (!(p.mask(e) & (kHasVar | kHasDer | kHasPre))) return VarId();
   thread_local std::vector<ExprId> leaves;  // one buffer for every equation
-  EquationLeavesOf(p, e, kHasVar | kHasDer | kHasPre, &leaves);
+  CollectLeaves(p, e, kHasVar | kHasDer | kHasPre, &leaves);
   for (ExprId leaf : leaves) {
     const Node& n = p.node(leaf);
     if ((n.op == Op::kVar || n.op == Op::kDer || n.op == Op::kPre) && absent[n.a]) return VarId(n.a);

@@ -156,63 +156,12 @@ std::vector<bool> DifferentiatedVariables(const EquationSystem& sys) {
   std::vector<ExprId> ders;
   for (const auto& e : sys.equations) {
     if (!e.residual.valid() || !(sys.pool->mask(e.residual) & kHasDer)) continue;  // invalid: deferred
-    EquationLeavesOf(*sys.pool, e.residual, kHasDer, &ders);
+    CollectLeaves(*sys.pool, e.residual, kHasDer, &ders);
     for (ExprId leaf : ders) {
       diff[sys.pool->node(leaf).a] = true;
     }
   }
   return diff;
-}
-
-}  // namespace momenta
-
-namespace momenta {
-
-namespace {
-
-/// Past this many inner nodes, or this many leaves, EquationLeavesOf hands over to CollectLeaves.
-constexpr size_t kWalkBudget = 256;
-constexpr size_t kLeafBudget = 48;
-
-}  // namespace
-
-void EquationLeavesOf(const ExprPool& pool, ExprId e, uint8_t mask, std::vector<ExprId>* out) {
-  out->clear();
-  if (!(pool.mask(e) & mask)) return;
-  thread_local std::vector<uint32_t> stack;
-  stack.assign(1, e.value());
-  size_t inner = 0;
-  while (!stack.empty()) {
-    const uint32_t id = stack.back();
-    stack.pop_back();
-    const Node& n = pool.node(ExprId(id));
-    if (!(n.mask & mask)) continue;
-    switch (n.op) {
-      case Op::kVar:
-      case Op::kDer:
-      case Op::kPre:
-      case Op::kParam:
-        // Found again below a shared subtree walked twice: its first finding holds its place.
-        if (std::find(out->begin(), out->end(), ExprId(id)) != out->end()) continue;
-        if (out->size() == kLeafBudget) {
-          CollectLeaves(pool, e, mask, out);
-          return;
-        }
-        out->push_back(ExprId(id));
-        continue;
-      default:
-        break;
-    }
-    if (++inner > kWalkBudget) {
-      CollectLeaves(pool, e, mask, out);
-      return;
-    }
-    // Children pushed as VisitLeaves pushes them (the last popped first): the same order.
-    const int arity = Arity(n.op);
-    if (arity >= 1) stack.push_back(n.a);
-    if (arity >= 2) stack.push_back(n.b);
-    if (arity >= 3) stack.push_back(n.c);
-  }
 }
 
 void EquationLeaves::Invalidate() {
@@ -231,7 +180,7 @@ void EquationLeaves::Collect(const EquationSystem& sys) {
   for (size_t k = 0; k < n; ++k) {
     const ExprId r = sys.equations[k].residual;
     if (r.valid()) {
-      EquationLeavesOf(p, r, kKinds, &scratch_);
+      CollectLeaves(p, r, kKinds, &scratch_);
     } else {
       scratch_.clear();  // deferred: none until made (Update)
     }
@@ -243,7 +192,7 @@ void EquationLeaves::Collect(const EquationSystem& sys) {
 }
 
 void EquationLeaves::Update(const ExprPool& pool, size_t k, ExprId residual) {
-  EquationLeavesOf(pool, residual, kKinds, &scratch_);
+  CollectLeaves(pool, residual, kKinds, &scratch_);
   if (scratch_.size() <= end_[k] - begin_[k]) {
     // Fewer or as many leaves (a substitution most often replaces one by one): in place.
     std::copy(scratch_.begin(), scratch_.end(), leaves_.begin() + begin_[k]);

@@ -116,13 +116,6 @@ EquationSystem MakeEquationSystem(std::shared_ptr<const FlatSystem> flat);
 /// Variables whose derivative appears in the equations (the candidate states), by flat variable.
 std::vector<bool> DifferentiatedVariables(const EquationSystem& sys);
 
-/// CollectLeaves(pool, e, mask, out), the same leaves in the same order, for the small trees of
-/// equations: a walk that does not remember the inner nodes it has passed (a subtree shared within
-/// `e` is walked again, and its leaves, found before, are skipped) costs a few instructions per
-/// node where remembering them costs a search of those seen. A large or much shared tree is
-/// handed over to CollectLeaves.
-void EquationLeavesOf(const ExprPool& pool, ExprId e, uint8_t mask, std::vector<ExprId>* out);
-
 /// The variable, derivative and pre-value leaves of each equation of a system, collected once and
 /// kept current by the passes that rewrite or drop equations: the rounds of alias elimination and
 /// index reduction ask several questions of every equation (is it touched by a substitution? are

@@ -23,7 +23,7 @@ EquationSystem Prune(EquationSystem sys, Structure* st, PruneStats* stats) {
   };
   std::vector<ExprId> leaves;  // scratch
   auto mark_leaves = [&](ExprId e) {
-    EquationLeavesOf(p, e, kHasVar | kHasDer | kHasPre, &leaves);
+    CollectLeaves(p, e, kHasVar | kHasDer | kHasPre, &leaves);
     for (ExprId leaf : leaves) mark(p.node(leaf).a);
   };
   // The variables of each initial equation, collected once for the repeated scans below: those
@@ -31,7 +31,7 @@ EquationSystem Prune(EquationSystem sys, Structure* st, PruneStats* stats) {
   std::vector<uint32_t> init_start{0}, init_vars;
   init_start.reserve(sys.initial.size() + 1);
   for (const SystemEquation& eq : sys.initial) {
-    EquationLeavesOf(p, eq.residual, kHasVar | kHasDer | kHasPre, &leaves);
+    CollectLeaves(p, eq.residual, kHasVar | kHasDer | kHasPre, &leaves);
     for (ExprId leaf : leaves) init_vars.push_back(p.node(leaf).a);
     init_start.push_back(static_cast<uint32_t>(init_vars.size()));
   }

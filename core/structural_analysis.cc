@@ -68,7 +68,7 @@ Structure AnalyseStructure(const EquationSystem& sys) {
   for (const SystemEquation& eq : sys.equations) {
     row.clear();
     prow.clear();
-    EquationLeavesOf(p, eq.residual, kHasVar | kHasDer, &leaves);
+    CollectLeaves(p, eq.residual, kHasVar | kHasDer, &leaves);
     for (ExprId leaf : leaves) {
       uint32_t v = p.node(leaf).a;
       int32_t c = col_of_var[v];
