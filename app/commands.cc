@@ -17,12 +17,15 @@
 #include "app/progress.h"
 #include "app/report_command.h"
 #include "core/build.h"
-#include "core/memory_budget.h"
-#include "core/model_state.h"
-#include "core/unit_check.h"
-#include "core/units.h"
+#include "core/base/memory_budget.h"
+#include "core/compile/model_state.h"
+#include "core/lang/unit_check.h"
+#include "core/lang/units.h"
 #include "solver/simulator.h"
 #include "solver/sundials_support.h"
+#include "core/flatten/flatten.h"
+#include "core/lang/yaml_loader.h"
+#include "core/lang/builtin_library.h"
 
 namespace momenta {
 

@@ -12,10 +12,10 @@
 #include "app/report_scene.h"
 #include "app/simulate_options.h"
 #include "core/build.h"
-#include "core/native_code.h"
-#include "core/flat_system.h"
-#include "core/model_state.h"
-#include "core/units.h"
+#include "core/compile/native_code.h"
+#include "core/flatten/flat_system.h"
+#include "core/compile/model_state.h"
+#include "core/lang/units.h"
 
 namespace momenta {
 

@@ -19,7 +19,7 @@ constexpr long kHugePagesFileBytes = 1L << 20;
 void MaybeRestartWithHugePages(int argc, char** argv);
 
 /// Restarts the process as MaybeRestartWithHugePages does, for a build that turned out large
-/// once the model's sizes were known (core/memory_budget.h, LargeBuildWatch: an array model's
+/// once the model's sizes were known (core/base/memory_budget.h, LargeBuildWatch: an array model's
 /// file is small). Not under mpirun, nor when MOMENTA_HUGE_PAGES is 0 or huge pages are in use;
 /// returns when it does not restart. Nothing may have been written that a restart would repeat.
 void RestartWithHugePagesForLargeBuild();

@@ -6,7 +6,7 @@
 
 #include "app/csv_writer.h"
 #include "app/result_reader.h"
-#include "core/unit_check.h"
+#include "core/lang/unit_check.h"
 #include "solver/sundials_support.h"
 
 namespace momenta {

@@ -4,7 +4,8 @@
 #include <set>
 
 #include "core/build.h"
-#include "core/parser.h"
+#include "core/lang/parser.h"
+#include "core/flatten/flatten.h"
 
 namespace momenta {
 
@@ -107,7 +108,7 @@ size_t ResolveSceneColumns(const std::vector<std::string>& columns, Scene* scene
   auto kept = std::remove_if(scene->shapes.begin(), scene->shapes.end(), [&](SceneShape& shape) {
     for (SceneField& f : shape.fields) {
       // Scalars (one, or a point's two) are their own columns; a vector's elements are
-      // `name[1]`, or `(expr)[1]` for an expression (core/arrays.cc).
+      // `name[1]`, or `(expr)[1]` for an expression (core/lang/arrays.cc).
       if (std::all_of(f.columns.begin(), f.columns.end(),
                       [&](const std::string& c) { return have.count(c) > 0; })) {
         continue;

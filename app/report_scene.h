@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
-#include "core/flat_system.h"
-#include "core/model_spec.h"
+#include "core/flatten/flat_system.h"
+#include "core/lang/model_spec.h"
 
 namespace momenta {
 

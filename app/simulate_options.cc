@@ -3,7 +3,7 @@
 #include <cmath>
 
 #include "app/csv_writer.h"
-#include "core/error.h"
+#include "core/base/error.h"
 
 namespace momenta {
 

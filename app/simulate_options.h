@@ -4,8 +4,8 @@
 
 #include <optional>
 
-#include "core/model_spec.h"
-#include "core/native_code.h"
+#include "core/lang/model_spec.h"
+#include "core/compile/native_code.h"
 #include "solver/simulator.h"
 
 namespace momenta {
@@ -15,7 +15,7 @@ struct SimulateOverrides {
   std::optional<double> stop, rtol, atol, interval;
   std::optional<double> max_order;  ///< IDA's maximum BDF order, a whole number from 1 to 5
   std::string linear_solver;  ///< empty: the experiment's
-  /// --codegen: auto, native or interp (empty: auto); see core/native_code.h.
+  /// --codegen: auto, native or interp (empty: auto); see core/compile/native_code.h.
   std::string codegen;
 };
 

@@ -20,8 +20,8 @@
 #include "app/interrupt.h"
 #include "app/progress.h"
 #include "app/sweep_cluster.h"
-#include "core/component_type.h"
-#include "core/error.h"
+#include "core/lang/component_type.h"
+#include "core/base/error.h"
 #include "solver/simulator.h"
 
 namespace momenta {

@@ -4,7 +4,7 @@
 #include <cstring>
 #include <stdexcept>
 
-#include "core/error.h"
+#include "core/base/error.h"
 
 #if MOMENTA_HAVE_MPI
 // The C interface only (OpenMPI's and MPICH's headers would otherwise pull in the C++ bindings).

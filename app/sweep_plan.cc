@@ -7,7 +7,7 @@
 #include <set>
 
 #include "app/csv_writer.h"
-#include "core/error.h"
+#include "core/base/error.h"
 
 namespace momenta {
 

@@ -46,12 +46,14 @@
 #include <vector>
 
 #include "core/build.h"
-#include "core/error.h"
-#include "core/model_spec.h"
-#include "core/model_state.h"
-#include "core/native_code.h"
+#include "core/base/error.h"
+#include "core/lang/model_spec.h"
+#include "core/compile/model_state.h"
+#include "core/compile/native_code.h"
 #include "solver/simulator.h"
 #include "solver/sundials_support.h"
+#include "core/lang/yaml_loader.h"
+#include "core/lang/builtin_library.h"
 
 #include <sundials/sundials_config.h>
 

@@ -1,4 +1,4 @@
-// reroll_bench: how much of a model's compiled programs loop rerolling (core/reroll.h) covers,
+// reroll_bench: how much of a model's compiled programs loop rerolling (core/compile/reroll.h) covers,
 // how long the detection takes, and what evaluating the rolled form costs against the
 // straight-line interpreter (Program::Run) on the residual and the Jacobian.
 //
@@ -20,10 +20,12 @@
 #include <vector>
 
 #include "core/build.h"
-#include "core/component_type.h"
-#include "core/error.h"
-#include "core/model_spec.h"
-#include "core/reroll.h"
+#include "core/lang/component_type.h"
+#include "core/base/error.h"
+#include "core/lang/model_spec.h"
+#include "core/compile/reroll.h"
+#include "core/lang/yaml_loader.h"
+#include "core/lang/builtin_library.h"
 
 namespace {
 

@@ -6,7 +6,7 @@
 #                     dense + KLU SUNLinearSolver (and KLU). Compile definition
 #                     MOMENTA_SUNDIALS_OPTIMIZED=1 (our -O2 build) or =0 (Debian's).
 #   momenta_yaml      yaml-cpp, and libyaml (Debian's libyaml-dev, via pkg-config): the faster
-#                     reader of large model files (core/yaml_tree.h)
+#                     reader of large model files (core/lang/yaml_tree.h)
 #   momenta_eigen     Eigen3::Eigen
 #   momenta_cli11     CLI11::CLI11
 #   momenta_matio     libmatio (MAT v4 result files; Debian's libmatio-dev)

@@ -5,18 +5,19 @@
 #include <ctime>
 #include <sstream>
 
-#include "core/alias_elimination.h"
-#include "core/causalization.h"
-#include "core/compile.h"
-#include "core/conditional_connectors.h"
-#include "core/discrete_partition.h"
-#include "core/dummy_derivatives.h"
-#include "core/index_reduction.h"
-#include "core/pantelides.h"
-#include "core/pruning.h"
-#include "core/state_select.h"
-#include "core/structural_analysis.h"
-#include "core/structural_conditions.h"
+#include "core/passes/alias_elimination.h"
+#include "core/passes/causalization.h"
+#include "core/compile/compile.h"
+#include "core/passes/conditional_connectors.h"
+#include "core/passes/discrete_partition.h"
+#include "core/passes/dummy_derivatives.h"
+#include "core/passes/index_reduction.h"
+#include "core/passes/pantelides.h"
+#include "core/passes/pruning.h"
+#include "core/passes/state_select.h"
+#include "core/passes/structural_analysis.h"
+#include "core/passes/structural_conditions.h"
+#include "core/flatten/flatten.h"
 
 namespace momenta {
 

@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "core/compiled_model.h"
-#include "core/model_spec.h"
+#include "core/compile/compiled_model.h"
+#include "core/lang/model_spec.h"
 
 namespace momenta {
 

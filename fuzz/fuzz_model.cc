@@ -2,7 +2,7 @@
 // `momenta check` does before printing). A ModelError is the normal answer to a bad model; a
 // crash, a sanitizer report, another exception, a timeout or running out of memory is a finding.
 //
-// Sizes are checked against MOMENTA_MEMORY_MB (core/memory_budget.h); the target sets it to
+// Sizes are checked against MOMENTA_MEMORY_MB (core/base/memory_budget.h); the target sets it to
 // 64 MiB unless the environment gives another value, so that a `count:` the build would refuse
 // on a small machine is refused here too and libFuzzer's -rss_limit_mb finds real leaks and
 // blow-ups, not big but valid models.
@@ -13,7 +13,9 @@
 #include <string>
 
 #include "core/build.h"
-#include "core/model_state.h"
+#include "core/compile/model_state.h"
+#include "core/lang/yaml_loader.h"
+#include "core/lang/builtin_library.h"
 
 extern "C" int LLVMFuzzerInitialize(int* /*argc*/, char*** /*argv*/) {
   setenv("MOMENTA_MEMORY_MB", "64", /*overwrite=*/0);

@@ -6,7 +6,7 @@
 
 #include <vector>
 
-#include "core/compiled_model.h"
+#include "core/compile/compiled_model.h"
 
 namespace momenta {
 

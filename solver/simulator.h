@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "core/model_state.h"
+#include "core/compile/model_state.h"
 
 namespace momenta {
 

@@ -5,7 +5,7 @@
 #include <sunmatrix/sunmatrix_dense.h>
 #include <sunmatrix/sunmatrix_sparse.h>
 
-#include "core/error.h"
+#include "core/base/error.h"
 
 namespace momenta {
 

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "app/commands.h"
-#include "core/yaml_tree.h"
+#include "core/lang/yaml_tree.h"
 #include "tests/support/cli_runner.h"
 #include "tests/support/test_models.h"
 
@@ -403,7 +403,7 @@ TEST_P(BadModelTest, BuildErrorNamesTheProblem) {
   }
 }
 
-// The faster readers (the subset reader and libyaml, core/yaml_tree.h) give the same message, at
+// The faster readers (the subset reader and libyaml, core/lang/yaml_tree.h) give the same message, at
 // the same place, as yaml-cpp's.
 TEST_P(BadModelTest, FasterReadersGiveTheSameMessage) {
   const BadModel& c = GetParam();

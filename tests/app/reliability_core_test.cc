@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "core/parser.h"
+#include "core/lang/parser.h"
 #include "tests/support/cli_runner.h"
 #include "tests/support/test_models.h"
 

@@ -19,7 +19,7 @@
 #include "app/commands.h"
 #include "app/sweep.h"
 #include "app/sweep_cluster.h"
-#include "core/error.h"
+#include "core/base/error.h"
 #include "tests/app/cli_support.h"
 #include "tests/support/cli_runner.h"
 #include "tests/support/test_models.h"

@@ -10,7 +10,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "core/error.h"
+#include "core/base/error.h"
 #include "tests/support/cli_runner.h"
 #include "tests/support/test_models.h"
 

@@ -1,4 +1,6 @@
 #include "tests/support/test_models.h"
+#include "core/lang/yaml_loader.h"
+#include "core/lang/builtin_library.h"
 
 #include <fstream>
 #include <sstream>

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "core/build.h"
-#include "core/model_state.h"
+#include "core/compile/model_state.h"
 #include "solver/simulator.h"
 
 namespace momenta::testing {

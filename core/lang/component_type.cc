@@ -1,0 +1,82 @@
+#include "core/lang/component_type.h"
+
+#include <algorithm>
+
+#include "core/lang/parser.h"
+
+namespace momenta {
+
+AstPtr ConnectionSpec::EndA() const { return a ? a : ParseName(a_text, a_loc); }
+AstPtr ConnectionSpec::EndB() const { return b ? b : ParseName(b_text, b_loc); }
+
+const char* ValueTypeName(ValueType t) {
+  switch (t) {
+    case ValueType::kReal: return "Real";
+    case ValueType::kInteger: return "Integer";
+    case ValueType::kBoolean: return "Boolean";
+  }
+  return "?";
+}
+
+namespace {
+
+/// Records `name` under its last dotted part ("Rotational.Inertia" under "Inertia"); a short
+/// name that two qualified names share maps to "" (ambiguous: the full name is needed).
+void AddShortName(const std::string& name, std::map<std::string, std::string>* short_names) {
+  size_t dot = name.rfind('.');
+  if (dot == std::string::npos) return;
+  auto [it, inserted] = short_names->emplace(name.substr(dot + 1), name);
+  if (!inserted && it->second != name) it->second.clear();
+}
+
+/// The entry named `name`, or the one whose qualified name it abbreviates.
+template <typename T>
+const T* FindQualified(const std::map<std::string, std::shared_ptr<T>>& entries,
+                       const std::map<std::string, std::string>& short_names, const std::string& name) {
+  auto it = entries.find(name);
+  if (it != entries.end()) return it->second.get();
+  auto s = short_names.find(name);
+  if (s == short_names.end() || s->second.empty()) return nullptr;
+  it = entries.find(s->second);
+  return it == entries.end() ? nullptr : it->second.get();
+}
+
+}  // namespace
+
+void Library::AddConnector(ConnectorType c) {
+  std::string name = c.name;
+  AddShortName(name, &short_connectors_);
+  connectors_[name] = std::make_shared<ConnectorType>(std::move(c));
+}
+
+void Library::AddComponent(ComponentType c) {
+  std::string name = c.name;
+  AddShortName(name, &short_components_);
+  components_[name] = std::make_shared<ComponentType>(std::move(c));
+}
+
+const ConnectorType* Library::FindConnector(const std::string& name) const {
+  return FindQualified(connectors_, short_connectors_, name);
+}
+
+const ComponentType* Library::FindComponent(const std::string& name) const {
+  return FindQualified(components_, short_components_, name);
+}
+
+bool Library::Has(const std::string& name) const {
+  return connectors_.count(name) || components_.count(name);
+}
+
+std::vector<std::string> Library::ComponentNames() const {
+  std::vector<std::string> out;
+  for (const auto& [name, t] : components_) out.push_back(name);
+  return out;
+}
+
+std::vector<std::string> Library::ConnectorNames() const {
+  std::vector<std::string> out;
+  for (const auto& [name, t] : connectors_) out.push_back(name);
+  return out;
+}
+
+}  // namespace momenta

@@ -1,0 +1,219 @@
+#pragma once
+/// Component and connector types as declared in a library file or a model's `define:` section
+/// (docs/FORMAT.md). Declarations only: names are resolved when a type is first instantiated.
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/lang/ast.h"
+#include "core/base/error.h"
+#include "core/base/messages.h"
+
+namespace momenta {
+
+enum class ValueType : uint8_t { kReal, kInteger, kBoolean };
+
+/// The fixed shape of an array declaration (docs/FORMAT.md, "Vectors and matrices"): empty for a
+/// scalar, {n} for a vector, {n, m} for a matrix.
+using Shape = std::vector<int>;
+/// A size given by the value (`shape: [":", 2]`): only in the shape of a table parameter.
+constexpr int kOpenSize = -1;
+inline bool IsOpen(const Shape& shape) {
+  for (int n : shape) {
+    if (n == kOpenSize) return true;
+  }
+  return false;
+}
+/// Local name → shape of the arrays a type was declared with (its scalar form names the elements
+/// `r[1]`, `R[1,2]`; core/lang/arrays.h).
+using ArrayShapes = std::map<std::string, Shape>;
+const char* ValueTypeName(ValueType t);
+
+struct ParameterDecl {
+  std::string name;
+  AstPtr value;  ///< default binding: a number or an expression of the type's other parameters
+  std::string value_text;
+  std::string unit, doc;
+  std::optional<double> min, max;
+  ValueType type = ValueType::kReal;
+  Shape shape;  ///< declared `shape:`; empty for a scalar
+  SourceLoc loc;
+};
+
+struct VariableDecl {
+  std::string name;
+  std::string unit, doc;
+  AstPtr start;  ///< null: 0 (or false)
+  bool fixed = false;
+  double nominal = 1.0;
+  std::optional<double> min, max;
+  /// `stateSelect:` never -2, avoid -1, default 0, prefer 1, always 2 (MSL's StateSelect).
+  int state_priority = 0;
+  ValueType type = ValueType::kReal;
+  Shape shape;  ///< declared `shape:`; empty for a scalar
+  SourceLoc loc;
+};
+
+struct EquationDecl {
+  std::string text;
+  AstEquation ast;
+  SourceLoc loc;
+};
+
+/// One statement of a when-clause: `reinit(x, expr)` or the discrete assignment `x = expr`.
+struct StatementDecl {
+  bool is_reinit = false;
+  std::string target;  ///< the variable assigned or re-initialised
+  AstPtr value;
+  std::string text;
+  SourceLoc loc;
+};
+
+/// `when: cond` with its statements: executed at the event where cond becomes true.
+struct WhenDecl {
+  std::string text;
+  AstPtr condition;
+  std::vector<StatementDecl> statements;
+  SourceLoc loc;
+};
+
+/// An exact impact (docs/FORMAT.md, "Impacts"): when `gap` reaches zero while `velocity` < 0,
+/// velocities jump so that the model's integrated equations hold and velocity reverses by
+/// `restitution`; below `v_small` the contact closes and rests until `release` holds. The
+/// machinery adds the equation `0 = if contact then der(velocity) else force`.
+struct ImpactDecl {
+  AstPtr gap, velocity, restitution, v_small, release;
+  std::string gap_text, velocity_text, restitution_text, v_small_text, release_text;
+  std::string force, contact;  ///< variable names
+  SourceLoc loc;
+};
+
+/// One value of a drawn shape: an expression in the component's scope, scalar or a 2-vector.
+struct ShapeField {
+  std::string key, text;
+  AstPtr expr;
+  SourceLoc loc;
+};
+
+/// `animation:` of a component type (docs/FORMAT.md, "Animation"): one shape drawn in the
+/// report's scene from quantities recorded during the run. Kinds and their fields: circle (at,
+/// radius, angle), line and spring (from, to), pin and ground (at), wall (at, normal, start, end).
+struct ShapeDecl {
+  std::string kind;
+  std::vector<ShapeField> fields;
+  SourceLoc loc;
+};
+
+struct ConnectorVariable {
+  std::string name, unit, doc;
+  Shape shape;  ///< declared `shape:`; empty for a scalar
+};
+
+struct ConnectorType {
+  std::string name, doc;
+  bool is_signal = false;
+  bool is_input = false;  ///< signals: input (true) or output (false)
+  ValueType signal_type = ValueType::kReal;
+  std::vector<ConnectorVariable> potentials, flows;
+  ArrayShapes arrays;  ///< the shaped variables its scalar form came from
+  SourceLoc loc;
+};
+
+struct ConnectorDecl {
+  std::string name, type, doc;
+  Shape shape;  ///< a signal connector carrying a vector or matrix; empty for a scalar
+  /// A Boolean parameter of the type: the connector exists only when it is true (MSL's
+  /// `HeatPort heatPort if useHeatPort`); empty for a connector that always exists.
+  std::string condition;
+  SourceLoc loc;
+};
+
+/// `key: value` in a component entry: a parameter value, or start/fixed/stateSelect of a variable.
+struct Modifier {
+  std::string key;
+  AstPtr value;      ///< parameter value; null for a variable modifier
+  std::string value_text;
+  /// The unit a value was written with (`m: 40 kg`): `value` is the number, converted to the
+  /// parameter's declared unit when the type is known. Empty for a plain value.
+  std::string value_unit;
+  AstPtr start;      ///< variable modifier: start value (may be null)
+  std::optional<bool> fixed;
+  std::optional<int> state_priority;  ///< stateSelect, as VariableDecl::state_priority
+  SourceLoc loc;      ///< the value
+  SourceLoc key_loc;  ///< the key
+};
+
+struct ComponentSpec {
+  std::string name, type, doc;
+  AstPtr count;  ///< null for a single component
+  std::vector<Modifier> modifiers;
+  SourceLoc loc, type_loc;
+};
+
+struct ConnectionSpec {
+  /// The ends' trees, or null for an end that is a plain dotted name (`sd1.flange_b`,
+  /// IsPlainName): its text gives it (EndA, EndB). A written-out model has 200 000 such ends,
+  /// 270 bytes each as trees, held from reading to flattening.
+  AstPtr a, b;
+  std::string a_text, b_text;
+  std::string loop_var;  ///< empty unless `for:`
+  AstPtr loop_from, loop_to;
+  std::string loop_text;  ///< the `for:` text, e.g. "i in 1:n-1"
+  SourceLoc loop_loc;     ///< where the `for:` text starts
+  SourceLoc loc, a_loc, b_loc;
+
+  /// The tree of end a or b: the one held, or the plain name parsed from its text.
+  AstPtr EndA() const;
+  AstPtr EndB() const;
+};
+
+struct ComponentType {
+  std::string name, doc;
+  std::vector<ParameterDecl> parameters;
+  /// Parameters whose size their value gives (`shape: [":", 2]`, docs/FORMAT.md "Tables"): each
+  /// instance has its own number of rows; equations read them through interpolate().
+  std::vector<ParameterDecl> tables;
+  std::vector<ConnectorDecl> connectors;
+  std::vector<VariableDecl> variables;
+  std::vector<EquationDecl> equations;
+  std::vector<EquationDecl> initial_equations;
+  std::vector<WhenDecl> whens;
+  std::vector<ImpactDecl> impacts;
+  std::vector<ShapeDecl> animation;  ///< what the report's scene draws for an instance
+  /// A composite type's parts: components of other types and the connections between them and
+  /// to the type's own connectors (an own connector is named alone: [flange_a, mass.flange_a]).
+  std::vector<ComponentSpec> components;
+  std::vector<ConnectionSpec> connections;
+  ArrayShapes arrays;  ///< in its scalar form: the arrays it was declared with (core/lang/arrays.h)
+  SourceLoc loc;
+  bool user_defined = false;  ///< from a model's define: section, a uses: file or a model file
+};
+
+/// The types a model can use: the built-in library plus the model's own definitions.
+/// Domain libraries name their types with a package prefix (`Rotational.Fixed`,
+/// `Planar.Body`); a type is found by its full name, or by its last part alone (`Body`) when no
+/// unqualified type has that name and no other package uses it.
+class Library {
+ public:
+  void AddConnector(ConnectorType c);
+  void AddComponent(ComponentType c);
+  const ConnectorType* FindConnector(const std::string& name) const;
+  const ComponentType* FindComponent(const std::string& name) const;
+  bool Has(const std::string& name) const;
+  /// A component type of exactly this name (no short-name lookup).
+  bool HasComponent(const std::string& name) const { return components_.count(name) != 0; }
+  std::vector<std::string> ComponentNames() const;
+  std::vector<std::string> ConnectorNames() const;
+
+ private:
+  std::map<std::string, std::shared_ptr<ConnectorType>> connectors_;
+  std::map<std::string, std::shared_ptr<ComponentType>> components_;
+  /// Last part of a qualified name -> the full name ("" when two packages share it).
+  std::map<std::string, std::string> short_connectors_, short_components_;
+};
+
+}  // namespace momenta

@@ -1,0 +1,644 @@
+#include "core/lang/parser.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <map>
+#include <sstream>
+#include <string_view>
+
+namespace momenta {
+
+namespace {
+
+const std::map<std::string, int>& Functions() {
+  static const std::map<std::string, int> kFunctions = {
+      {"sin", 1},  {"cos", 1},   {"tan", 1},   {"asin", 1},  {"acos", 1},    {"atan", 1},
+      {"atan2", 2}, {"sinh", 1}, {"cosh", 1},  {"tanh", 1},  {"exp", 1},     {"log", 1},
+      {"log10", 1}, {"sqrt", 1}, {"abs", 1},   {"sign", 1},  {"min", 2},     {"max", 2},
+      {"der", 1},  {"pre", 1},   {"edge", 1},  {"change", 1}, {"initial", 0}, {"noEvent", 1},
+      {"reinit", 2},
+      // Array functions (core/lang/arrays.h); zeros takes 1 or 2 (kOneOrTwo).
+      {"transpose", 1}, {"cross", 2}, {"norm", 1}, {"identity", 1}, {"zeros", -2}, {"sum", 1},
+      // interpolate(table, x) or interpolate(table, x, column): 2 or 3 (kTwoOrThree).
+      {"interpolate", -3}, {"timeTable", 5}, {"booleanTable", 2},
+  };
+  return kFunctions;
+}
+
+/// The character starting at text[at] for a message: 'c', a whole UTF-8 sequence as 'ü' (U+00FC),
+/// or a byte that starts none as byte 0xC3.
+std::string QuotedCharacter(const std::string& text, size_t at) {
+  const auto lead = static_cast<unsigned char>(text[at]);
+  if (lead < 0x80) return std::string("'") + text[at] + "'";
+  size_t len = lead >= 0xF0 && lead < 0xF5 ? 4 : lead >= 0xE0 ? 3 : lead >= 0xC2 ? 2 : 0;
+  uint32_t code = len == 2 ? lead & 0x1F : len == 3 ? lead & 0x0F : lead & 0x07;
+  bool ok = len > 0 && lead < 0xF5 && at + len <= text.size();
+  for (size_t k = 1; ok && k < len; ++k) {
+    const auto cont = static_cast<unsigned char>(text[at + k]);
+    ok = (cont & 0xC0) == 0x80;
+    code = (code << 6) | (cont & 0x3F);
+  }
+  char hex[16];
+  if (!ok) {
+    std::snprintf(hex, sizeof hex, "0x%02X", lead);
+    return std::string("byte ") + hex + " (not UTF-8 text)";
+  }
+  std::snprintf(hex, sizeof hex, "U+%04X", code);
+  return "'" + text.substr(at, len) + "' (" + hex + ")";
+}
+
+bool IsDigit(char c) { return std::isdigit(static_cast<unsigned char>(c)) != 0; }
+bool IsNameStart(char c) { return std::isalpha(static_cast<unsigned char>(c)) || c == '_'; }
+bool IsNameChar(char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; }
+
+/// Where the decimal number starting at text[i] ends: digits, a point, digits, an exponent
+/// (strtod alone would take 0x10). An 'e' without digits after it is not part of the number.
+size_t DecimalEnd(std::string_view text, size_t i) {
+  size_t j = i;
+  auto digits = [&] {
+    while (j < text.size() && IsDigit(text[j])) ++j;
+  };
+  digits();
+  if (j < text.size() && text[j] == '.') {
+    ++j;
+    digits();
+  }
+  if (j < text.size() && (text[j] == 'e' || text[j] == 'E')) {
+    size_t k = j + 1;
+    if (k < text.size() && (text[k] == '+' || text[k] == '-')) ++k;
+    if (k < text.size() && IsDigit(text[k])) {
+      j = k;
+      digits();
+    }
+  }
+  return j;
+}
+
+enum class Tok { kEnd, kNumber, kIdent, kOp, kLParen, kRParen, kLBracket, kRBracket, kComma, kDot };
+
+struct Token {
+  Tok kind = Tok::kEnd;
+  std::string text;
+  double number = 0;
+  int column = 0;
+};
+
+class Lexer {
+ public:
+  Lexer(const std::string& text, const SourceLoc& loc) : text_(text), loc_(loc) {}
+
+  std::vector<Token> Run() {
+    std::vector<Token> out;
+    size_t i = 0;
+    while (true) {
+      while (i < text_.size() && std::isspace(static_cast<unsigned char>(text_[i]))) ++i;
+      Token t;
+      t.column = static_cast<int>(i);
+      if (i >= text_.size()) {
+        out.push_back(t);
+        return out;
+      }
+      char c = text_[i];
+      if (std::isdigit(static_cast<unsigned char>(c)) ||
+          (c == '.' && i + 1 < text_.size() && std::isdigit(static_cast<unsigned char>(text_[i + 1])))) {
+        const size_t j = DecimalEnd(text_, i);
+        t.kind = Tok::kNumber;
+        t.text = text_.substr(i, j - i);
+        t.number = std::strtod(t.text.c_str(), nullptr);
+        if (!std::isfinite(t.number)) {
+          throw ModelError(loc_.Shifted(static_cast<int>(i)), "number out of range '" + t.text + "'");
+        }
+        i = j;
+        if (i < text_.size() && (std::isalpha(static_cast<unsigned char>(text_[i])) || text_[i] == '_')) {
+          throw ModelError(loc_.Shifted(static_cast<int>(i)),
+                           "malformed number '" + t.text + text_[i] + "'");
+        }
+      } else if (std::isalpha(static_cast<unsigned char>(c)) || c == '_') {
+        size_t j = i;
+        while (j < text_.size() &&
+               (std::isalnum(static_cast<unsigned char>(text_[j])) || text_[j] == '_')) {
+          ++j;
+        }
+        t.kind = Tok::kIdent;
+        t.text = text_.substr(i, j - i);
+        i = j;
+      } else {
+        static const char* kTwo[] = {"<=", ">=", "==", "<>", "!="};
+        std::string two = text_.substr(i, 2);
+        bool matched = false;
+        for (const char* op : kTwo) {
+          if (two == op) {
+            t.kind = Tok::kOp;
+            t.text = two == "!=" ? "<>" : two;
+            i += 2;
+            matched = true;
+            break;
+          }
+        }
+        if (!matched) {
+          ++i;
+          t.text = std::string(1, c);
+          switch (c) {
+            case '(': t.kind = Tok::kLParen; break;
+            case ')': t.kind = Tok::kRParen; break;
+            case '[': t.kind = Tok::kLBracket; break;
+            case ']': t.kind = Tok::kRBracket; break;
+            case ',': t.kind = Tok::kComma; break;
+            case '.': t.kind = Tok::kDot; break;
+            case '+': case '-': case '*': case '/': case '^': case '<': case '>': case '=':
+              t.kind = Tok::kOp;
+              break;
+            default:
+              throw ModelError(loc_.Shifted(t.column),
+                               "unexpected character " + QuotedCharacter(text_, i - 1));
+          }
+        }
+      }
+      out.push_back(t);
+    }
+  }
+
+ private:
+  const std::string& text_;
+  const SourceLoc& loc_;
+};
+
+}  // namespace
+
+std::string Excerpt(const std::string& text, int column) {
+  constexpr size_t kHalf = 60;
+  if (text.size() <= 2 * kHalf) return text;
+  size_t at = std::min(static_cast<size_t>(std::max(column, 0)), text.size());
+  size_t from = at > kHalf ? at - kHalf : 0;
+  size_t to = std::min(text.size(), from + 2 * kHalf);
+  return (from > 0 ? "…" : "") + text.substr(from, to - from) + (to < text.size() ? "…" : "");
+}
+
+namespace {
+
+class Parser {
+ public:
+  Parser(const std::string& text, const SourceLoc& loc)
+      : text_(text), loc_(loc), tokens_(Lexer(text, loc).Run()) {}
+
+  /// if-expression or or-chain. The one recursive entry: nested constructs come back here.
+  AstPtr Expression() {
+    if (++depth_ > kMaxExpressionDepth) TooDeep(Peek().column);
+    AstPtr e = IsKeyword("if") ? If() : Disjunction();
+    --depth_;
+    return e;
+  }
+
+  AstEquation Equation() {
+    AstEquation eq;
+    eq.lhs = Expression();
+    if (!(Peek().kind == Tok::kOp && Peek().text == "=")) {
+      Fail("expected '=' between the two sides of the equation");
+    }
+    Next();
+    eq.rhs = Expression();
+    ExpectEnd();
+    return eq;
+  }
+
+  AstPtr Name() {
+    AstPtr n = Primary();
+    if (n->kind != Ast::Kind::kName) Fail("expected a name such as A.flange_a");
+    ExpectEnd();
+    return n;
+  }
+
+  void ExpectEnd() {
+    if (Peek().kind != Tok::kEnd) Fail("unexpected '" + Peek().text + "'");
+  }
+
+ private:
+  const Token& Peek() const { return tokens_[pos_]; }
+  const Token& Next() { return tokens_[pos_ < tokens_.size() - 1 ? pos_++ : pos_]; }
+  bool IsKeyword(const char* k) const { return Peek().kind == Tok::kIdent && Peek().text == k; }
+  bool IsOp(const char* op) const { return Peek().kind == Tok::kOp && Peek().text == op; }
+
+  [[noreturn]] void Fail(const std::string& what) const {
+    std::string found = Peek().kind == Tok::kEnd ? "end of text" : "'" + Peek().text + "'";
+    std::string msg = what;
+    if (what.find("unexpected") == std::string::npos) msg += ", found " + found;
+    throw ModelError(loc_.Shifted(Peek().column), msg + " in '" + Excerpt(text_, Peek().column) + "'");
+  }
+
+  [[noreturn]] void TooDeep(int column) const {
+    throw ModelError(loc_.Shifted(column),
+                     "expression nested deeper than " + std::to_string(kMaxExpressionDepth) +
+                         " levels in '" + Excerpt(text_, column) +
+                         "'; split it with intermediate variables or parameters");
+  }
+
+  /// A node over `args`, one level above the highest of them.
+  AstPtr Make(Ast::Kind kind, int column, std::string op, std::vector<AstPtr> args) const {
+    AstPtr a = MakeAst(kind, column, std::move(op), std::move(args));
+    if (a->height > kMaxExpressionDepth) TooDeep(column);
+    return a;
+  }
+
+  /// One operand alone, or the chain node over all of them.
+  AstPtr Chain(Ast::Kind kind, int column, std::string op, std::vector<AstPtr> operands) const {
+    if (operands.size() == 1) return std::move(operands[0]);
+    return Make(kind, column, std::move(op), std::move(operands));
+  }
+
+  /// if c1 then v1 elseif c2 then v2 … else e: one node, the branches collected by a loop.
+  AstPtr If() {
+    int col = Next().column;
+    std::vector<AstPtr> args;
+    while (true) {
+      args.push_back(Expression());
+      if (!IsKeyword("then")) Fail("expected 'then'");
+      Next();
+      args.push_back(Expression());
+      if (!IsKeyword("elseif")) break;
+      Next();
+    }
+    if (!IsKeyword("else")) Fail("expected 'else' (an if-expression needs both branches)");
+    Next();
+    args.push_back(Expression());
+    return Make(Ast::Kind::kIf, col, "if", std::move(args));
+  }
+
+  /// a or b or …, each operand an and-chain of negations.
+  AstPtr Disjunction() {
+    std::vector<AstPtr> disjuncts;
+    int or_col = Peek().column;
+    while (true) {
+      std::vector<AstPtr> conjuncts;
+      int and_col = Peek().column;
+      while (true) {
+        conjuncts.push_back(Negation());
+        if (!IsKeyword("and")) break;
+        and_col = Next().column;
+      }
+      disjuncts.push_back(Chain(Ast::Kind::kBinary, and_col, "and", std::move(conjuncts)));
+      if (!IsKeyword("or")) break;
+      or_col = Next().column;
+    }
+    return Chain(Ast::Kind::kBinary, or_col, "or", std::move(disjuncts));
+  }
+
+  /// not … not relation; a relation is sum [op sum] (relations do not chain).
+  AstPtr Negation() {
+    std::vector<int> nots;
+    while (IsKeyword("not")) nots.push_back(Next().column);
+    AstPtr r = Sum();
+    if (Peek().kind == Tok::kOp &&
+        (Peek().text == "<" || Peek().text == "<=" || Peek().text == ">" || Peek().text == ">=" ||
+         Peek().text == "==" || Peek().text == "<>")) {
+      const Token& t = Next();
+      r = Make(Ast::Kind::kBinary, t.column, t.text, {r, Sum()});
+    }
+    for (size_t k = nots.size(); k-- > 0;) r = Make(Ast::Kind::kUnary, nots[k], "not", {r});
+    return r;
+  }
+
+  /// term (+|- term)*, each term a product factor (*|/ factor)*: one kSum of kProducts.
+  AstPtr Sum() {
+    std::vector<AstPtr> terms;
+    std::string signs = "+";
+    int sum_col = Peek().column;
+    while (true) {
+      std::vector<AstPtr> factors{Signed()};
+      std::string factor_ops = "*";
+      int product_col = Peek().column;
+      while (IsOp("*") || IsOp("/")) {
+        const Token& t = Next();
+        product_col = t.column;
+        factor_ops += t.text;
+        factors.push_back(Signed());
+      }
+      terms.push_back(Chain(Ast::Kind::kProduct, product_col, factor_ops, std::move(factors)));
+      if (!(IsOp("+") || IsOp("-"))) break;
+      const Token& t = Next();
+      sum_col = t.column;
+      signs += t.text;
+    }
+    return Chain(Ast::Kind::kSum, sum_col, signs, std::move(terms));
+  }
+
+  /// Signs, a primary, and a right-associative power chain whose exponents may carry signs:
+  /// -x^-y^2 = -(x^(-(y^2))). Collected level by level, then built from the right.
+  AstPtr Signed() {
+    struct Level {
+      std::vector<int> minus;  // columns of the '-' signs before the base ('+' signs vanish)
+      AstPtr base;
+      int caret = -1;          // column of the '^' after the base, if any
+    };
+    std::vector<Level> levels;
+    while (true) {
+      Level level;
+      while (IsOp("-") || IsOp("+")) {
+        const Token& t = Next();
+        if (t.text == "-") level.minus.push_back(t.column);
+      }
+      level.base = Primary();
+      bool more = IsOp("^");
+      if (more) level.caret = Next().column;
+      levels.push_back(std::move(level));
+      if (!more) break;
+    }
+    AstPtr r;
+    for (size_t k = levels.size(); k-- > 0;) {
+      Level& level = levels[k];
+      r = r ? Make(Ast::Kind::kBinary, level.caret, "^", {level.base, r}) : level.base;
+      for (size_t j = level.minus.size(); j-- > 0;) r = Make(Ast::Kind::kUnary, level.minus[j], "-", {r});
+    }
+    return r;
+  }
+
+  AstPtr Primary() {
+    const Token& t = Peek();
+    if (t.kind == Tok::kNumber) {
+      Next();
+      auto a = std::make_shared<Ast>();
+      a->kind = Ast::Kind::kNumber;
+      a->number = t.number;
+      a->column = t.column;
+      return a;
+    }
+    if (t.kind == Tok::kLParen) {
+      Next();
+      AstPtr inner = Expression();
+      if (Peek().kind != Tok::kRParen) Fail("expected ')'");
+      Next();
+      return inner;
+    }
+    if (t.kind == Tok::kLBracket) return ArrayLiteral();
+    if (t.kind != Tok::kIdent) Fail("expected a number, a name, '(' or '['");
+    if (t.text == "true" || t.text == "false") {
+      Next();
+      auto a = std::make_shared<Ast>();
+      a->kind = Ast::Kind::kBool;
+      a->number = t.text == "true" ? 1 : 0;
+      a->column = t.column;
+      return a;
+    }
+    static const char* kReserved[] = {"then", "else", "elseif", "and", "or", "not", "if"};
+    for (const char* r : kReserved) {
+      if (t.text == r) Fail("expected an operand");
+    }
+    // A function call.
+    if (tokens_[pos_ + 1].kind == Tok::kLParen) {
+      Token name = Next();
+      Next();
+      int arity = 0;
+      if (!IsKnownFunction(name.text, &arity)) {
+        throw ModelError(loc_.Shifted(name.column),
+                         "unknown function '" + name.text + "' in '" + Excerpt(text_, name.column) +
+                             "' (valid functions: " + KnownFunctionList() + ")");
+      }
+      std::vector<AstPtr> args;
+      if (Peek().kind != Tok::kRParen) args = ExpressionList();
+      if (Peek().kind != Tok::kRParen) Fail("expected ')' or ','");
+      Next();
+      const int count = static_cast<int>(args.size());
+      const bool bad_count = arity == -2   ? count < 1 || count > 2
+                             : arity == -3 ? count < 2 || count > 3
+                                           : count != arity;
+      if (bad_count) {
+        throw ModelError(loc_.Shifted(name.column),
+                         name.text + "() takes " +
+                             (arity == -2 ? "1 or 2" : arity == -3 ? "2 or 3" : std::to_string(arity)) +
+                             " argument" + (arity == 1 ? "" : "s") + ", found " +
+                             std::to_string(args.size()) + " in '" + Excerpt(text_, name.column) + "'");
+      }
+      return Make(Ast::Kind::kCall, name.column, name.text, std::move(args));
+    }
+    // A dotted name with optional subscripts.
+    auto a = std::make_shared<Ast>();
+    a->kind = Ast::Kind::kName;
+    a->column = t.column;
+    while (true) {
+      if (Peek().kind != Tok::kIdent) Fail("expected a name after '.'");
+      NameSegment seg;
+      seg.name = Next().text;
+      if (Peek().kind == Tok::kLBracket) {
+        Next();
+        seg.index = Expression();
+        a->height = std::max(a->height, seg.index->height + 1);
+        if (Peek().kind == Tok::kComma) {
+          Next();
+          seg.index2 = Expression();
+          a->height = std::max(a->height, seg.index2->height + 1);
+        }
+        if (Peek().kind != Tok::kRBracket) Fail(seg.index2 ? "expected ']'" : "expected ']' or ','");
+        Next();
+      }
+      a->path.push_back(std::move(seg));
+      if (Peek().kind != Tok::kDot) break;
+      Next();
+    }
+    if (a->height > kMaxExpressionDepth) TooDeep(a->column);
+    return a;
+  }
+
+  /// One or more expressions separated by commas (call arguments, array elements).
+  std::vector<AstPtr> ExpressionList() {
+    std::vector<AstPtr> list{Expression()};
+    while (Peek().kind == Tok::kComma) {
+      Next();
+      list.push_back(Expression());
+    }
+    return list;
+  }
+
+  /// `[a, b, …]`: the elements of a vector, or the rows of a matrix `[[1, 0], [0, 1]]`.
+  AstPtr ArrayLiteral() {
+    int col = Next().column;
+    if (++depth_ > kMaxExpressionDepth) TooDeep(col);
+    if (Peek().kind == Tok::kRBracket) Fail("expected the elements of an array, e.g. [1, 2]");
+    std::vector<AstPtr> elements = ExpressionList();
+    if (Peek().kind != Tok::kRBracket) Fail("expected ']' or ','");
+    Next();
+    --depth_;
+    return Make(Ast::Kind::kArray, col, "[]", std::move(elements));
+  }
+
+  const std::string& text_;
+  const SourceLoc& loc_;
+  std::vector<Token> tokens_;
+  size_t pos_ = 0;
+  int depth_ = 0;  ///< nesting of Expression() calls
+};
+
+}  // namespace
+
+AstPtr MakeAst(Ast::Kind kind, int column, std::string op, std::vector<AstPtr> args) {
+  auto a = std::make_shared<Ast>();
+  a->kind = kind;
+  a->column = column;
+  a->op = std::move(op);
+  a->args = std::move(args);
+  int below = 0;
+  for (const AstPtr& x : a->args) below = std::max(below, x->height);
+  a->height = below + 1;
+  return a;
+}
+
+bool IsKnownFunction(const std::string& name, int* arity) {
+  auto it = Functions().find(name);
+  if (it == Functions().end()) return false;
+  if (arity) *arity = it->second;
+  return true;
+}
+
+std::string KnownFunctionList() {
+  std::string s;
+  for (const auto& [name, arity] : Functions()) {
+    if (name == "reinit") continue;
+    if (!s.empty()) s += ", ";
+    s += name;
+  }
+  return s;
+}
+
+namespace {
+
+/// The tree of a text that is one decimal number and nothing else (a parameter value, a start
+/// value: most texts of a large model), made without tokens; null for any other text, which the
+/// parser reads. The same tree the parser gives: a number node at column 0.
+AstPtr PlainNumber(const std::string& text) {
+  if (text.empty() ||
+      !(IsDigit(text[0]) || (text[0] == '.' && text.size() > 1 && IsDigit(text[1])))) {
+    return nullptr;
+  }
+  if (DecimalEnd(text, 0) != text.size()) return nullptr;
+  const double value = std::strtod(text.c_str(), nullptr);
+  if (!std::isfinite(value)) return nullptr;  // the parser's "number out of range"
+  auto a = std::make_shared<Ast>();
+  a->kind = Ast::Kind::kNumber;
+  a->number = value;
+  return a;
+}
+
+/// The tree of a text that is a dotted name and nothing else (`mass1.flange_b`: a connection
+/// end, an output), made without tokens; null for any other text (IsPlainName), which the
+/// parser reads. The same tree the parser gives: a name node at column 0.
+AstPtr PlainName(const std::string& text) {
+  if (!IsPlainName(text)) return nullptr;
+  auto a = std::make_shared<Ast>();
+  a->kind = Ast::Kind::kName;
+  a->path.reserve(static_cast<size_t>(std::count(text.begin(), text.end(), '.')) + 1);
+  for (size_t i = 0; i <= text.size();) {
+    const size_t dot = std::min(text.find('.', i), text.size());
+    NameSegment seg;
+    seg.name = text.substr(i, dot - i);
+    a->path.push_back(std::move(seg));
+    i = dot + 1;
+  }
+  return a;
+}
+
+}  // namespace
+
+bool IsPlainName(std::string_view text) {
+  size_t i = 0;
+  while (true) {
+    if (i >= text.size() || !IsNameStart(text[i])) return false;
+    size_t j = i;
+    while (j < text.size() && IsNameChar(text[j])) ++j;
+    if (j == text.size()) break;
+    if (text[j] != '.') return false;
+    i = j + 1;
+  }
+  // A first word the parser reads otherwise: true/false, a keyword.
+  const std::string_view first = text.substr(0, text.find('.'));
+  static const char* kWords[] = {"true", "false", "then", "else", "elseif",
+                                 "and",  "or",    "not",  "if"};
+  for (const char* w : kWords) {
+    if (first == w) return false;
+  }
+  return true;
+}
+
+AstPtr ParseExpression(const std::string& text, const SourceLoc& loc) {
+  if (AstPtr number = PlainNumber(text)) return number;
+  Parser p(text, loc);
+  AstPtr e = p.Expression();
+  p.ExpectEnd();
+  return e;
+}
+
+AstEquation ParseEquation(const std::string& text, const SourceLoc& loc) {
+  return Parser(text, loc).Equation();
+}
+
+AstPtr ParseName(const std::string& text, const SourceLoc& loc) {
+  if (AstPtr name = PlainName(text)) return name;
+  return Parser(text, loc).Name();
+}
+
+std::string Ast::PathText() const {
+  std::string s;
+  for (size_t i = 0; i < path.size(); ++i) {
+    if (i) s += ".";
+    s += path[i].name;
+    if (path[i].index) {
+      s += '[';
+      s += AstToString(*path[i].index);
+      if (path[i].index2) s += ", " + AstToString(*path[i].index2);
+      s += ']';
+    }
+  }
+  return s;
+}
+
+std::string AstToString(const Ast& a) {
+  switch (a.kind) {
+    case Ast::Kind::kNumber: {
+      std::ostringstream s;
+      s << a.number;
+      return s.str();
+    }
+    case Ast::Kind::kBool: return a.number != 0 ? "true" : "false";
+    case Ast::Kind::kName: return a.PathText();
+    case Ast::Kind::kCall: {
+      std::string s = a.op + "(";
+      for (size_t i = 0; i < a.args.size(); ++i) {
+        if (i) s += ", ";
+        s += AstToString(*a.args[i]);
+      }
+      return s + ")";
+    }
+    case Ast::Kind::kUnary: {
+      std::string s = a.op == "not" ? "not " : "-";
+      s += AstToString(*a.args[0]);
+      return s;
+    }
+    case Ast::Kind::kBinary:
+    case Ast::Kind::kSum:
+    case Ast::Kind::kProduct: {
+      // Left-associated: ((a - b) + c).
+      const bool chain = a.kind != Ast::Kind::kBinary;
+      std::string s = AstToString(*a.args[0]);
+      for (size_t i = 1; i < a.args.size(); ++i) {
+        std::string op = chain ? std::string(1, a.op[i]) : a.op;
+        s = "(" + s + " " + op + " " + AstToString(*a.args[i]) + ")";
+      }
+      return s;
+    }
+    case Ast::Kind::kIf: {
+      std::string s;
+      for (size_t i = 0; i + 1 < a.args.size(); i += 2) {
+        s += "if " + AstToString(*a.args[i]) + " then " + AstToString(*a.args[i + 1]) + " else ";
+      }
+      return s + AstToString(*a.args.back());
+    }
+    case Ast::Kind::kArray: {
+      std::string s = "[";
+      for (size_t i = 0; i < a.args.size(); ++i) s += (i ? ", " : "") + AstToString(*a.args[i]);
+      return s + "]";
+    }
+  }
+  return "";
+}
+
+}  // namespace momenta

@@ -1,0 +1,51 @@
+#pragma once
+/// Infix parser for momenta's equation language (docs/FORMAT.md). Precedence, lowest first:
+/// if-then-else, or, and, not, relations, + -, * /, unary minus, ^ (right-associative).
+///
+/// The parser recurses only into nested constructs (parentheses, call arguments, subscripts,
+/// if-expressions); chains of one operator are collected by loops into one node (see ast.h).
+
+#include <string>
+#include <string_view>
+
+#include "core/lang/ast.h"
+#include "core/base/error.h"
+
+namespace momenta {
+
+/// The deepest nesting an expression may have: parentheses, function calls, subscripts,
+/// if-expressions, unary minus, `not` and the exponents of a power chain each add one level; the
+/// operands of one chain (`a + b - c`, `a * b`, `a and b`, `elseif` branches) do not. Deeper input
+/// is a ModelError "expression nested deeper than 256 levels" at the offending column, instead of
+/// a stack overflow in the parser or in a pass that walks the tree. 256 is clang's default bracket
+/// depth (-fbracket-depth): far beyond what models need, and well inside the stack of the
+/// sanitizer build, whose parser frames take about 10 KB per level (it overflows 8 MB near 800).
+constexpr int kMaxExpressionDepth = 256;
+
+/// Parses one expression. `loc` is where the text starts in the user's file; errors are
+/// ModelErrors at the offending column.
+AstPtr ParseExpression(const std::string& text, const SourceLoc& loc);
+
+/// Parses `lhs = rhs`.
+AstEquation ParseEquation(const std::string& text, const SourceLoc& loc);
+
+/// Parses a dotted, possibly subscripted name such as `R[i+1].p` (connection ends, outputs).
+AstPtr ParseName(const std::string& text, const SourceLoc& loc);
+
+/// Whether `text` is a dotted name and nothing else (`mass1.flange_b`: no subscripts, spaces or
+/// keyword first), which ParseName reads without an error.
+bool IsPlainName(std::string_view text);
+
+/// The text to quote in a message: all of it when short, otherwise about 120 characters around
+/// `column` (0-based), elided with "…", so a 100 000-term expression does not flood the message.
+std::string Excerpt(const std::string& text, int column);
+
+/// A node over `args`, one level above the highest of them (no depth check: for trees built from
+/// parsed ones, such as the elements of array expressions in core/lang/arrays.cc).
+AstPtr MakeAst(Ast::Kind kind, int column, std::string op, std::vector<AstPtr> args);
+
+/// The built-in functions and their argument counts (-2: one or two), for messages.
+bool IsKnownFunction(const std::string& name, int* arity);
+std::string KnownFunctionList();
+
+}  // namespace momenta

@@ -1,0 +1,569 @@
+#include "core/passes/dummy_derivatives.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <sstream>
+#include <tuple>
+#include <unordered_map>
+#include <unordered_set>
+
+#include "core/expr/expr_eval.h"
+#include "core/base/graph.h"
+
+namespace momenta {
+
+namespace {
+
+/// Components with more equations than this are chosen structurally (by a matching that
+/// follows the preferences) instead of by dense elimination.
+constexpr size_t kDenseLimit = 200;
+/// A pivot must be at least this fraction of its row's largest entry (`stateSelect: never`
+/// candidates: kNeverPivotFraction, so they become dummy whenever the block allows it).
+constexpr double kPivotFraction = 0.1;
+constexpr double kNeverPivotFraction = 1e-8;
+
+/// stateSelect priorities (FlatVariable::state_priority).
+
+/// A state set switches when its current choice's pivot falls below this fraction of the best.
+constexpr double kSwitchFraction = 0.5;
+/// Dynamic sets are made for blocks of at most this many equations (symbolic determinants).
+constexpr size_t kDynamicMaxRows = 3;
+
+struct Candidate {
+  uint32_t var, order;
+  bool operator==(const Candidate& o) const { return var == o.var && order == o.order; }
+};
+
+/// A block whose best choice of dummy derivatives depends on where the motion is: all its
+/// candidates become dummy derivatives, and one new state, equal to the lower derivative of the
+/// candidate currently selected, carries the block's degree of freedom.
+struct DynamicSet {
+  std::vector<uint32_t> rows;    ///< indices into sys.equations
+  std::vector<Candidate> cands;  ///< derivatives der^k(v), all made dummy
+  /// The candidates (indices into cands) whose der^(k-1)(v) the set state may be: those of the
+  /// highest stateSelect priority in the block.
+  std::vector<uint32_t> selectable;
+  uint32_t start_choice = 0;     ///< index into selectable: the state at the start values
+};
+uint64_t Key(uint32_t v, uint32_t k) { return (static_cast<uint64_t>(v) << 32) | k; }
+
+std::string DerName(const std::string& name, uint32_t order) {
+  std::string s;
+  for (uint32_t k = 0; k < order; ++k) s += "der(";
+  s += name;
+  s.append(order, ')');
+  return s;
+}
+
+/// One level of the selection: equations `rows` and the derivatives they may be solved for.
+class LevelChoice {
+ public:
+  LevelChoice(EquationSystem* sys, const std::vector<double>& params, const std::vector<double>& start)
+      : sys_(*sys), p_(*sys->pool), params_(params), start_(start) {}
+
+  /// Chooses |rows| candidates; returns them. `choices` gets a line where there was a choice.
+  std::vector<Candidate> Choose(const std::vector<uint32_t>& rows, const std::vector<Candidate>& cands,
+                                std::vector<std::string>* choices, std::vector<DynamicSet>* sets) {
+    rows_ = &rows;
+    // Each row's candidate columns.
+    std::unordered_map<uint64_t, uint32_t> col_of;
+    for (uint32_t c = 0; c < cands.size(); ++c) col_of.emplace(Key(cands[c].var, cands[c].order), c);
+    std::vector<std::vector<std::pair<uint32_t, ExprId>>> row_cols(rows.size());
+    for (size_t r = 0; r < rows.size(); ++r) {
+      ExprId res = sys_.equations[rows[r]].residual;
+      for (ExprId leaf : CollectLeaves(p_, res, kHasDer)) {
+        const Node& n = p_.node(leaf);
+        auto it = col_of.find(Key(n.a, n.b + 1));
+        if (it != col_of.end()) row_cols[r].push_back({it->second, leaf});
+      }
+    }
+    // Connected components of rows and columns (union-find over rows, joined through columns).
+    std::vector<uint32_t> parent(rows.size());
+    std::iota(parent.begin(), parent.end(), 0u);
+    auto find = [&](uint32_t x) {
+      while (parent[x] != x) x = parent[x] = parent[parent[x]];
+      return x;
+    };
+    std::vector<int32_t> first_row_of_col(cands.size(), -1);
+    for (uint32_t r = 0; r < rows.size(); ++r) {
+      for (auto [c, leaf] : row_cols[r]) {
+        if (first_row_of_col[c] < 0) {
+          first_row_of_col[c] = static_cast<int32_t>(r);
+        } else {
+          parent[find(r)] = find(static_cast<uint32_t>(first_row_of_col[c]));
+        }
+      }
+    }
+    std::unordered_map<uint32_t, std::vector<uint32_t>> components;
+    for (uint32_t r = 0; r < rows.size(); ++r) components[find(r)].push_back(r);
+    std::vector<uint32_t> roots;
+    for (auto& [root, members] : components) roots.push_back(root);
+    std::sort(roots.begin(), roots.end());
+
+    std::vector<Candidate> selected;
+    for (uint32_t root : roots) {
+      const std::vector<uint32_t>& comp_rows = components[root];
+      std::vector<uint32_t> comp_cols;
+      for (uint32_t r : comp_rows) {
+        for (auto [c, leaf] : row_cols[r]) comp_cols.push_back(c);
+      }
+      std::sort(comp_cols.begin(), comp_cols.end());
+      comp_cols.erase(std::unique(comp_cols.begin(), comp_cols.end()), comp_cols.end());
+      std::vector<uint32_t> chosen;
+      if (comp_rows.size() <= kDenseLimit) chosen = ChooseByPivoting(comp_rows, comp_cols, row_cols, cands);
+      if (chosen.size() < comp_rows.size()) chosen = ChooseByStructure(comp_rows, comp_cols, row_cols, cands);
+      if (chosen.size() < comp_rows.size()) Fail(rows, comp_rows, comp_cols, cands);
+      CheckAlways(rows, comp_rows, comp_cols, chosen, cands);
+      if (IsDynamic(comp_rows, comp_cols, row_cols)) {
+        // Every candidate becomes a dummy; the set's state follows the best pivot during the run,
+        // among the candidates of the highest stateSelect priority. One such candidate alone is
+        // the state throughout (the static choice made above).
+        DynamicSet set;
+        int top = kStateNever;
+        for (uint32_t c : comp_cols) top = std::max(top, Priority(cands[c]));
+        int32_t kept = -1;
+        for (uint32_t c : comp_cols) {
+          const bool is_kept = std::find(chosen.begin(), chosen.end(), c) == chosen.end();
+          if (Priority(cands[c]) == top) {
+            if (is_kept) kept = static_cast<int32_t>(set.selectable.size());
+            set.selectable.push_back(static_cast<uint32_t>(set.cands.size()));
+          }
+          set.cands.push_back(cands[c]);
+        }
+        if (set.selectable.size() >= 2 && kept >= 0) {
+          set.start_choice = static_cast<uint32_t>(kept);
+          for (uint32_t r : comp_rows) set.rows.push_back(rows[r]);
+          for (const Candidate& c : set.cands) selected.push_back(c);
+          choices->push_back(DescribeDynamic(set));
+          if (top == kStateNever && set.cands[set.selectable[0]].order == 1) {
+            warnings_.push_back("stateSelect: never on each of " + SelectableNames(set) +
+                                ", but one of them must be a state (a state set selects it during the run)");
+          }
+          sets->push_back(std::move(set));
+          continue;
+        }
+        choices->push_back(DescribeChoice(comp_cols, chosen, cands) + " (static: stateSelect)");
+        for (uint32_t c : chosen) selected.push_back(cands[c]);
+        continue;
+      }
+      if (comp_cols.size() > comp_rows.size()) choices->push_back(DescribeChoice(comp_cols, chosen, cands));
+      for (uint32_t c : chosen) selected.push_back(cands[c]);
+    }
+    return selected;
+  }
+
+ private:
+  /// The candidate's variable's stateSelect priority (its derivatives of every order share it).
+  int Priority(const Candidate& c) const { return sys_.flat->variables[c.var].state_priority; }
+
+  /// Smaller is made dummy first: `never` before `avoid` before `default` before `prefer`
+  /// before `always`, higher derivatives first.
+  std::tuple<int, int> Preference(const Candidate& c) const { return {Priority(c), -static_cast<int>(c.order)}; }
+
+  /// Gaussian elimination with a pivot search that honours the preferences; returns the chosen
+  /// columns, or fewer than the rows when the start values make the block singular.
+  std::vector<uint32_t> ChooseByPivoting(const std::vector<uint32_t>& comp_rows, const std::vector<uint32_t>& comp_cols,
+                                         const std::vector<std::vector<std::pair<uint32_t, ExprId>>>& row_cols,
+                                         const std::vector<Candidate>& cands) {
+    const size_t nr = comp_rows.size(), nc = comp_cols.size();
+    std::unordered_map<uint32_t, size_t> local;
+    for (size_t j = 0; j < nc; ++j) local.emplace(comp_cols[j], j);
+    std::vector<double> a(nr * nc, 0.0);
+    LeafValues lv;
+    lv.params = params_.data();
+    lv.vars = start_.data();
+    for (size_t i = 0; i < nr; ++i) {
+      ExprId res = sys_.equations[(*rows_)[comp_rows[i]]].residual;
+      for (auto [c, leaf] : row_cols[comp_rows[i]]) {
+        a[i * nc + local.at(c)] = Evaluate(p_, PartialDerivative(&p_, res, leaf), lv);
+      }
+    }
+    std::vector<bool> row_done(nr, false), col_done(nc, false);
+    std::vector<uint32_t> chosen;
+    for (size_t step = 0; step < nr; ++step) {
+      // Candidates to avoid (or never to choose) that one remaining row alone can still give are
+      // taken there first within their priority, or that row's pivot could be spent on a column
+      // other rows also have (a contact's der(v_n) = der(der(d)) must give der(v_n), not
+      // der(der(d)), or v_n becomes a state).
+      std::vector<uint32_t> col_rows(nc, 0);
+      for (size_t i = 0; i < nr; ++i) {
+        if (row_done[i]) continue;
+        for (size_t j = 0; j < nc; ++j) col_rows[j] += !col_done[j] && a[i * nc + j] != 0;
+      }
+      int64_t bi = -1, bj = -1;
+      std::tuple<int, int, int, double, double> best{0, 0, 0, 0.0, 0.0};
+      for (size_t i = 0; i < nr; ++i) {
+        if (row_done[i]) continue;
+        // The row's largest entry among the candidates that may be made dummy (`always` ones
+        // only when nothing else can).
+        double row_max = 0, row_max_all = 0;
+        for (size_t j = 0; j < nc; ++j) {
+          if (col_done[j]) continue;
+          const double v = std::fabs(a[i * nc + j]);
+          row_max_all = std::max(row_max_all, v);
+          if (Priority(cands[comp_cols[j]]) != kStateAlways) row_max = std::max(row_max, v);
+        }
+        const bool forced = !(row_max > 0);
+        if (forced) row_max = row_max_all;
+        if (!(row_max > 0) || !std::isfinite(row_max)) continue;
+        for (size_t j = 0; j < nc; ++j) {
+          const double v = std::fabs(a[i * nc + j]);
+          const int prio = Priority(cands[comp_cols[j]]);
+          const double fraction = prio == kStateNever ? kNeverPivotFraction : kPivotFraction;
+          if (col_done[j] || v < fraction * row_max || (prio == kStateAlways && !forced) || !(v > 0)) continue;
+          std::tuple<int, int, int, double, double> key{prio, prio < kStateDefault && col_rows[j] == 1 ? 0 : 1,
+                                                        -static_cast<int>(cands[comp_cols[j]].order), -v / row_max, -v};
+          if (bi < 0 || key < best) {
+            best = key;
+            bi = static_cast<int64_t>(i);
+            bj = static_cast<int64_t>(j);
+          }
+        }
+      }
+      if (bi < 0) return chosen;  // singular at the start values
+      row_done[bi] = col_done[bj] = true;
+      chosen.push_back(comp_cols[bj]);
+      const double pivot = a[bi * nc + bj];
+      for (size_t i = 0; i < nr; ++i) {
+        if (row_done[i] || a[i * nc + bj] == 0) continue;
+        const double f = a[i * nc + bj] / pivot;
+        for (size_t j = 0; j < nc; ++j) a[i * nc + j] -= f * a[bi * nc + j];
+      }
+    }
+    return chosen;
+  }
+
+  /// A maximum matching in which each row tries its candidates in order of preference.
+  std::vector<uint32_t> ChooseByStructure(const std::vector<uint32_t>& comp_rows, const std::vector<uint32_t>& comp_cols,
+                                          const std::vector<std::vector<std::pair<uint32_t, ExprId>>>& row_cols,
+                                          const std::vector<Candidate>& cands) {
+    std::unordered_map<uint32_t, uint32_t> local;
+    for (uint32_t j = 0; j < comp_cols.size(); ++j) local.emplace(comp_cols[j], j);
+    BipartiteGraph g;
+    g.num_cols = static_cast<uint32_t>(comp_cols.size());
+    for (uint32_t r : comp_rows) {
+      std::vector<uint32_t> cols;
+      for (auto [c, leaf] : row_cols[r]) cols.push_back(c);
+      std::sort(cols.begin(), cols.end(), [&](uint32_t x, uint32_t y) { return Preference(cands[x]) < Preference(cands[y]); });
+      std::vector<uint32_t> row;
+      for (uint32_t c : cols) row.push_back(local.at(c));
+      g.AddRow(row);
+    }
+    Matching m = MaximumMatching(g);
+    std::vector<uint32_t> chosen;
+    for (int32_t j : m.row_to_col) {
+      if (j >= 0) chosen.push_back(comp_cols[j]);
+    }
+    return chosen;
+  }
+
+  std::string Name(const Candidate& c) const { return DerName(sys_.flat->VariableName(VarId(c.var)), c.order); }
+
+  /// One state among the candidates of a small block whose pivots depend on the motion.
+  bool IsDynamic(const std::vector<uint32_t>& comp_rows, const std::vector<uint32_t>& comp_cols,
+                 const std::vector<std::vector<std::pair<uint32_t, ExprId>>>& row_cols) const {
+    if (comp_cols.size() != comp_rows.size() + 1 || comp_rows.size() > kDynamicMaxRows) return false;
+    for (uint32_t r : comp_rows) {
+      ExprId res = sys_.equations[(*rows_)[r]].residual;
+      for (auto [c, leaf] : row_cols[r]) {
+        if (!p_.IsParamOnly(PartialDerivative(&p_, res, leaf))) return true;
+      }
+    }
+    return false;
+  }
+
+  /// "{x, y}": the variables a state set may select.
+  std::string SelectableNames(const DynamicSet& set) const {
+    std::string s = "{";
+    for (size_t k = 0; k < set.selectable.size(); ++k) {
+      const Candidate& c = set.cands[set.selectable[k]];
+      s += (k ? ", " : "") + DerName(sys_.flat->VariableName(VarId(c.var)), c.order - 1);
+    }
+    return s + "}";
+  }
+
+  std::string DescribeDynamic(const DynamicSet& set) const {
+    std::ostringstream s;
+    const Candidate& start = set.cands[set.selectable[set.start_choice]];
+    s << "dynamic: one of " << SelectableNames(set) << " is a state, chosen during the run by the largest pivot (at the start: "
+      << DerName(sys_.flat->VariableName(VarId(start.var)), start.order - 1) << ")";
+    return s.str();
+  }
+
+  std::string DescribeChoice(const std::vector<uint32_t>& comp_cols, const std::vector<uint32_t>& chosen,
+                             const std::vector<Candidate>& cands) const {
+    std::ostringstream s;
+    s << "of {";
+    for (size_t k = 0; k < comp_cols.size(); ++k) s << (k ? ", " : "") << Name(cands[comp_cols[k]]);
+    s << "} " << chosen.size() << " made dummy: ";
+    for (size_t k = 0; k < chosen.size(); ++k) s << (k ? ", " : "") << Name(cands[chosen[k]]);
+    return s.str();
+  }
+
+  /// A variable with `stateSelect: always` whose first derivative was made dummy cannot be a
+  /// state: the block's equations determine it from the other candidates.
+  void CheckAlways(const std::vector<uint32_t>& rows, const std::vector<uint32_t>& comp_rows,
+                   const std::vector<uint32_t>& comp_cols, const std::vector<uint32_t>& chosen,
+                   const std::vector<Candidate>& cands) const {
+    for (uint32_t c : chosen) {
+      if (Priority(cands[c]) != kStateAlways || cands[c].order != 1) continue;
+      const FlatVariable& v = sys_.flat->variables[cands[c].var];
+      const std::string name = sys_.flat->VariableName(VarId(cands[c].var));
+      std::ostringstream msg;
+      msg << "stateSelect: always on " << name << " cannot be honoured: the other states determine "
+          << name << " through";
+      for (uint32_t r : comp_rows) msg << "\n    " << sys_.Describe(sys_.equations[rows[r]]);
+      msg << "\n  (index reduction must make " << DerName(name, 1) << " a dummy derivative). Use stateSelect: prefer on "
+          << name << ", or always on fewer variables.";
+      throw ModelError(v.loc, msg.str());
+    }
+  }
+
+  [[noreturn]] void Fail(const std::vector<uint32_t>& rows, const std::vector<uint32_t>& comp_rows,
+                         const std::vector<uint32_t>& comp_cols, const std::vector<Candidate>& cands) const {
+    std::ostringstream msg;
+    msg << sys_.flat->file << ": " << sys_.flat->model_name
+        << ": index reduction failed: these differentiated equations cannot be solved for distinct "
+           "derivatives (their constraints are redundant or contradict each other):";
+    for (uint32_t r : comp_rows) msg << "\n    " << sys_.Describe(sys_.equations[rows[r]]);
+    msg << "\n  candidate derivatives:";
+    for (uint32_t c : comp_cols) msg << " " << Name(cands[c]);
+    throw ModelError(msg.str());
+  }
+
+ public:
+  const std::vector<std::string>& warnings() const { return warnings_; }
+
+ private:
+  std::vector<std::string> warnings_;  ///< `stateSelect: never` that could not be honoured
+  EquationSystem& sys_;
+  ExprPool& p_;
+  const std::vector<double>& params_;
+  const std::vector<double>& start_;
+  const std::vector<uint32_t>* rows_ = nullptr;  ///< the level's equations (indices into sys_.equations)
+};
+
+/// Adds an equation index reduction made, described as belonging to `instance`.
+void AddMadeEquation(EquationSystem* sys, ExprId residual, InstanceId instance, const std::string& text,
+                     const SourceLoc& loc) {
+  FlatEquation fe;
+  fe.residual = residual;
+  fe.origin = EquationOrigin::kModel;
+  fe.instance = instance;
+  fe.text = sys->MutableFlat().Own(text);
+  fe.loc = loc;
+  sys->AddEquation(std::move(fe));
+}
+
+/// if sel == 1 then values[0] else if sel == 2 then values[1] … else values[n-1].
+ExprId Choice(ExprPool* pool, ExprId sel, const std::vector<ExprId>& values) {
+  ExprPool& p = *pool;
+  ExprId e = values.back();
+  for (size_t k = values.size() - 1; k-- > 0;) {
+    e = p.If(p.NoEvent(p.Binary(Op::kEq, sel, p.Const(static_cast<double>(k + 1)))), values[k], e);
+  }
+  return e;
+}
+
+/// Determinant of a small square matrix of expressions, by cofactors.
+ExprId Determinant(ExprPool* pool, const std::vector<std::vector<ExprId>>& a) {
+  ExprPool& p = *pool;
+  const size_t n = a.size();
+  if (n == 1) return a[0][0];
+  ExprId det = p.Zero();
+  for (size_t j = 0; j < n; ++j) {
+    std::vector<std::vector<ExprId>> minor;
+    for (size_t i = 1; i < n; ++i) {
+      std::vector<ExprId> row;
+      for (size_t c = 0; c < n; ++c) {
+        if (c != j) row.push_back(a[i][c]);
+      }
+      minor.push_back(row);
+    }
+    ExprId term = p.Mul(a[0][j], Determinant(pool, minor));
+    det = (j % 2 == 0) ? p.Add(det, term) : p.Sub(det, term);
+  }
+  return det;
+}
+
+/// Makes a state set: the state `stateSetK.x` = the lower derivative of the selected candidate,
+/// its derivative = the selected candidate, and a when-clause that switches the selection (and
+/// reinitialises the state) when the current choice's pivot |det| falls below kSwitchFraction of
+/// the best one's. Expressions are in the candidates' derivative leaves; the dummy-derivative
+/// substitution that follows rewrites them.
+void AddStateSet(EquationSystem* sys, const DynamicSet& set, size_t number) {
+  ExprPool& p = *sys->pool;
+  const std::string prefix = "stateSet" + std::to_string(number);
+  const Candidate& start = set.cands[set.selectable[set.start_choice]];
+  const FlatVariable first = sys->flat->variables[set.cands[set.selectable[0]].var];  // a copy: AddVariable grows the vector
+  const InstanceId instance = first.instance;
+  const SourceLoc loc = first.loc;
+  const size_t n = set.selectable.size();
+  // The candidates, the selectable ones' lower derivatives and the pivot of each choice.
+  std::vector<ExprId> der, lower, pivot;
+  for (const Candidate& c : set.cands) der.push_back(p.Der(VarId(c.var), c.order));
+  for (uint32_t k : set.selectable) {
+    const Candidate& c = set.cands[k];
+    lower.push_back(c.order == 1 ? p.Var(VarId(c.var)) : p.Der(VarId(c.var), c.order - 1));
+  }
+  std::vector<std::vector<ExprId>> jac;
+  for (uint32_t r : set.rows) {
+    std::vector<ExprId> row;
+    for (ExprId d : der) row.push_back(PartialDerivative(&p, sys->equations[r].residual, d));
+    jac.push_back(row);
+  }
+  for (uint32_t j : set.selectable) {
+    std::vector<std::vector<ExprId>> rest;
+    for (const auto& row : jac) {
+      std::vector<ExprId> r;
+      for (size_t c = 0; c < row.size(); ++c) {
+        if (c != j) r.push_back(row[c]);
+      }
+      rest.push_back(r);
+    }
+    pivot.push_back(p.Unary(Op::kAbs, Determinant(&p, rest)));
+  }
+  // The selection (Integer, 1-based) and the state.
+  FlatVariable sel_var;
+  sel_var.name = sys->MutableFlat().Own(prefix + ".select");
+  sel_var.type = ValueType::kInteger;
+  sel_var.discrete = true;
+  sel_var.start = p.Const(static_cast<double>(set.start_choice + 1));
+  sel_var.instance = instance;
+  sel_var.loc = loc;
+  VarId sel = sys->AddVariable(std::move(sel_var), p.Const(static_cast<double>(set.start_choice + 1)));
+  FlatVariable state_var;
+  state_var.name = sys->MutableFlat().Own(prefix + ".x");
+  state_var.nominal = first.nominal;
+  state_var.instance = instance;
+  state_var.loc = loc;
+  VarId state = sys->AddVariable(std::move(state_var), sys->guess[start.var]);
+  std::string candidates;
+  for (size_t k = 0; k < n; ++k) {
+    const Candidate& c = set.cands[set.selectable[k]];
+    candidates += (k ? ", " : "") + DerName(sys->flat->VariableName(VarId(c.var)), c.order - 1);
+  }
+  auto equation = [&](ExprId residual, const std::string& text) { AddMadeEquation(sys, residual, instance, text, loc); };
+  ExprId sel_now = p.Var(sel);
+  equation(p.Sub(p.Var(state), Choice(&p, sel_now, lower)), prefix + ".x = the selected one of " + candidates);
+  std::vector<ExprId> selectable_der;
+  for (uint32_t k : set.selectable) selectable_der.push_back(der[k]);
+  equation(p.Sub(p.Der(state), Choice(&p, sel_now, selectable_der)), "der(" + prefix + ".x) = der(the selected one of " + candidates + ")");
+  // Switch to the best pivot when the current one is much worse.
+  ExprId best = pivot[0];
+  for (size_t j = 1; j < n; ++j) best = p.Binary(Op::kMax, best, pivot[j]);
+  ExprId argmax = p.Const(static_cast<double>(n));
+  for (size_t j = n - 1; j-- > 0;) {
+    ExprId others = p.Zero();
+    for (size_t k = j + 1; k < n; ++k) others = p.Binary(Op::kMax, others, pivot[k]);
+    argmax = p.If(p.NoEvent(p.Binary(Op::kGe, pivot[j], others)), p.Const(static_cast<double>(j + 1)), argmax);
+  }
+  FlatWhen w;
+  w.condition = p.Binary(Op::kLt, Choice(&p, p.Pre(sel), pivot), p.Mul(p.Const(kSwitchFraction), best));
+  w.assigns.push_back({sel, argmax});
+  w.reinits.push_back({state, Choice(&p, argmax, lower)});
+  w.instance = instance;
+  FlatSystem& flat = sys->MutableFlat();
+  w.text = flat.Own("the pivot of " + prefix + "'s choice among " + candidates + " falls below half the best");
+  w.loc = loc;
+  flat.whens.push_back(w);
+  sys->whens.push_back({w.condition, w.assigns, w.reinits, static_cast<uint32_t>(flat.whens.size() - 1)});
+}
+
+}  // namespace
+
+StateSelection SelectDummyDerivatives(EquationSystem* sys, const DifferentiatedSystem& d,
+                                      const std::vector<double>& params) {
+  ExprPool& p = *sys->pool;
+  StateSelection out;
+  const size_t nv = sys->role.size();
+  // The start point the pivots are chosen at.
+  std::vector<double> start(nv, 0.0);
+  {
+    LeafValues lv;
+    lv.params = params.data();
+    for (size_t v = 0; v < nv; ++v) start[v] = sys->guess[v].valid() ? Evaluate(p, sys->guess[v], lv) : 0.0;
+  }
+
+  // Level by level: the differentiated equations at the top of their chains, and the highest
+  // derivatives of every variable as candidates.
+  std::vector<uint32_t> rows;
+  for (uint32_t e = 0; e < d.derivative.size(); ++e) {
+    if (d.derivative[e] < 0 && d.antiderivative[e] >= 0) rows.push_back(e);
+  }
+  std::vector<Candidate> cands;
+  for (uint32_t v = 0; v < d.max_order.size(); ++v) {
+    if (d.max_order[v] >= 1) cands.push_back({v, d.max_order[v]});
+  }
+  std::vector<uint32_t> lowest_dummy(nv, UINT32_MAX);
+  LevelChoice chooser(sys, params, start);
+  std::vector<DynamicSet> sets;
+  while (!rows.empty()) {
+    std::vector<Candidate> chosen = chooser.Choose(rows, cands, &out.choices, &sets);
+    cands.clear();
+    for (const Candidate& c : chosen) {
+      lowest_dummy[c.var] = std::min(lowest_dummy[c.var], c.order);
+      if (c.order >= 2) cands.push_back({c.var, c.order - 1});
+    }
+    std::vector<uint32_t> next;
+    for (uint32_t r : rows) {
+      int32_t a = d.antiderivative[r];
+      if (a >= 0 && d.antiderivative[a] >= 0) next.push_back(static_cast<uint32_t>(a));
+    }
+    rows.swap(next);
+  }
+  out.warnings = chooser.warnings();
+
+  // Rewrite: dummy derivatives become algebraic variables; derivatives of order two or more that
+  // stay derivatives go through new states (first-order form).
+  Substitution s(&p);
+  std::vector<std::pair<ExprId, ExprId>> links;  // der(prev) = w, added after the substitution
+  for (uint32_t v = 0; v < d.max_order.size(); ++v) {
+    const uint32_t top = d.max_order[v];
+    if (top == 0) continue;
+    const FlatVariable base = sys->flat->variables[v];
+    const std::string base_name = sys->flat->VariableName(VarId(v));
+    auto make = [&](uint32_t order) {
+      FlatVariable fv;
+      fv.name = sys->MutableFlat().Own(DerName(base_name, order));
+      fv.nominal = base.nominal;
+      fv.instance = base.instance;
+      fv.loc = base.loc;
+      fv.derivative_of = VarId(v);
+      fv.derivative_order = order;
+      return sys->AddVariable(std::move(fv), p.Zero());
+    };
+    const uint32_t first_dummy = std::min(lowest_dummy[v], top + 1);
+    for (uint32_t k = first_dummy; k <= top; ++k) {
+      VarId w = make(k);
+      s.Set(p.Der(VarId(v), k), p.Var(w));
+      out.dummy_derivatives.push_back(DerName(base_name, k));
+    }
+    const uint32_t highest_kept = first_dummy - 1;
+    if (highest_kept >= 2) {
+      VarId prev(v);
+      for (uint32_t j = 1; j < highest_kept; ++j) {
+        VarId w = make(j);
+        s.Set(p.Der(VarId(v), j), p.Var(w));
+        links.push_back({p.Der(prev), p.Var(w)});
+        out.new_states.push_back(DerName(base_name, j));
+        prev = w;
+      }
+      s.Set(p.Der(VarId(v), highest_kept), p.Der(prev));
+    }
+  }
+  for (size_t k = 0; k < sets.size(); ++k) AddStateSet(sys, sets[k], k + 1);
+  if (s.size() == 0) return out;
+  sys->ApplySubstitution(&s);
+  for (auto [der_prev, w] : links) {
+    const VarId wid(p.node(w).a);
+    const FlatVariable wv = sys->flat->variables[wid.value()];
+    AddMadeEquation(sys, p.Sub(der_prev, w), wv.instance,
+                    sys->flat->VariableName(wid) + " = " + DerName(sys->flat->VariableName(wv.derivative_of), wv.derivative_order),
+                    wv.loc);
+  }
+  return out;
+}
+
+}  // namespace momenta

@@ -1,0 +1,84 @@
+#include "core/passes/structural_conditions.h"
+
+#include <unordered_map>
+
+#include "core/expr/expr_eval.h"
+
+namespace momenta {
+
+namespace {
+
+/// True when every parameter `e` depends on, through the parameters' bindings, is Boolean or
+/// Integer; `depends` collects them.
+bool OnlyDiscreteParameters(const FlatSystem& flat, ExprId e, std::vector<uint32_t>* depends) {
+  const ExprPool& p = *flat.pool;
+  std::vector<ExprId> todo = CollectLeaves(p, e, kHasParam);
+  std::vector<bool> seen(flat.parameters.size(), false);
+  while (!todo.empty()) {
+    uint32_t q = p.node(todo.back()).a;
+    todo.pop_back();
+    if (seen[q]) continue;
+    seen[q] = true;
+    const FlatParameter& fp = flat.parameters[q];
+    if (fp.type == ValueType::kReal) return false;
+    depends->push_back(q);
+    if (fp.binding.valid() && (p.mask(fp.binding) & kHasParam)) {
+      for (ExprId leaf : CollectLeaves(p, fp.binding, kHasParam)) todo.push_back(leaf);
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+size_t FoldStructuralConditions(EquationSystem* sys, const std::vector<double>& params) {
+  ExprPool& p = *sys->pool;
+  const FlatSystem& flat = *sys->flat;
+  // The conditions to fix: parameter-only conditions of if-nodes, found once over the shared DAG.
+  std::unordered_map<uint32_t, ExprId> fixed;
+  std::vector<uint32_t> structural;
+  std::vector<uint8_t> visited(p.size(), 0);
+  auto scan = [&](ExprId root) {
+    if (!root.valid() || !(p.mask(root) & kHasParam)) return;  // invalid: deferred (no if-expression)
+    std::vector<uint32_t> stack{root.value()};
+    while (!stack.empty()) {
+      uint32_t id = stack.back();
+      stack.pop_back();
+      if (id < visited.size() && visited[id]) continue;
+      if (id < visited.size()) visited[id] = 1;
+      const Node& n = p.node(ExprId(id));
+      if (!(n.mask & kHasParam) || IsLeaf(n.op)) continue;
+      if (n.op == Op::kIf && p.IsParamOnly(ExprId(n.a)) && !fixed.count(n.a) &&
+          OnlyDiscreteParameters(flat, ExprId(n.a), &structural)) {
+        LeafValues lv;
+        lv.params = params.data();
+        fixed.emplace(n.a, p.Const(Evaluate(p, ExprId(n.a), lv) != 0 ? 1.0 : 0.0));
+      }
+      int arity = Arity(n.op);
+      if (arity >= 1) stack.push_back(n.a);
+      if (arity >= 2) stack.push_back(n.b);
+      if (arity >= 3) stack.push_back(n.c);
+    }
+  };
+  for (const auto& e : sys->equations) scan(e.residual);
+  for (const auto& e : sys->initial) scan(e.residual);
+  for (ExprId o : sys->outputs) scan(o);
+  if (fixed.empty()) return 0;
+
+  // Rewrite (an if on a constant condition is its branch), dropping initial equations that are
+  // now 0 = 0.
+  auto fold = [&](ExprId e) { return e.valid() && (p.mask(e) & kHasParam) ? ReplaceNodes(&p, e, fixed, kHasParam) : e; };
+  for (auto& e : sys->equations) e.residual = fold(e.residual);
+  std::vector<SystemEquation> initial;
+  for (auto e : sys->initial) {
+    e.residual = fold(e.residual);
+    if (!p.IsConst(e.residual, 0.0)) initial.push_back(e);
+  }
+  sys->initial.swap(initial);
+  for (auto& o : sys->outputs) o = fold(o);
+  FlatSystem& f = sys->MutableFlat();
+  for (uint32_t q : structural) f.structural[f.ParameterName(ParamId(q))] = params[q];
+  return fixed.size();
+}
+
+}  // namespace momenta
