@@ -13,7 +13,7 @@
 #include "app/simulate_options.h"
 #include "core/build.h"
 #include "core/compile/native_code.h"
-#include "core/flatten/flat_system.h"
+#include "core/compile/compiled_model.h"
 #include "core/compile/model_state.h"
 #include "core/lang/units.h"
 
@@ -43,6 +43,9 @@ int RunList(const std::string& name);
 
 /// A duration in milliseconds, three significant digits ("3.38 ms"), as the summaries print it.
 std::string FormatMs(double seconds);
+
+/// The file name of `path` without its folder and extension: "models/ball.yaml" -> "ball".
+std::string FileStem(const std::string& path);
 
 /// `path` with its extension (if any, after the last '/') replaced by `extension` (".html").
 std::string WithExtension(const std::string& path, const std::string& extension);

@@ -11,12 +11,6 @@
 
 namespace momenta {
 
-namespace {
-
-std::string Num(long n) { return std::to_string(n); }
-
-}  // namespace
-
 ReportData ReportFromModel(const std::string& model_path, const LoadedModel& loaded) {
   const CompiledModel& model = *loaded.model;
   ReportData d;
@@ -29,9 +23,9 @@ ReportData ReportFromModel(const std::string& model_path, const LoadedModel& loa
     d.parameters.push_back({model.flat->ParameterName(p), model.flat->ParameterUnit(p), model.flat->ParameterDoc(p), values[k]});
   }
   const BuildReport& r = loaded.report;
-  d.build.push_back({"components", Num(static_cast<long>(r.num_components))});
-  d.build.push_back({"unknowns (states)", Num(static_cast<long>(model.num_unknowns())) + " (" +
-                                              Num(static_cast<long>(model.num_states())) + ")"});
+  d.build.push_back({"components", std::to_string(r.num_components)});
+  d.build.push_back({"unknowns (states)", std::to_string(model.num_unknowns()) + " (" +
+                                              std::to_string(model.num_states()) + ")"});
   d.build.push_back({"load", FormatMs(loaded.load_s)});
   for (const auto& p : r.passes)
     d.build.push_back({p.name, FormatMs(p.seconds) + (p.note.empty() ? "" : " · " + p.note)});
@@ -50,13 +44,13 @@ void AddRunStats(const SimulationOptions& o, const SolverStats& s, ReportData* d
                                  s.linear_solver + " LU"});
   t.push_back({"initialise", FormatMs(s.init_seconds)});
   t.push_back({"integrate", FormatMs(s.integrate_seconds)});
-  t.push_back({"steps", Num(s.steps)});
-  t.push_back({"residual evaluations", Num(s.residual_evals)});
-  t.push_back({"Jacobians", Num(s.jacobian_evals)});
-  t.push_back({"error-test failures", Num(s.error_test_failures)});
-  t.push_back({"convergence failures", Num(s.nonlinear_failures)});
-  t.push_back({"events", Num(s.events) + " (" + Num(s.time_events) + " time events, " +
-                             Num(s.impacts) + " impacts), " + Num(s.restarts) + " restarts"});
+  t.push_back({"steps", std::to_string(s.steps)});
+  t.push_back({"residual evaluations", std::to_string(s.residual_evals)});
+  t.push_back({"Jacobians", std::to_string(s.jacobian_evals)});
+  t.push_back({"error-test failures", std::to_string(s.error_test_failures)});
+  t.push_back({"convergence failures", std::to_string(s.nonlinear_failures)});
+  t.push_back({"events", std::to_string(s.events) + " (" + std::to_string(s.time_events) + " time events, " +
+                             std::to_string(s.impacts) + " impacts), " + std::to_string(s.restarts) + " restarts"});
 }
 
 int SaveReport(const std::string& path, const ReportData& data, std::string* summary) {

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "core/flatten/flat_system.h"
+#include "core/compile/compiled_model.h"
 #include "core/lang/model_spec.h"
 
 namespace momenta {

@@ -10,7 +10,7 @@
 #include <memory>
 
 #include "app/mat_writer.h"
-#include "core/lang/component_type.h"
+#include "core/base/messages.h"
 
 namespace momenta {
 

@@ -20,7 +20,7 @@
 #include "app/interrupt.h"
 #include "app/progress.h"
 #include "app/sweep_cluster.h"
-#include "core/lang/component_type.h"
+#include "core/base/messages.h"
 #include "core/base/error.h"
 #include "solver/simulator.h"
 
@@ -29,13 +29,6 @@ namespace momenta {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-std::string Stem(const std::string& path) {
-  size_t slash = path.find_last_of('/');
-  std::string base = slash == std::string::npos ? path : path.substr(slash + 1);
-  size_t dot = base.find_last_of('.');
-  return dot == std::string::npos ? base : base.substr(0, dot);
-}
 
 /// One sweep on one rank: the plan and the built model (every rank builds its own), the runs done
 /// on this rank's threads, and on rank 0 the results of all ranks written in run order.
@@ -155,7 +148,7 @@ int Sweep::CheckSweptNames() const {
 
 int Sweep::OpenOutputs() {
   // The summary file, opened before anything runs, with its header.
-  out_path_ = args_.out.empty() ? Stem(args_.model) + "_sweep.csv" : args_.out;
+  out_path_ = args_.out.empty() ? FileStem(args_.model) + "_sweep.csv" : args_.out;
   out_ = out_path_ == "-" ? stdout : std::fopen(out_path_.c_str(), "w");
   if (!out_) {
     std::cerr << "momenta: cannot write the summary file " << out_path_ << ": " << std::strerror(errno) << "\n";
