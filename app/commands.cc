@@ -22,7 +22,6 @@
 #include "core/lang/unit_check.h"
 #include "core/lang/units.h"
 #include "solver/simulator.h"
-#include "solver/sundials_support.h"
 #include "core/flatten/flatten.h"
 #include "core/lang/yaml_loader.h"
 #include "core/lang/builtin_library.h"
@@ -344,7 +343,7 @@ int RunSimulate(const SimulateArgs& args) {
   o << "); initialise " << Ms(stats.init_seconds) << "; integrate " << Ms(stats.integrate_seconds) << "\n";
   o << "  code: " << loaded.codegen_report.Summary() << "\n";
   o << "  " << model->num_unknowns() << " unknowns (" << model->num_states() << " states), IDA with "
-    << stats.linear_solver << " LU" << (SundialsOptimized() ? "" : " (unoptimised SUNDIALS)") << ": "
+    << stats.linear_solver << " LU" << (SolverBuildInfo().sundials_optimized ? "" : " (unoptimised SUNDIALS)") << ": "
     << stats.steps << " steps, " << stats.residual_evals << " residual evaluations, "
     << stats.jacobian_evals << " Jacobians, " << stats.error_test_failures << " error-test failures, "
     << stats.nonlinear_failures << " convergence failures\n";

@@ -10,15 +10,16 @@
 #include "app/plot.h"
 #include "app/report_command.h"
 #include "app/sweep.h"
-#include "solver/sundials_support.h"
+#include "solver/simulator.h"
 
 int main(int argc, char** argv) {
   using namespace momenta;
   MaybeRestartWithHugePages(argc, argv);
   CLI::App app{"momenta: acausal component-model simulation (YAML models, SUNDIALS IDA)"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", std::string("momenta 0.1 (SUNDIALS 6.4.1") +
-                                        (SundialsOptimized() ? ", optimised build)" : ", Debian build)"));
+  const SolverBuild solver_build = SolverBuildInfo();
+  app.set_version_flag("--version", "momenta 0.1 (SUNDIALS " + solver_build.sundials_version +
+                                        (solver_build.sundials_optimized ? ", optimised build)" : ", Debian build)"));
 
   SimulateArgs sim;
   auto* simulate = app.add_subcommand("simulate", "simulate a model and write its outputs as CSV (or a MAT v4 result file: -o FILE.mat)");
