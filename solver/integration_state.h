@@ -44,8 +44,8 @@ struct ImpactValues {
   double gap(size_t k) const { return values[5 * k]; }
   double velocity(size_t k) const { return values[5 * k + 1]; }  ///< the gap's rate
   double restitution(size_t k) const { return values[5 * k + 2]; }
-  double small_velocity(size_t k) const { return values[5 * k + 3]; }  ///< slower closes
-  bool release(size_t k) const { return values[5 * k + 4] != 0; }     ///< a closed one opens
+  double small_velocity(size_t k) const { return values[5 * k + 3]; }  ///< slower: it closes
+  bool release(size_t k) const { return values[5 * k + 4] != 0; }     ///< closed: it opens
 };
 
 struct IntegrationState {
@@ -63,11 +63,11 @@ struct IntegrationState {
   long num_intervals = 0;  ///< of the output grid; the last one may be shorter
   bool has_events = false;  ///< conditions, when-clauses or impacts
   bool sparse = false;      ///< KLU, not dense LU
-  std::chrono::steady_clock::time_point integration_started;
 
   // ---- The solution: y, y' at t (every phase) ----------------------------------------------
   double t = 0;
   std::vector<double> y, yp;
+  std::chrono::steady_clock::time_point integration_started;  ///< after the initialisation
 
   // ---- The output grid (output_rows.cc) ------------------------------------------------------
   long next_grid_row = 1;       ///< the grid index of the next row to write
@@ -95,7 +95,7 @@ struct IntegrationState {
 
   // ---- Event bookkeeping (event_iteration.cc) ------------------------------------------------
   double last_event_time = -HUGE_VAL;  ///< of the last event that wrote rows
-  int close_events = 0;                ///< events in a row, each close to the one before
+  int close_events = 0;  ///< events in a row within 1e-10 s (relative) of last_event_time
   std::vector<bool> when_true;         ///< per when-clause: its condition when last evaluated
 
   // ---- IDA (ida_session.cc); null for a model without unknowns -------------------------------
