@@ -1,6 +1,6 @@
 // The mixed Jacobian of mixed_jacobian.h, assembled from the IDA Jacobian's two parts in its
-// sparse pattern and factored by Eigen's sparse LU (it is solved a few times per event, not per
-// step, so IDA's linear solver is not needed for it).
+// sparse pattern and factored by Eigen's sparse LU: IDA's own linear solver holds a different
+// matrix, dF/dy + cj dF/dy'.
 
 #include "solver/mixed_jacobian.h"
 
