@@ -10,7 +10,7 @@
 #include "app/plot.h"
 #include "app/report_command.h"
 #include "app/sweep.h"
-#include "solver/sundials_support.h"
+#include "solver/simulator.h"
 
 namespace momenta {
 namespace {
@@ -117,8 +117,9 @@ int main(int argc, char** argv) {
   MaybeRestartWithHugePages(argc, argv);
   CLI::App app{"momenta: acausal component-model simulation (YAML models, SUNDIALS IDA)"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", std::string("momenta 0.1 (SUNDIALS 6.4.1") +
-                                        (SundialsOptimized() ? ", optimised build)" : ", Debian build)"));
+  const SolverBuild solver_build = SolverBuildInfo();
+  app.set_version_flag("--version", "momenta 0.1 (SUNDIALS " + solver_build.sundials_version +
+                                        (solver_build.sundials_optimized ? ", optimised build)" : ", Debian build)"));
   SimulateArgs sim;
   ReportArgs rep;
   PlotArgs plt;

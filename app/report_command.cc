@@ -7,7 +7,7 @@
 #include "app/csv_writer.h"
 #include "app/result_reader.h"
 #include "core/lang/unit_check.h"
-#include "solver/sundials_support.h"
+#include "solver/simulator.h"
 
 namespace momenta {
 
@@ -39,9 +39,9 @@ void AddRunStats(const SimulationOptions& o, const SolverStats& s, ReportData* d
   t.push_back({"interval", FormatDouble(o.start) + " to " + FormatDouble(s.final_time) +
                                " s, output every " + FormatDouble(o.interval) + " s"});
   t.push_back({"tolerances", "rtol " + FormatDouble(o.rtol) + ", atol " + FormatDouble(o.atol)});
-  t.push_back({"integrator", "IDA (SUNDIALS 6.4.1" +
-                                 std::string(SundialsOptimized() ? "" : ", unoptimised") + "), " +
-                                 s.linear_solver + " LU"});
+  const SolverBuild build = SolverBuildInfo();
+  t.push_back({"integrator", "IDA (SUNDIALS " + build.sundials_version +
+                                 (build.sundials_optimized ? "" : ", unoptimised") + "), " + s.linear_solver + " LU"});
   t.push_back({"initialise", FormatMs(s.init_seconds)});
   t.push_back({"integrate", FormatMs(s.integrate_seconds)});
   t.push_back({"steps", std::to_string(s.steps)});

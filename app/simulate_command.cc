@@ -16,7 +16,6 @@
 #include "app/progress.h"
 #include "app/report_command.h"
 #include "solver/simulator.h"
-#include "solver/sundials_support.h"
 
 namespace momenta {
 
@@ -120,7 +119,7 @@ void PrintSummary(std::ostream& o, const SimulateArgs& args, const LoadedModel& 
   o << "); initialise " << Ms(stats.init_seconds) << "; integrate " << Ms(stats.integrate_seconds) << "\n";
   o << "  code: " << loaded.codegen_report.Summary() << "\n";
   o << "  " << model.num_unknowns() << " unknowns (" << model.num_states() << " states), IDA with "
-    << stats.linear_solver << " LU" << (SundialsOptimized() ? "" : " (unoptimised SUNDIALS)") << ": "
+    << stats.linear_solver << " LU" << (SolverBuildInfo().sundials_optimized ? "" : " (unoptimised SUNDIALS)") << ": "
     << stats.steps << " steps, " << stats.residual_evals << " residual evaluations, "
     << stats.jacobian_evals << " Jacobians, " << stats.error_test_failures << " error-test failures, "
     << stats.nonlinear_failures << " convergence failures\n";

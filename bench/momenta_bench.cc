@@ -51,11 +51,8 @@
 #include "core/compile/model_state.h"
 #include "core/compile/native_code.h"
 #include "solver/simulator.h"
-#include "solver/sundials_support.h"
 #include "core/lang/yaml_loader.h"
 #include "core/lang/builtin_library.h"
-
-#include <sundials/sundials_config.h>
 
 namespace {
 
@@ -306,9 +303,11 @@ int main(int argc, char** argv) {
           std::snprintf(pbuf, sizeof pbuf, " %s=%g", name.c_str(), v);
           header += pbuf;
         }
+        const SolverBuild solver_build = SolverBuildInfo();
         std::printf("%s\n# SUNDIALS %s (%s build); built-in library parsed in library_s=%.6f (once, not timed "
                     "in load/build)\n",
-                    header.c_str(), SUNDIALS_VERSION, SundialsOptimized() ? "optimised" : "system", library_s);
+                    header.c_str(), solver_build.sundials_version.c_str(),
+                    solver_build.sundials_optimized ? "optimised" : "system", library_s);
         {
           // The states by kind: "mass[12].v" counts as "mass[].v" and a written-out "mass12.v"
           // as "mass#.v", so a model of 100 000 components prints a few kinds, not every name.

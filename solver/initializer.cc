@@ -5,7 +5,11 @@
 #include <cmath>
 #include <sstream>
 
+#include "core/base/messages.h"
+#include "solver/crossing_search.h"
+#include "solver/event_iteration.h"
 #include "solver/jacobian_fill.h"
+#include "solver/output_rows.h"
 #include "solver/sundials_support.h"
 
 namespace momenta {
@@ -21,33 +25,17 @@ struct KinsolData {
 };
 
 int InitResidual(N_Vector z, N_Vector f, void* user) {
-  auto* d = static_cast<KinsolData*>(user);
-  try {
-    d->state->InitResidual(d->t0, N_VGetArrayPointer(z), N_VGetArrayPointer(f));
-  } catch (const std::exception& e) {
-    d->error = e.what();
-    return -1;
-  }
-  const sunindextype n = N_VGetLength(f);
-  const double* fv = N_VGetArrayPointer(f);
-  for (sunindextype k = 0; k < n; ++k) {
-    if (!std::isfinite(fv[k])) return 1;  // recoverable: the line search backs off
-  }
-  return 0;
+  auto* data = static_cast<KinsolData*>(user);
+  const int flag = GuardedCall(&data->error, [&] {
+    data->state->InitResidual(data->t0, N_VGetArrayPointer(z), N_VGetArrayPointer(f));
+  });
+  return flag != 0 ? flag : RetryUnlessFinite(f);  // the line search backs off a non-finite one
 }
 
 int InitJacobian(N_Vector z, N_Vector, SUNMatrix J, void* user, N_Vector, N_Vector) {
-  auto* d = static_cast<KinsolData*>(user);
-  try {
-    const SparsePattern& pattern = d->state->model().init_pattern;
-    d->values.resize(pattern.nnz());
-    d->state->InitJacobian(d->t0, N_VGetArrayPointer(z), d->values.data());
-    FillMatrix(pattern, d->values, J);
-  } catch (const std::exception& e) {
-    d->error = e.what();
-    return -1;
-  }
-  return 0;
+  auto* data = static_cast<KinsolData*>(user);
+  return FillJacobian(data->state->model().init_pattern, &data->values, J, &data->error,
+                      [&](double* values) { data->state->InitJacobian(data->t0, N_VGetArrayPointer(z), values); });
 }
 
 void KinsolMessage(int, const char*, const char*, char* msg, void* user) {
@@ -126,7 +114,7 @@ InitialValues SolveFrom(ModelState* state, double t0, bool sparse, const std::ve
   long iters = 0;
   KINGetNumNonlinSolvIters(kin.get(), &iters);
   out.iterations = iters;
-  if (!data.error.empty()) throw SolverError("initialisation at t = " + std::to_string(t0) + ": " + data.error);
+  if (!data.error.empty()) throw SolverError("initialisation at t = " + NumberText(t0) + ": " + data.error);
 
   // Residuals at the solution: accept KINSOL's step-tolerance stop when they are small.
   std::vector<double> f(nz);
@@ -180,6 +168,63 @@ InitialValues SolveInitialization(ModelState* state, double t0, bool sparse) {
     } catch (const SolverError&) {
       throw first;
     }
+  }
+}
+
+namespace {
+
+/// run->y, run->y' := consistent values at the start for the current discrete values.
+void SolveAtStart(ModelState* state, IntegrationState* run) {
+  InitialValues init = SolveInitialization(state, run->options.start, run->sparse);
+  run->stats->init_iterations += init.iterations;
+  run->y = init.y;
+  run->yp = init.yp;
+}
+
+/// Continuous values at the start (SolveAtStart) and the conditions and discrete values they
+/// give, until the two agree. Discrete equations solved with the initial system see
+/// initial() = true (MSL's friction elements start sliding from `initial() and v > 0`).
+void SettleStartValues(const CompiledModel& model, ModelState* state, IntegrationState* run) {
+  const double start = run->options.start;
+  for (int iter = 0;; ++iter) {
+    SolveAtStart(state, run);
+    if (!run->has_events) break;
+    state->set_initial(true);
+    bool changed = SetConditions(model, state, run, start, kAtValue);
+    changed = UpdateDiscrete(state, run, start) || changed;
+    state->set_initial(false);
+    if (!changed) break;
+    if (iter == 50) {
+      throw SolverError("at t = " + NumberText(start) +
+                        ": the initial discrete values do not settle (the conditions switch back and forth)");
+    }
+  }
+}
+
+}  // namespace
+
+void InitializeRun(const CompiledModel& model, ModelState* state, IntegrationState* run) {
+  const double start = run->options.start;
+  const auto started = std::chrono::steady_clock::now();
+  state->StartDiscrete();
+  run->y.assign(run->num_unknowns, 0.0);
+  run->yp.assign(run->num_unknowns, 0.0);
+  state->StartValues(run->y.data());
+  state->SavePre(run->y.data());
+  // First guesses for the conditions: their values at the start values.
+  SetConditions(model, state, run, start, kAtValue);
+  SettleStartValues(model, state, run);
+  StartWhens(model, state, run);
+  state->SavePre(run->y.data());
+  CheckNoContactOverlaps(model, state, run, start);
+  run->stats->init_seconds = SecondsSince(started);
+  Emit(state, run, start, run->y.data(), run->yp.data());
+  // The initial event: with pre() now the initial values, discrete equations such as
+  // edge(u) = u and not pre(u) may change at once; a second row at the start time shows it.
+  if (run->has_events && Iterate(model, state, run, start, /*restart=*/false)) {
+    if (run->num_unknowns > 0) SolveAtStart(state, run);
+    run->last_event_time = start;
+    Emit(state, run, start, run->y.data(), run->yp.data());
   }
 }
 

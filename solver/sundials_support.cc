@@ -1,11 +1,15 @@
 #include "solver/sundials_support.h"
 
+#include <sundials/sundials_config.h>
 #include <sunlinsol/sunlinsol_dense.h>
 #include <sunlinsol/sunlinsol_klu.h>
 #include <sunmatrix/sunmatrix_dense.h>
 #include <sunmatrix/sunmatrix_sparse.h>
 
+#include <cmath>
+
 #include "core/base/error.h"
+#include "solver/simulator.h"
 
 namespace momenta {
 
@@ -50,12 +54,21 @@ LinearSystem MakeLinearSystem(N_Vector tmpl, sunindextype n, sunindextype nnz, b
   return ls;
 }
 
-bool SundialsOptimized() {
+int RetryUnlessFinite(N_Vector values) {
+  const double* v = N_VGetArrayPointer(values);
+  for (sunindextype k = 0, n = N_VGetLength(values); k < n; ++k) {
+    if (!std::isfinite(v[k])) return 1;
+  }
+  return 0;
+}
+
+SolverBuild SolverBuildInfo() {
+  SolverBuild build;
+  build.sundials_version = SUNDIALS_VERSION;
 #if defined(MOMENTA_SUNDIALS_OPTIMIZED) && MOMENTA_SUNDIALS_OPTIMIZED
-  return true;
-#else
-  return false;
+  build.sundials_optimized = true;
 #endif
+  return build;
 }
 
 }  // namespace momenta

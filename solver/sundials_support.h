@@ -1,13 +1,14 @@
 #pragma once
-/// Owners for SUNDIALS objects (every object freed by exactly one owner) and the one checker that
+/// Owners for SUNDIALS objects (every object freed by exactly one owner), the one checker that
 /// every SUNDIALS return flag goes through, naming the failing function (the IDA examples'
-/// check_retval).
+/// check_retval), and the guard that every residual and Jacobian callback runs its work in.
 
 #include <nvector/nvector_serial.h>
 #include <sundials/sundials_context.h>
 #include <sundials/sundials_linearsolver.h>
 #include <sundials/sundials_matrix.h>
 
+#include <exception>
 #include <memory>
 #include <string>
 
@@ -48,7 +49,22 @@ struct LinearSystem {
 LinearSystem MakeLinearSystem(N_Vector tmpl, sunindextype n, sunindextype nnz, bool sparse,
                               SUNContext ctx);
 
-/// Whether this build links the optimised SUNDIALS (built from source with -O2).
-bool SundialsOptimized();
+/// Runs `work` inside a SUNDIALS callback, where no C++ exception may cross into the C code: an
+/// exception is stored in *error (the caller rethrows it after the solver returns) and -1 returned,
+/// which stops the solver. Returns 0 when `work` finished.
+template <class Work>
+int GuardedCall(std::string* error, Work&& work) {
+  try {
+    work();
+  } catch (const std::exception& e) {
+    *error = e.what();
+    return -1;
+  }
+  return 0;
+}
+
+/// 1 when `values` holds a value that is not finite: recoverable, so IDA retries with a smaller
+/// step and KINSOL's line search backs off. Otherwise 0.
+int RetryUnlessFinite(N_Vector values);
 
 }  // namespace momenta

@@ -142,7 +142,7 @@ TEST(ImpactTest, CarrierCollisionMatchesTheSeed) {
   ASSERT_EQ(tr.stats.impacts, 2);
   // The seed's analytic values: vB = 4.5 after the carriers collide, 2.9045454545... after the
   // suitcase hits B's wall (319/109.82...: exactly 2.904545454545 = 31.95/11), within 1e-9
-  // relative as the issue asks; the computation is a linear solve, so rounding only.
+  // relative: the computation is a linear solve, so the only error is rounding.
   const double vB2 = (40 * 4.5 - 15 * 0.3 * 4.5) / 55;  // (mB vB1 - mS eS vB1)/(mB + mS)
   const double vS2 = (40 * 4.5 + 40 * 0.3 * 4.5) / 55;
   size_t last = tr.t.size() - 1;

@@ -1,11 +1,12 @@
-// Events: time events hit exactly, state events located, left/right rows, when-clauses with
-// reinit and discrete assignments, pre(), the event iteration, chattering reported rather than
-// looping forever, and crossings there and back within a fraction of a step found.
+// The crossing search (solver/crossing_search.cc): time events hit exactly, state events located
+// on the interpolant, noEvent() relations left alone, and crossings there and back within a
+// fraction of a step found by the cubic models between samples.
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 
+#include "tests/solver/event_rows.h"
 #include "tests/support/test_models.h"
 
 namespace momenta {
@@ -13,22 +14,10 @@ namespace {
 
 using testing::Built;
 using testing::Trajectory;
+using testing::EventRows;
+using testing::EventTimes;
 
-std::vector<size_t> EventRows(const Trajectory& tr) {
-  std::vector<size_t> rows;
-  for (size_t k = 0; k + 1 < tr.t.size(); ++k) {
-    if (tr.t[k] == tr.t[k + 1]) rows.push_back(k);
-  }
-  return rows;
-}
-
-std::vector<double> EventTimes(const Trajectory& tr) {
-  std::vector<double> times;
-  for (size_t row : EventRows(tr)) times.push_back(tr.t[row]);
-  return times;
-}
-
-TEST(EventTest, StepIsATimeEventHitExactly) {
+TEST(CrossingSearchTest, StepIsATimeEventHitExactly) {
   // startTime 0.123 is not on the 0.01 output grid: the event rows appear at exactly 0.123.
   Built b = testing::BuildYaml(R"yaml(
 model: StepEvent
@@ -51,7 +40,7 @@ outputs: [step.y, integrator.y]
   EXPECT_NEAR(tr.Column("integrator.y", tr.t.size() - 1), 0.3 + 2 * (0.3 - 0.123), 1e-10);
 }
 
-TEST(EventTest, TimeRelationAtZeroAtTheStartSwitchesThere) {
+TEST(CrossingSearchTest, TimeRelationAtZeroAtTheStartSwitchesThere) {
   // `time > 0` from t = 0 is false at the start and true at every later time: an event at the
   // start time switches it (it cannot be scheduled later), so the integral is exactly t.
   Built b = testing::BuildYaml(R"yaml(
@@ -72,7 +61,7 @@ outputs: [u, x]
   EXPECT_EQ(tr.stats.time_events, 1);
 }
 
-TEST(EventTest, StateEventIsLocatedOnTheInterpolant) {
+TEST(CrossingSearchTest, StateEventIsLocatedOnTheInterpolant) {
   // x = t^2 crosses 0.5 at t = sqrt(0.5); a when-clause records the time it happened.
   Built b = testing::BuildYaml(R"yaml(
 model: StateEvent
@@ -97,111 +86,7 @@ outputs: [x, t_cross]
   EXPECT_EQ(tr.Column("t_cross", EventRows(tr)[0]), -1.0);
 }
 
-TEST(EventTest, WhenClauseWithReinitBouncesLikeTheImpactComponent) {
-  // The classic Modelica bouncing ball, written with reinit(): same impact times as the exact
-  // Impact component (models/bouncing_ball.yaml) while the bounces are large.
-  Built b = testing::BuildYaml(R"yaml(
-model: ReinitBall
-parameters: {e: 0.8, g: 9.81}
-variables:
-  h: {start: 1, fixed: true}
-  v: {start: 0, fixed: true}
-  n: {type: Integer, start: 0}
-equations:
-  - der(h) = v
-  - der(v) = -g
-when:
-  - when: h < 0
-    then: ["reinit(v, -e*pre(v))", "n = pre(n) + 1"]
-experiment: {stop: 3, tolerance: 1e-10, interval: 0.01}
-outputs: [h, v, n]
-)yaml");
-  Trajectory tr = testing::RunDefault(b);
-  const double g = 9.81, e = 0.8, v0 = std::sqrt(2 * g), t1 = std::sqrt(2 / g);
-  auto rows = EventRows(tr);
-  ASSERT_GE(rows.size(), 4u);
-  double tk = t1, vk = v0;
-  for (size_t k = 0; k < 4; ++k) {
-    EXPECT_NEAR(tr.t[rows[k]], tk, 1e-9) << "bounce " << k + 1;
-    EXPECT_NEAR(tr.Column("v", rows[k] + 1), e * vk, 1e-8);
-    EXPECT_EQ(tr.Column("n", rows[k] + 1), static_cast<double>(k + 1));
-    vk *= e;
-    tk += 2 * vk / g;
-  }
-}
-
-TEST(EventTest, DiscreteEquationsWithPreIterateUntilSettled) {
-  // A Boolean that latches: on becomes true when x passes 1 and stays true (pre() feedback).
-  Built b = testing::BuildYaml(R"yaml(
-model: Latch
-variables:
-  x: {start: 0, fixed: true}
-  on: {type: Boolean, start: false}
-  y: {}
-equations:
-  - der(x) = if on then -1 else 1
-  - on = pre(on) or x > 1
-  - y = if on then 10 else 0
-experiment: {stop: 3, tolerance: 1e-10, interval: 0.01}
-outputs: [x, on, y]
-)yaml");
-  Trajectory tr = testing::RunDefault(b);
-  size_t last = tr.t.size() - 1;
-  EXPECT_EQ(tr.Column("on", last), 1.0);
-  EXPECT_EQ(tr.Column("y", last), 10.0);
-  // x rises to 1 at t = 1 and then falls at unit rate: x(3) = 1 - 2 = -1 (to rtol).
-  EXPECT_NEAR(tr.Column("x", last), -1.0, 1e-8);
-}
-
-TEST(EventTest, ChatteringIsReportedNotLoopedForever) {
-  // der(x) = -sign-like switching around x = 0: a sliding mode with events ever closer together.
-  Built b = testing::BuildYaml(R"yaml(
-model: Chatter
-variables:
-  x: {start: 1, fixed: true}
-equations:
-  - der(x) = if x > 0 then -1 else 1
-experiment: {stop: 2, tolerance: 1e-8, interval: 0.01}
-outputs: [x]
-)yaml");
-  try {
-    testing::RunDefault(b);
-    FAIL() << "expected a chattering error";
-  } catch (const SolverError& e) {
-    std::string msg = e.what();
-    EXPECT_NE(msg.find("chattering"), std::string::npos) << msg;
-    EXPECT_NE(msg.find("at t = 1"), std::string::npos) << msg;
-    EXPECT_NE(msg.find("x > 0"), std::string::npos) << msg;
-  }
-}
-
-TEST(EventTest, WhenInitialFiresAtTheStartOnly) {
-  // `when initial()` runs once at the start; a clause whose condition is already true at the
-  // start (x >= 0) waits for an edge and never fires here.
-  Built b = testing::BuildYaml(R"yaml(
-model: InitialWhen
-parameters: {k: 3}
-variables:
-  x: {start: 0, fixed: true}
-  a: {start: -1}
-  b: {start: -1}
-equations:
-  - der(x) = 1
-when:
-  - when: initial()
-    then: ["a = 2*k"]
-  - when: x >= 0
-    then: ["b = 5"]
-experiment: {stop: 1, tolerance: 1e-8, interval: 0.5}
-outputs: [a, b]
-)yaml");
-  Trajectory tr = testing::RunDefault(b);
-  EXPECT_EQ(tr.Column("a", 0), 6.0);
-  EXPECT_EQ(tr.Column("a", tr.t.size() - 1), 6.0);
-  EXPECT_EQ(tr.Column("b", tr.t.size() - 1), -1.0);
-}
-
-TEST(EventTest, NoEventRelationsMakeNoEvents) {
+TEST(CrossingSearchTest, NoEventRelationsMakeNoEvents) {
   Built b = testing::BuildYaml(R"yaml(
 model: Smooth
 variables:
@@ -223,7 +108,7 @@ outputs: [y]
 // between samples (from its values and time derivatives) finds them; with only the samples they
 // were missed.
 
-TEST(EventTest, ParabolaAboveZeroForATinyFractionOfAStepIsSeen) {
+TEST(CrossingSearchTest, ParabolaAboveZeroForATinyFractionOfAStepIsSeen) {
   // x = 1e-8 - (t - 1)^2 is above 0 for |t - 1| < 1e-4 only; IDA integrates the quadratic exactly
   // and takes large steps. The when-clause counts the upward crossing.
   Built b = testing::BuildYaml(R"yaml(
@@ -251,7 +136,7 @@ outputs: [x, n, "if x > 0 then 1 else 0"]
   EXPECT_NEAR(events[1], 1 + 1e-4, 1e-8);
 }
 
-TEST(EventTest, SinePeakJustAboveTheThresholdIsSeenEveryPeriod) {
+TEST(CrossingSearchTest, SinePeakJustAboveTheThresholdIsSeenEveryPeriod) {
   // A slow sine (period 20 s) whose peaks exceed a GreaterThreshold by 1e-6 of its amplitude: above
   // it for 9 ms around t = 5, 25, 45, 65, 85. An integrator gives IDA something to integrate (its
   // steps are set by the integral, not by the threshold). The when-clause counts the peaks.
@@ -285,7 +170,7 @@ outputs: [integrator.y, n, above.y]
   }
 }
 
-TEST(EventTest, OscillatorTouchingAThresholdIsSeenEveryPeriod) {
+TEST(CrossingSearchTest, OscillatorTouchingAThresholdIsSeenEveryPeriod) {
   // x = sin(t) from states (rtol 1e-9 keeps the amplitude well within 1e-6); x > 1 - 1e-6 for 2.8 ms
   // around each peak at pi/2 + 2 pi k: 4 peaks before t = 25.
   Built b = testing::BuildYaml(R"yaml(
@@ -307,7 +192,7 @@ outputs: [x, n]
   EXPECT_EQ(tr.Column("n", tr.t.size() - 1), 4.0) << tr.stats.steps << " steps";
 }
 
-TEST(EventTest, ConditionOnADiscreteVariableIsModelledWithItsValueConstant) {
+TEST(CrossingSearchTest, ConditionOnADiscreteVariableIsModelledWithItsValueConstant) {
   // x = t crosses n + 0.5 at t = 0.5, 1.5, …; n (discrete) is constant between events, so dz/dt = 1
   // (its der() would have been an unknown's y' that does not exist: an internal error before).
   Built b = testing::BuildYaml(R"yaml(

@@ -1,0 +1,262 @@
+// One event (docs/FORMAT.md, "Events"), at time t, from the left-limit values y⁻, y'⁻ that the
+// crossing search or a time event left in the IntegrationState:
+//
+//   DoEvent(t):
+//     left := the outputs at (t, y⁻, y'⁻);  pre() := y⁻ and the discrete values
+//     ResolveImpacts: while an open contact approaches with its gap closed, the fastest one
+//       takes its impulse (impacts.cc)
+//     Iterate, for round = 0, 1, …:
+//       if round > 0: Restart (consistent y, y' for the discrete values so far)
+//       conditions := their values at (t, y, y') (SetConditions)
+//       the discrete equations evaluated; if a condition or discrete value changed:
+//         SettleMixedSystem (the continuous unknowns and the discrete equations until they agree)
+//       closed contacts whose release condition holds open (ReleaseContacts)
+//       when-clauses whose condition has become true run: assignments and reinit() (FireWhens)
+//       nothing changed or fired: done;  otherwise pre() := the new values
+//     Restart: consistent y, y' for the new discrete values (IDACalcIC), IDA from there
+//     if an output changed, an impact happened, or rows at every event are asked for:
+//       the rows (t, left) and (t, outputs)
+//
+// A relation whose function is within rounding of zero at an event takes the value its rate
+// leads to in the first round: the crossing that caused the event is passed. Later rounds follow
+// a restart that changed the continuous solution: a relation that was at rest at zero in the
+// first round keeps its value, and its crossing, if the new motion brings one, is a new event — as
+// in Modelica, where a friction element that starts to slide reports startForward at the
+// breakaway and mode = Forward an instant later. A relation that was passing through zero still
+// follows its rate, so a sliding mode (each side's motion drives the relation back) is reported as
+// chattering here rather than crept through event by event. At the initial event (no restart)
+// nothing has crossed yet: relations take their values, and one at zero that moves away switches
+// at its crossing an instant later (a brake whose normal force starts at 0 and rises is free at
+// t = 0).
+//
+// More than kChatterLimit events in a row, each within 1e-10 s of the one before, or more than 100
+// rounds of one iteration, stop the run as chattering.
+
+#include "solver/event_iteration.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "core/base/error.h"
+#include "core/base/messages.h"
+#include "solver/crossing_search.h"
+#include "solver/ida_session.h"
+#include "solver/impacts.h"
+#include "solver/output_rows.h"
+
+namespace momenta {
+
+namespace {
+
+/// "the conditions involved include …" for a chattering message: the first five conditions and
+/// every impact.
+std::string ActiveConditions(const CompiledModel& model) {
+  std::string s = "the conditions involved include";
+  for (size_t i = 0; i < model.conditions.size() && i < 5; ++i) s += (i ? ", " : " ") + model.conditions[i].text;
+  for (const auto& impact : model.impacts) s += ", the impact of " + impact.name;
+  return s;
+}
+
+/// Counts events in a row that are close in time to the last one that wrote rows; more than
+/// kChatterLimit is chattering, an error.
+void CheckChattering(const CompiledModel& model, IntegrationState* run, double t) {
+  if (t - run->last_event_time <= 1e-10 * std::max(1.0, std::fabs(t))) {
+    if (++run->close_events > kChatterLimit) {
+      throw SolverError("at t = " + NumberText(t) + ": chattering: more than " + std::to_string(kChatterLimit) +
+                        " events within 1e-10 s of each other; " + ActiveConditions(model) +
+                        ". Smooth the switching relation, add hysteresis, or wrap it in noEvent()");
+    }
+  } else {
+    run->close_events = 0;
+  }
+}
+
+/// Closed contacts whose release condition holds open; true when one did.
+bool ReleaseContacts(const CompiledModel& model, ModelState* state, IntegrationState* run, double t) {
+  if (model.impacts.empty()) return false;
+  run->contacts.Evaluate(state, t, run->y.data(), run->yp.data());
+  double* discrete = state->mutable_discrete();
+  bool changed = false;
+  for (size_t k = 0; k < model.impacts.size(); ++k) {
+    if (discrete[model.impacts[k].contact] != 0 && run->contacts.release(k)) {
+      discrete[model.impacts[k].contact] = 0;
+      changed = true;
+    }
+  }
+  return changed;
+}
+
+/// Executes when-clause k: its assignments and reinit(). `values` holds every statement's value,
+/// computed at the first clause that runs in this round (all read the same pre-values).
+void RunWhen(const CompiledModel& model, ModelState* state, IntegrationState* run, size_t k, double t,
+             std::vector<double>* values) {
+  if (values->empty()) {
+    size_t count = 0;
+    for (const auto& when : model.whens) count += when.assigns.size() + when.reinits.size();
+    values->resize(count);
+    state->WhenValues(t, run->y.data(), run->yp.data(), values->data());
+  }
+  double* discrete = state->mutable_discrete();
+  for (const auto& [variable, slot] : model.whens[k].assigns) discrete[variable] = (*values)[slot];
+  for (const auto& [unknown, slot] : model.whens[k].reinits) run->y[unknown] = (*values)[slot];
+}
+
+/// When-clauses whose condition has become true run; true when one did.
+bool FireWhens(const CompiledModel& model, ModelState* state, IntegrationState* run, double t) {
+  if (model.whens.empty()) return false;
+  std::vector<double> condition(model.whens.size());
+  state->WhenConditions(t, run->y.data(), run->yp.data(), condition.data());
+  std::vector<double> values;
+  bool fired = false;
+  for (size_t k = 0; k < model.whens.size(); ++k) {
+    bool now = condition[k] != 0;
+    bool edge = now && !run->when_true[k];
+    run->when_true[k] = now;
+    if (!edge) continue;
+    RunWhen(model, state, run, k, t, &values);
+    fired = true;
+  }
+  return fired;
+}
+
+/// With the pre-values fixed, solves the continuous unknowns for the new discrete values and
+/// evaluates the discrete equations again until the two agree: Modelica's mixed
+/// continuous/discrete systems. A friction element that stops decides whether it stays stuck
+/// from the force that holds it (sa while locked), not from the force of the sliding mode it
+/// just left. Gives up after 20 rounds; the event iteration goes on from there.
+void SettleMixedSystem(const CompiledModel& model, ModelState* state, IntegrationState* run, double t) {
+  for (int round = 0; round < 20; ++round) {
+    Restart(model, state, run, t);
+    bool again = SetConditions(model, state, run, t, kHoldAtZero);
+    again = UpdateDiscrete(state, run, t) || again;
+    if (!again) return;
+  }
+}
+
+}  // namespace
+
+void DoEvent(const CompiledModel& model, ModelState* state, IntegrationState* run, double t,
+             bool time_event) {
+  run->time_events_stale = true;
+  run->sample_valid = false;  // the conditions and discrete values change
+  ++run->stats->events;
+  if (time_event) ++run->stats->time_events;
+  CheckChattering(model, run, t);
+  // The left limit is written only if the event changes an output (or every event's is asked
+  // for): an event that merely flips a relation nobody sees leaves no rows.
+  std::vector<double> left(run->outputs.size());
+  state->Outputs(t, run->y.data(), run->yp.data(), left.data());
+  state->SavePre(run->y.data());
+  const long impacts_before = run->stats->impacts;
+  ResolveImpacts(model, state, run, t);
+  Iterate(model, state, run, t, /*restart=*/true);
+  Restart(model, state, run, t);
+  run->t = t;
+  state->Outputs(t, run->y.data(), run->yp.data(), run->outputs.data());
+  if (run->outputs != left || run->stats->impacts != impacts_before || run->options.rows_at_every_event) {
+    Row(run, t, left);
+    Row(run, t, run->outputs);
+    run->last_event_time = t;
+  }
+}
+
+bool Iterate(const CompiledModel& model, ModelState* state, IntegrationState* run, double t, bool restart) {
+  bool any = false;
+  for (int round = 0;; ++round) {
+    if (round > 0 && restart) Restart(model, state, run, t);
+    // The first round passes the crossing; later ones hold relations at rest at zero (above).
+    const ZeroSide side = !restart ? kAtValue : round == 0 ? kRightLimit : kHoldAtZero;
+    bool changed = SetConditions(model, state, run, t, side);
+    changed = UpdateDiscrete(state, run, t) || changed;
+    if (changed && restart) SettleMixedSystem(model, state, run, t);
+    changed = ReleaseContacts(model, state, run, t) || changed;
+    bool fired = FireWhens(model, state, run, t);
+    if (!changed && !fired) break;
+    any = true;
+    state->SavePre(run->y.data());
+    if (round == 100) {
+      throw SolverError("at t = " + NumberText(t) + ": chattering: the event iteration does not settle, the conditions switch back and forth at one instant (a sliding mode: each branch drives the relation back); " +
+                        ActiveConditions(model) + ". Add hysteresis, or model the sliding state explicitly");
+    }
+  }
+  return any;
+}
+
+bool SetConditions(const CompiledModel& model, ModelState* state, IntegrationState* run, double t,
+                   ZeroSide side) {
+  const size_t nc = run->num_conditions;
+  if (nc == 0) return false;
+  std::vector<double>& z = run->crossing_values;
+  state->ZeroCrossings(t, run->y.data(), run->yp.data(), z.data());
+  std::vector<double> rate(nc, 0.0);
+  if (side != kAtValue) state->ZeroCrossingRates(t, run->y.data(), run->yp.data(), rate.data());
+  if (side == kRightLimit) run->moving_at_zero.assign(nc, false);
+  double* conditions = state->mutable_conditions();
+  bool changed = false;
+  for (size_t i = 0; i < nc; ++i) {
+    run->crossing_scale[i] = std::max(run->crossing_scale[i], std::fabs(z[i]));
+    double zi = z[i];
+    const double band = RoundingBand(*run, i);
+    // Within the location error of zero (the event is placed just past the crossing) the
+    // relation takes the value its derivative leads to: the right limit. Without this, h < 0
+    // at h = -1e-12 after a bounce would switch back an instant later: a duplicate event.
+    const double near = 4 * band + std::fabs(rate[i]) * 1e-12 * std::max(1.0, std::fabs(t));
+    const bool ordered = model.conditions[i].op != Op::kEq && model.conditions[i].op != Op::kNe;
+    if (std::fabs(zi) <= near && ordered) {
+      // A rate that would not carry z out of its band in a second is rounding, not motion:
+      // a mass resting at its stop (s reinitialised to smax - L/2, v = -1e-26 m/s left by
+      // the solve) is not sliding back off it.
+      const double moving = std::fabs(rate[i]) * std::max(1.0, std::fabs(t)) > band ? rate[i] : 0.0;
+      if (side == kRightLimit) run->moving_at_zero[i] = moving != 0;
+      if (side == kHoldAtZero && !run->moving_at_zero[i]) continue;
+      // At zero up to the location error or rounding: at the start (a velocity of 1e-17 m/s
+      // left by the initial Newton solve) zero itself, at an event the side the rate leads to,
+      // and zero itself where nothing moves (a brake engaging on a shaft at rest, whose
+      // sliding velocity is -2e-43 m/s, is stuck, not sliding backward).
+      // (Only within the band a crossing is measured against: beyond it, where a step's
+      // crossing test already sees the relation switched, z is taken as it is.)
+      if (side == kAtValue) {
+        zi = 0;
+      } else if (moving != 0) {
+        zi = moving;
+      } else if (std::fabs(zi) <= band) {
+        zi = 0;
+      }
+    }
+    double value = RelationHolds(model.conditions[i].op, zi) ? 1.0 : 0.0;
+    if (value != conditions[i]) changed = true;
+    conditions[i] = value;
+  }
+  return changed;
+}
+
+bool UpdateDiscrete(ModelState* state, IntegrationState* run, double t) {
+  const size_t nd = state->num_discrete();
+  if (nd == 0) return false;
+  std::vector<double> before(state->discrete(), state->discrete() + nd);
+  state->UpdateDiscrete(t, run->y.data(), run->yp.data());
+  return !std::equal(before.begin(), before.end(), state->discrete());
+}
+
+void StartWhens(const CompiledModel& model, ModelState* state, IntegrationState* run) {
+  const double start = run->options.start;
+  run->when_true.resize(model.whens.size());
+  if (model.whens.empty()) return;
+  std::vector<double> now(model.whens.size()), at_init(model.whens.size());
+  state->WhenConditions(start, run->y.data(), run->yp.data(), now.data());
+  state->set_initial(true);
+  state->WhenConditions(start, run->y.data(), run->yp.data(), at_init.data());
+  state->set_initial(false);
+  std::vector<double> values;
+  for (size_t k = 0; k < now.size(); ++k) {
+    run->when_true[k] = now[k] != 0;
+    if (at_init[k] == 0 || now[k] != 0) continue;
+    state->set_initial(true);
+    RunWhen(model, state, run, k, start, &values);
+    state->set_initial(false);
+  }
+}
+
+}  // namespace momenta

@@ -1,0 +1,32 @@
+#pragma once
+/// The output rows of a run: the grid start, start + interval, …, stop, interpolated within IDA's
+/// steps, the rows of events, and the interrupt that stops the rows between two of them.
+
+#include <vector>
+
+#include "core/compile/model_state.h"
+#include "solver/integration_state.h"
+
+namespace momenta {
+
+/// The time of grid row k (0 is the start; num_intervals is the stop time).
+double GridTime(const IntegrationState& run, long k);
+
+/// Whether the run has been asked to stop (SimulationOptions::interrupt); records, the first time,
+/// where it was.
+bool Interrupted(IntegrationState* run, double t);
+
+/// Gives out a row, unless the run has been interrupted (then no row follows a gap).
+void Row(IntegrationState* run, double t, const std::vector<double>& values);
+
+/// The outputs at (t, y, y') as a row (y and y' null for a model without unknowns).
+void Emit(ModelState* state, IntegrationState* run, double t, const double* y, const double* yp);
+
+/// Grid rows up to `t` (and at t when inclusive), interpolated within the last step.
+void EmitGrid(ModelState* state, IntegrationState* run, double t, bool inclusive);
+
+/// An event at t that changed no output wrote no rows: the grid row at t, if there is one, is
+/// written now from the values after the event (at the stop time no later step would write it).
+void EmitGridAtEvent(ModelState* state, IntegrationState* run, double t);
+
+}  // namespace momenta

@@ -1,0 +1,56 @@
+#pragma once
+/// What a simulation is asked to do and what it reports back: the options of one run, the
+/// statistics it fills and the callback that takes its rows. Apart from simulator.h, so that
+/// whoever fills options or reads statistics sees no more of the solver (Drake's
+/// simulator_config.h beside simulator.h).
+
+#include <atomic>
+#include <cstddef>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace momenta {
+
+struct SimulationOptions {
+  double start = 0, stop = 1;
+  double interval = 0;      ///< 0: (stop - start)/500; otherwise positive
+  double rtol = 1e-6;
+  double atol = -1;         ///< < 0: rtol; each variable's is atol*nominal
+  std::string linear_solver = "auto";  ///< auto, dense or klu
+  /// IDA's highest BDF order, 1..5 (IDASetMaxOrd). Orders 3 and above are not A-stable: on lightly
+  /// damped oscillations IDA's order choice can wander into 4 and 5 and pay for it in steps, where
+  /// 3 is as accurate (bench/RESULTS.md, "The chain's extra steps", measures it).
+  int max_order = 5;
+  /// Left- and right-limit rows at every event, also one that changes no output (as Dymola's
+  /// events=true output, which the MSL reference results use); otherwise only at events that
+  /// change an output.
+  bool rows_at_every_event = false;
+  /// When set and raised (by a signal handler), the run stops before the next step or output row:
+  /// the rows so far have been given out, SolverStats::interrupted says so, no error is thrown.
+  const std::atomic<bool>* interrupt = nullptr;
+};
+
+/// Systems with at most this many unknowns use dense LU under "auto".
+constexpr size_t kDenseLimit = 40;
+
+/// More than this many events in a row, each within 1e-10 s (relative to t) of the one before,
+/// stop the run as chattering.
+constexpr int kChatterLimit = 200;
+
+struct SolverStats {
+  std::string linear_solver;
+  long steps = 0, residual_evals = 0, jacobian_evals = 0, error_test_failures = 0,
+       nonlinear_failures = 0, init_iterations = 0;
+  long events = 0, time_events = 0, impacts = 0, restarts = 0;
+  std::vector<double> impact_times;  ///< when each impact happened (for tests and summaries)
+  double init_seconds = 0, integrate_seconds = 0;
+  double final_time = 0;
+  bool interrupted = false;   ///< SimulationOptions::interrupt stopped the run
+  double interrupted_at = 0;  ///< how far the integration had come then
+};
+
+/// Called for every output row: time and the outputs in CompiledModel::output_names order.
+using RowCallback = std::function<void(double t, const std::vector<double>& outputs)>;
+
+}  // namespace momenta
