@@ -6,7 +6,6 @@
 
 #include "app/csv_writer.h"
 #include "app/result_reader.h"
-#include "core/lang/unit_check.h"
 #include "solver/simulator.h"
 
 namespace momenta {
