@@ -1,0 +1,193 @@
+#include "core/flatten/instance_tables.h"
+
+#include <cmath>
+
+#include "core/base/error.h"
+#include "core/base/messages.h"
+#include "core/flatten/time_table.h"
+#include "core/lang/arrays.h"
+#include "core/lang/parser.h"
+
+namespace momenta::flatten_internal {
+
+std::vector<AstPtr> TableElements(const AstPtr& value, const ParameterDecl& d, const SourceLoc& loc,
+                                  const std::string& who, uint32_t* rows, uint32_t* cols) {
+  const std::string example = d.shape.size() == 1 ? "[0, 1, 2]" : "[[0, 1], [1, 2]]";
+  const std::string expected = "the value of " + who + " (shape " + ShapeText(d.shape) + ") must be a list of " +
+                               (d.shape.size() == 1 ? "numbers" : "rows of one length") + ", e.g. " + example;
+  std::vector<AstPtr> elements;
+  const bool list = value->kind == Ast::Kind::kArray;
+  if (d.shape.size() == 1) {
+    if (!list) throw ModelError(loc, expected);
+    for (const AstPtr& e : value->args) {
+      if (e->kind == Ast::Kind::kArray) throw ModelError(loc, expected + "; found a nested list");
+      elements.push_back(e);
+    }
+    *rows = static_cast<uint32_t>(elements.size());
+    *cols = 1;
+  } else {
+    if (!list || value->args[0]->kind != Ast::Kind::kArray) throw ModelError(loc, expected);
+    *rows = static_cast<uint32_t>(value->args.size());
+    *cols = static_cast<uint32_t>(value->args[0]->args.size());
+    for (size_t r = 0; r < value->args.size(); ++r) {
+      const Ast& row = *value->args[r];
+      if (row.kind != Ast::Kind::kArray || row.args.size() != *cols) {
+        throw ModelError(loc, expected + "; row " + std::to_string(r + 1) + " has " +
+                                  std::to_string(row.kind == Ast::Kind::kArray ? row.args.size() : 1) +
+                                  " elements, row 1 has " + std::to_string(*cols));
+      }
+      for (const AstPtr& e : row.args) {
+        if (e->kind == Ast::Kind::kArray) throw ModelError(loc, expected + "; found a list nested deeper");
+        elements.push_back(e);
+      }
+    }
+  }
+  const Shape found = d.shape.size() == 1 ? Shape{static_cast<int>(*rows)}
+                                          : Shape{static_cast<int>(*rows), static_cast<int>(*cols)};
+  for (size_t k = 0; k < d.shape.size(); ++k) {
+    if (d.shape[k] != kOpenSize && d.shape[k] != found[k]) {
+      throw ModelError(loc, "the value of " + who + " has shape " + ShapeText(found) + ", but it is declared with shape " +
+                                ShapeText(d.shape));
+    }
+  }
+  if (elements.size() > kMaxArrayElements) {
+    throw ModelError(loc, "the value of " + who + " has " + std::to_string(elements.size()) + " elements, more than " +
+                              std::to_string(kMaxArrayElements));
+  }
+  return elements;
+}
+
+void InstanceTables::Add(const ComponentSpec& c, const TypeLayout& layout, const InstanceData& data, InstanceId inst,
+                         const std::vector<const Modifier*>& values, const LoopIndex* index) {
+  current_.clear();
+  if (layout.tables.empty()) return;
+  FlatSystem& flat = context_.flat;
+  const std::string path = flat.InstancePath(inst);
+  for (size_t k = 0; k < layout.tables.size(); ++k) {
+    const TypeLayout::TableSlot& slot = layout.tables[k];
+    const ParameterDecl& d = *slot.decl;
+    const Modifier* m = k < values.size() ? values[k] : nullptr;
+    InstanceTable table{ParamId(flat.parameters.size()), slot.rows, slot.cols, flat.tables.size()};
+    std::vector<AstPtr> given;
+    if (m) given = TableElements(m->value, d, m->loc, path + "." + d.name, &table.rows, &table.cols);
+    const Shape shape = d.shape.size() == 1 ? Shape{static_cast<int>(table.rows)}
+                                            : Shape{static_cast<int>(table.rows), static_cast<int>(table.cols)};
+    const TextRef unit = flat.Own(d.unit), doc = flat.Own(d.doc);  // one for all elements
+    for (size_t e = 0; e < static_cast<size_t>(table.rows) * table.cols; ++e) {
+      FlatParameter fp;
+      fp.name = flat.Own(path + "." + ElementName(d.name, shape, e));
+      fp.unit = unit;
+      fp.doc = doc;
+      if (d.min) fp.min = *d.min;  // every element: a table of friction forces has min: 0
+      if (d.max) fp.max = *d.max;
+      fp.instance = inst;
+      if (m) {
+        fp.binding = scope_.Expr(*given[e], m->value_text, m->loc, index, false);
+        fp.loc = m->loc;
+      } else {
+        fp.binding = Instantiate(slot.defaults[e], data.first_var, data.first_param, inst, d.value_text, d.loc);
+        fp.loc = c.loc;
+      }
+      flat.parameters.push_back(std::move(fp));
+    }
+    flat.tables.push_back({path + "." + d.name, table.first, table.rows, table.cols, inst, m ? m->loc : c.loc, {}});
+    current_.push_back(table);
+  }
+}
+
+ExprId InstanceTables::Instantiate(const Template& t, VarId first_var, ParamId first_param, InstanceId inst,
+                                   const std::string& text, const SourceLoc& loc) {
+  return CopyTemplate(&context_.pool(), t, first_var, first_param, &scratch_,
+                      [&](const TNode& n, const std::vector<ExprId>& made) { return TableNode(n, made, inst, text, loc); });
+}
+
+ExprId InstanceTables::TableNode(const TNode& n, const std::vector<ExprId>& made, InstanceId inst,
+                                 const std::string& text, const SourceLoc& loc) {
+  ExprPool& pool = context_.pool();
+  switch (n.kind) {
+    case TNode::kTable: {
+      const InstanceTable& table = current_.at(n.local);
+      const auto column = static_cast<uint32_t>(n.c >= 0 ? OptionValue(made[n.c], "column", loc) : n.value);
+      if (table.cols > kMaxTableColumns) {
+        throw ModelError(loc, context_.flat.InstancePath(inst) + ": interpolate() reads a table with " + std::to_string(table.cols) +
+                                  " columns, more than the " + std::to_string(kMaxTableColumns) + " a table may have, in '" +
+                                  Excerpt(text, 0) + "'");
+      }
+      if (column < 1 || column > table.cols) {
+        throw ModelError(loc, context_.flat.InstancePath(inst) + ": interpolate() reads column " + std::to_string(column) + " of a table with " +
+                                  std::to_string(table.cols) + " columns, in '" + Excerpt(text, 0) + "'");
+      }
+      return pool.Table(table.first, table.rows, table.cols, column);
+    }
+    case TNode::kTimeTable:
+      return TimeTableExpr(made[n.a], made[n.b], static_cast<int>(OptionValue(made[n.c], "smoothness", loc)),
+                           static_cast<int>(OptionValue(made[n.local], "extrapolation", loc)));
+    case TNode::kBooleanTable:
+      return BooleanTableSum(&pool, made[n.a], made[n.b]);
+    default:
+      MOMENTA_CHECK_MSG(false, "only table nodes are made here");
+      return ExprId();
+  }
+}
+
+double InstanceTables::OptionValue(ExprId e, const std::string& what, const SourceLoc& loc) {
+  ExprPool& pool = context_.pool();
+  double v = 0;
+  if (pool.IsConst(e)) {
+    v = pool.ConstValue(e);
+  } else if (pool.op(e) == Op::kParam) {
+    const ParamId id(pool.node(e).a);
+    const FlatParameter& fp = context_.flat.parameters[id.value()];
+    const std::string name = context_.flat.ParameterName(id);
+    auto ov = context_.overrides.find(name);
+    if (ov != context_.overrides.end()) {
+      v = ov->second;
+    } else if (pool.IsConst(fp.binding)) {
+      v = pool.ConstValue(fp.binding);
+    } else {
+      throw ModelError(fp.loc, name + " sets the " + what + " of a table, which shapes the equations: give it a number");
+    }
+    context_.structural[name] = v;
+  } else {
+    throw ModelError(loc, "the " + what + " of a table must be a number or a parameter");
+  }
+  if (what == "column") {
+    if (v != std::floor(v)) throw ModelError(loc, "the column of a table must be a whole number, found " + NumberText(v));
+    return v;
+  }
+  const bool ok = what == "smoothness" ? (v == kLinearSegments || v == kConstantSegments)
+                                       : (v == kHoldLastPoint || v == kLastTwoPoints);
+  if (!ok) {
+    throw ModelError(loc, "the " + what + " of a table is " + NumberText(v) + "; valid: " +
+                              (what == "smoothness" ? "1 (LinearSegments), 3 (ConstantSegments)"
+                                                    : "1 (HoldLastPoint), 2 (LastTwoPoints)"));
+  }
+  return v;
+}
+
+ExprId InstanceTables::TimeTableExpr(ExprId x, ExprId table, int smoothness, int extrapolation) {
+  const Node t = context_.pool().node(table);
+  FlatTable& flat_table = FlatTableAt(t.a);
+  flat_table.jumps.assign(t.b, 0);
+  for (uint32_t r = 0; r + 1 < t.b; ++r) {
+    flat_table.jumps[r] = BuildValue(ParamId(t.a + r * t.TableColumns())) == BuildValue(ParamId(t.a + (r + 1) * t.TableColumns()));
+  }
+  return TimeTableSum(&context_.pool(), x, table, smoothness, extrapolation, flat_table.jumps);
+}
+
+FlatTable& InstanceTables::FlatTableAt(uint32_t first) {
+  for (const InstanceTable& it : current_) {
+    if (it.first.value() == first) return context_.flat.tables[it.flat_index];
+  }
+  MOMENTA_CHECK_MSG(false, "a table read belongs to its instance");
+  return context_.flat.tables.front();
+}
+
+double InstanceTables::BuildValue(ParamId id) {
+  const FlatParameter& fp = context_.flat.parameters[id.value()];
+  auto ov = context_.overrides.find(context_.flat.ParameterName(id));
+  if (ov != context_.overrides.end()) return ov->second;
+  return context_.pool().IsConst(fp.binding) ? context_.pool().ConstValue(fp.binding) : std::nan("");
+}
+
+}  // namespace momenta::flatten_internal
