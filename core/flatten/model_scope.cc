@@ -4,7 +4,6 @@
 
 #include "core/base/error.h"
 #include "core/base/messages.h"
-#include "core/expr/expr_chain.h"
 #include "core/expr/expr_eval.h"
 #include "core/flatten/type_layout.h"
 #include "core/lang/parser.h"
@@ -170,8 +169,10 @@ ExprId ModelScope::Name(const Ast& a, const SourceLoc& base, const LoopIndex* lo
     if (k > 1) local += ".";
     local += a.path[k].name;
     if (a.path[k].index) {  // an element of a part array inside a composite: arm.links[2].phi
-      double i = SubscriptValue(*a.path[k].index, loc, loop);
-      local += "[" + NumberText(i) + "]";
+      const double i = SubscriptValue(*a.path[k].index, loc, loop);
+      local += '[';
+      local += NumberText(i);
+      local += ']';
     }
   }
   if (local.empty()) throw ModelError(loc, "'" + a.PathText() + "' names a component, not one of its variables");
@@ -241,80 +242,66 @@ uint32_t ModelScope::ElementOf(const ComponentArray& arr, const NameSegment& seg
   return arr.first_instance + arr.stride * static_cast<uint32_t>(k - 1);
 }
 
+class ModelScope::Lowering {
+ public:
+  using Node = ExprId;
+  /// The second operand first: the order in which the model's expressions have always been made
+  /// (written as one call, pool.Binary(op, lower(0), lower(1)), whose arguments g++ evaluates
+  /// right to left); the pool's node ids, and so the compiled programs, keep it.
+  static constexpr bool kSecondOperandFirst = true;
+
+  Lowering(ModelScope* scope, std::string text, const SourceLoc& loc, const LoopIndex* loop, bool allow_variables)
+      : scope_(*scope), pool_(scope->context_.pool()), text_(std::move(text)), loc_(loc), loop_(loop),
+        allow_variables_(allow_variables) {}
+
+  Node Constant(double value) { return pool_.Const(value); }
+  Node Name(const Ast& a) { return scope_.Name(a, loc_, loop_, allow_variables_, text_); }
+  Node Unary(Op op, Node x) { return pool_.Unary(op, x); }
+  Node Negate(Node x) { return pool_.Neg(x); }
+  Node Binary(Op op, Node x, Node y) { return pool_.Binary(op, x, y); }
+  Node If(Node c, Node x, Node y) { return pool_.If(c, x, y); }
+  Node NoEvent(Node x) { return pool_.NoEvent(x); }
+  Node Der(Node x) { return TimeDerivative(&pool_, x); }
+  Node Initial() { return pool_.Initial(); }
+  bool IsVariable(Node x) const { return pool_.op(x) == Op::kVar; }
+  Node Pre(Node x) { return pool_.Pre(VarId(pool_.node(x).a)); }
+  /// The model has no tables of its own; a parameter's value or a start value may call nothing
+  /// but the pool's functions and noEvent().
+  void CheckCall(const Ast& a) const {
+    if (a.op == "noEvent") return;
+    if (a.op == "interpolate" || a.op == "timeTable" || a.op == "booleanTable") {
+      Fail(a, a.op + "() reads a table of a component type, in its equations; the model's own " +
+                  "equations cannot (use a CombiTimeTable, or a type with the table), in '" + text_ + "'");
+    }
+    if (!allow_variables_) Fail(a, a.op + "() cannot be used in '" + text_ + "'");
+  }
+  std::optional<Node> TableCall(const Ast&) { return std::nullopt; }
+  const std::string& text() const { return text_; }
+  std::string OfOwner() const { return std::string(); }
+  [[noreturn]] void Fail(const Ast& at, const std::string& message) const {
+    throw ModelError(loc_.Shifted(at.column), message);
+  }
+
+ private:
+  ModelScope& scope_;
+  ExprPool& pool_;
+  const std::string text_;  ///< as messages quote it
+  const SourceLoc loc_;
+  const LoopIndex* loop_;
+  const bool allow_variables_;
+};
+
 ExprId ModelScope::Expr(const Ast& a, const std::string& text, const SourceLoc& loc, const LoopIndex* loop,
                         bool allow_variables) {
   // A number (most modifiers' values) needs no walk and no text for messages.
   if (a.kind == Ast::Kind::kNumber || a.kind == Ast::Kind::kBool) return context_.pool().Const(a.number);
-  const std::string quoted = Excerpt(text, 0);  // messages quote the text
-  return BuildExpr(a, quoted, loc, [&](const Ast& name) {
-    return Name(name, loc, loop, allow_variables, quoted);
-  }, allow_variables);
+  Lowering scope(this, Excerpt(text, 0), loc, loop, allow_variables);  // messages quote the text
+  return Lower(a, &scope);
 }
 
 ExprId ModelScope::StartExpr(const Ast& a, const SourceLoc& loc, const LoopIndex* loop) {
   if (a.kind == Ast::Kind::kNumber || a.kind == Ast::Kind::kBool) return context_.pool().Const(a.number);
   return Expr(a, AstToString(a), loc, loop, false);
-}
-
-template <class ResolveName>
-ExprId ModelScope::BuildExpr(const Ast& a, const std::string& text, const SourceLoc& loc, const ResolveName& name,
-                             bool allow_variables) {
-  ExprPool& p = context_.pool();
-  auto sub = [&](size_t k) { return BuildExpr(*a.args[k], text, loc, name, allow_variables); };
-  switch (a.kind) {
-    case Ast::Kind::kNumber:
-    case Ast::Kind::kBool:
-      return p.Const(a.number);
-    case Ast::Kind::kName:
-      return name(a);
-    case Ast::Kind::kArray:
-      throw ModelError(loc.Shifted(a.column), "an array where a number is expected, in '" + text + "'");
-    case Ast::Kind::kUnary:
-      return a.op == "not" ? p.Unary(Op::kNot, sub(0)) : p.Neg(sub(0));
-    case Ast::Kind::kBinary:
-    case Ast::Kind::kSum:
-    case Ast::Kind::kProduct: {
-      // A chain (a + b - c, a * b / c, a and b and c) as a balanced tree; relations and ^ have
-      // two operands.
-      std::vector<ExprId> operands;
-      for (size_t k = 0; k < a.args.size(); ++k) operands.push_back(sub(k));
-      return BuildChain(operands, ChainInverse(a), [&](ExprId x, bool inverse, ExprId y) {
-        return p.Binary(ChainOp(a, inverse), x, y);
-      });
-    }
-    case Ast::Kind::kIf: {
-      // if c1 then v1 elseif c2 then v2 … else e, nested from the last branch.
-      std::vector<ExprId> operands;
-      for (size_t k = 0; k < a.args.size(); ++k) operands.push_back(sub(k));
-      return BuildIfChain(operands, [&](ExprId c, ExprId x, ExprId y) { return p.If(c, x, y); });
-    }
-    case Ast::Kind::kCall: {
-      Op op;
-      if (FunctionOp(a.op, &op)) {
-        return Arity(op) == 1 ? p.Unary(op, sub(0)) : p.Binary(op, sub(0), sub(1));
-      }
-      if (a.op == "noEvent") return p.NoEvent(sub(0));
-      if (a.op == "interpolate" || a.op == "timeTable" || a.op == "booleanTable") {
-        throw ModelError(loc.Shifted(a.column), a.op + "() reads a table of a component type, in its equations; the model's own " +
-                                                    "equations cannot (use a CombiTimeTable, or a type with the table), in '" + text + "'");
-      }
-      if (!allow_variables) {
-        throw ModelError(loc.Shifted(a.column), a.op + "() cannot be used in '" + text + "'");
-      }
-      if (a.op == "der") return TimeDerivative(&p, sub(0));
-      if (a.op == "initial") return p.Initial();
-      ExprId x = sub(0);
-      if (p.op(x) != Op::kVar) {
-        throw ModelError(loc.Shifted(a.column), a.op + "() takes a variable, in '" + text + "'");
-      }
-      ExprId pre = p.Pre(VarId(p.node(x).a));
-      if (a.op == "pre") return pre;
-      if (a.op == "edge") return p.Binary(Op::kAnd, x, p.Unary(Op::kNot, pre));
-      if (a.op == "change") return p.Binary(Op::kNe, x, pre);
-      throw ModelError(loc.Shifted(a.column), a.op + "() is not allowed in '" + text + "'");
-    }
-  }
-  return p.Zero();
 }
 
 UnitChecker& ModelScope::Units() {

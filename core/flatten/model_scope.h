@@ -63,11 +63,9 @@ class ModelScope {
   /// subscripts per iteration).
   double SubscriptValue(const Ast& a, const SourceLoc& loc, const LoopIndex* loop);
   static std::optional<double> WholeSum(const Ast& a, const LoopIndex* loop);
-  /// Expression building shared by the model scope; `name` resolves a kName node (a template
-  /// parameter rather than a std::function: a modifier of an array is built once per element).
-  template <class ResolveName>
-  ExprId BuildExpr(const Ast& a, const std::string& text, const SourceLoc& loc, const ResolveName& name,
-                   bool allow_variables);
+
+  /// One expression of the model scope as a LoweringScope (lower.h), made in the pool.
+  class Lowering;
 
   FlattenContext& context_;
   std::unordered_map<std::string, ParamId> parameters_;  ///< the model's, by name

@@ -12,19 +12,88 @@ namespace momenta::flatten_internal {
 
 namespace {
 
-/// Lowers the expressions of one text of a type into one template.
+/// The type scope as a LoweringScope: the expressions of one text of a type lowered into one
+/// template.
 class TypeLowering {
  public:
+  using Node = int32_t;  ///< a node of the template
+  /// Operands in the order written, as a template lists its nodes.
+  static constexpr bool kSecondOperandFirst = false;
+
   TypeLowering(const TypeLayout& layout, std::string text, const SourceLoc& loc, bool params_only,
                const LoopIndex* loop, Template* out)
       : layout_(layout), text_(std::move(text)), loc_(loc), params_only_(params_only), loop_(loop), out_(*out) {}
 
-  int32_t Add(const Ast& a);
+  Node Constant(double value) {
+    TNode n;
+    n.kind = TNode::kConst;
+    n.value = value;
+    return Push(n);
+  }
+  Node Name(const Ast& a);
+  Node Unary(Op op, Node x) {
+    TNode n;
+    n.kind = TNode::kOp;
+    n.op = op;
+    n.a = x;
+    return Push(n);
+  }
+  Node Negate(Node x) { return Unary(Op::kNeg, x); }
+  Node Binary(Op op, Node x, Node y) {
+    TNode n;
+    n.kind = TNode::kOp;
+    n.op = op;
+    n.a = x;
+    n.b = y;
+    return Push(n);
+  }
+  Node If(Node c, Node x, Node y) {
+    TNode n;
+    n.kind = TNode::kOp;
+    n.op = Op::kIf;
+    n.a = c;
+    n.b = x;
+    n.c = y;
+    return Push(n);
+  }
+  Node NoEvent(Node x) { return Wrap(TNode::kNoEvent, x); }
+  Node Der(Node x) { return Wrap(TNode::kDerOf, x); }
+  Node Initial() {
+    TNode n;
+    n.kind = TNode::kInitial;
+    return Push(n);
+  }
+  bool IsVariable(Node x) const { return out_.nodes[x].kind == TNode::kLocalVar; }
+  Node Pre(Node x) {
+    TNode n;
+    n.kind = TNode::kPre;
+    n.local = out_.nodes[x].local;
+    return Push(n);
+  }
+  /// A parameter's value and a start value may call nothing but the pool's functions; reinit()
+  /// belongs in a when-clause.
+  void CheckCall(const Ast& a) const {
+    if (params_only_) Fail(a, a.op + "() cannot be used in a parameter's value, in '" + text_ + "'");
+    if (a.op == "reinit") Fail(a, "reinit() belongs in a when-clause, in '" + text_ + "'");
+  }
+  std::optional<Node> TableCall(const Ast& a);
+  const std::string& text() const { return text_; }
+  std::string OfOwner() const { return " of " + layout_.type->name; }
+  [[noreturn]] void Fail(const Ast& at, const std::string& message) const {
+    throw ModelError(loc_.Shifted(at.column), message);
+  }
 
  private:
-  int32_t Push(const TNode& node) {
+  Node Push(const TNode& node) {
     out_.nodes.push_back(node);
-    return static_cast<int32_t>(out_.nodes.size() - 1);
+    return static_cast<Node>(out_.nodes.size() - 1);
+  }
+  /// A node of `kind` over x (noEvent, der).
+  Node Wrap(TNode::Kind kind, Node x) {
+    TNode n;
+    n.kind = kind;
+    n.a = x;
+    return Push(n);
   }
   /// The local name a dotted path inside a type stands for, subscripts evaluated: links[2].phi.
   std::string LocalPath(const Ast& a);
@@ -40,175 +109,76 @@ class TypeLowering {
   Template& out_;
 };
 
-int32_t TypeLowering::Add(const Ast& a) {
-  TNode n;
-  auto child = [&](size_t k) { return Add(*a.args[k]); };
+TypeLowering::Node TypeLowering::Name(const Ast& a) {
   const std::string& owner = layout_.type->name;
-  const std::string& text = text_;
-  const SourceLoc& loc = loc_;
-  const bool params_only = params_only_;
-  switch (a.kind) {
-    case Ast::Kind::kNumber:
-    case Ast::Kind::kBool:
-      n.kind = TNode::kConst;
-      n.value = a.number;
-      return Push(n);
-    case Ast::Kind::kName: {
-      if (loop_ && a.path.size() == 1 && !a.path[0].index && a.path[0].name == loop_->first) {
-        n.kind = TNode::kConst;  // the element index i in a part array's modifiers
-        n.value = loop_->second;
-        return Push(n);
-      }
-      std::string local = LocalPath(a);
-      auto v = layout_.var_index.find(local);
-      if (v != layout_.var_index.end()) {
-        if (params_only) {
-          throw ModelError(loc.Shifted(a.column), "'" + local + "' is a variable of " + owner +
-                                                      "; a parameter's value or a start value may only use parameters, in '" + text + "'");
-        }
-        n.kind = TNode::kLocalVar;
-        n.local = v->second;
-        return Push(n);
-      }
-      if (layout_.table_index.count(local)) {
-        throw ModelError(loc.Shifted(a.column), "'" + local + "' is a table of " + owner +
-                                                    "; read it with interpolate(" + local + ", x), in '" + text + "'");
-      }
-      auto p = layout_.param_index.find(local);
-      if (p != layout_.param_index.end()) {
-        n.kind = TNode::kLocalParam;
-        n.local = p->second;
-        return Push(n);
-      }
-      if (local == "time" && !params_only) {
-        n.kind = TNode::kTime;
-        return Push(n);
-      }
-      if (local == "pi") {
-        n.kind = TNode::kConst;
-        n.value = M_PI;
-        return Push(n);
-      }
-      auto names = layout_.LocalNames();
-      auto close = ClosestNames(local, names);
-      throw ModelError(loc.Shifted(a.column),
-                       "unknown name '" + local + "' in '" + text + "' of " + owner +
-                           (close.empty() ? "" : " (did you mean " + JoinNames(close) + "?)") +
-                           " (valid names: " + JoinNames(names) + ", time, pi)");
-    }
-    case Ast::Kind::kArray:
-      throw ModelError(loc.Shifted(a.column), "an array where a number is expected, in '" + text + "' of " + owner);
-    case Ast::Kind::kUnary:
-      n.kind = TNode::kOp;
-      n.op = a.op == "not" ? Op::kNot : Op::kNeg;
-      n.a = child(0);
-      return Push(n);
-    case Ast::Kind::kBinary:
-    case Ast::Kind::kSum:
-    case Ast::Kind::kProduct: {
-      // A chain as a balanced tree, as in the model scope.
-      std::vector<int32_t> operands;
-      for (size_t k = 0; k < a.args.size(); ++k) operands.push_back(child(k));
-      return BuildChain(operands, ChainInverse(a), [&](int32_t x, bool inverse, int32_t y) {
-        TNode op;
-        op.kind = TNode::kOp;
-        op.op = ChainOp(a, inverse);
-        op.a = x;
-        op.b = y;
-        return Push(op);
-      });
-    }
-    case Ast::Kind::kIf: {
-      // An elseif chain nested from the last branch.
-      std::vector<int32_t> operands;
-      for (size_t k = 0; k < a.args.size(); ++k) operands.push_back(child(k));
-      return BuildIfChain(operands, [&](int32_t c, int32_t x, int32_t y) {
-        TNode branch;
-        branch.kind = TNode::kOp;
-        branch.op = Op::kIf;
-        branch.a = c;
-        branch.b = x;
-        branch.c = y;
-        return Push(branch);
-      });
-    }
-    case Ast::Kind::kCall: {
-      Op op;
-      if (FunctionOp(a.op, &op)) {
-        n.kind = TNode::kOp;
-        n.op = op;
-        n.a = child(0);
-        if (Arity(op) == 2) n.b = child(1);
-        return Push(n);
-      }
-      SourceLoc at = loc.Shifted(a.column);
-      if (params_only) throw ModelError(at, a.op + "() cannot be used in a parameter's value, in '" + text + "'");
-      if (a.op == "noEvent") {
-        n.kind = TNode::kNoEvent;
-        n.a = child(0);
-        return Push(n);
-      }
-      if (a.op == "timeTable" || a.op == "booleanTable") {
-        const bool boolean = a.op == "booleanTable";
-        TNode table = TableOperand(a, boolean ? 1 : 2);
-        if (table.value == 0) table.c = child(2);
-        n.kind = boolean ? TNode::kBooleanTable : TNode::kTimeTable;
-        n.a = child(1);
-        n.b = Push(table);
-        if (!boolean) {
-          n.c = child(3);
-          n.local = static_cast<uint32_t>(child(4));
-        }
-        return Push(n);
-      }
-      if (a.op == "interpolate") {
-        TNode table = TableOperand(a, 2);
-        if (table.value == 0) table.c = child(2);
-        n.kind = TNode::kOp;
-        n.op = Op::kInterp;
-        n.a = child(1);
-        n.b = Push(table);
-        return Push(n);
-      }
-      if (a.op == "der") {
-        n.kind = TNode::kDerOf;
-        n.a = child(0);
-        return Push(n);
-      }
-      if (a.op == "initial") {
-        n.kind = TNode::kInitial;
-        return Push(n);
-      }
-      if (a.op == "reinit") throw ModelError(at, "reinit() belongs in a when-clause, in '" + text + "'");
-      int32_t x = child(0);
-      if (out_.nodes[x].kind != TNode::kLocalVar) {
-        throw ModelError(at, a.op + "() takes a variable, in '" + text + "'");
-      }
-      TNode pre;
-      pre.kind = TNode::kPre;
-      pre.local = out_.nodes[x].local;
-      int32_t pre_id = Push(pre);
-      if (a.op == "pre") return pre_id;
-      TNode r;
-      r.kind = TNode::kOp;
-      if (a.op == "edge") {
-        TNode notp;
-        notp.kind = TNode::kOp;
-        notp.op = Op::kNot;
-        notp.a = pre_id;
-        int32_t not_id = Push(notp);
-        r.op = Op::kAnd;
-        r.a = x;
-        r.b = not_id;
-      } else {  // change
-        r.op = Op::kNe;
-        r.a = x;
-        r.b = pre_id;
-      }
-      return Push(r);
-    }
+  if (loop_ && a.path.size() == 1 && !a.path[0].index && a.path[0].name == loop_->first) {
+    return Constant(loop_->second);  // the element index i in a part array's modifiers
   }
-  return -1;
+  std::string local = LocalPath(a);
+  auto v = layout_.var_index.find(local);
+  if (v != layout_.var_index.end()) {
+    if (params_only_) {
+      Fail(a, "'" + local + "' is a variable of " + owner +
+                  "; a parameter's value or a start value may only use parameters, in '" + text_ + "'");
+    }
+    TNode n;
+    n.kind = TNode::kLocalVar;
+    n.local = v->second;
+    return Push(n);
+  }
+  if (layout_.table_index.count(local)) {
+    Fail(a, "'" + local + "' is a table of " + owner + "; read it with interpolate(" + local + ", x), in '" + text_ + "'");
+  }
+  auto p = layout_.param_index.find(local);
+  if (p != layout_.param_index.end()) {
+    TNode n;
+    n.kind = TNode::kLocalParam;
+    n.local = p->second;
+    return Push(n);
+  }
+  if (local == "time" && !params_only_) {
+    TNode n;
+    n.kind = TNode::kTime;
+    return Push(n);
+  }
+  if (local == "pi") return Constant(M_PI);
+  auto names = layout_.LocalNames();
+  auto close = ClosestNames(local, names);
+  Fail(a, "unknown name '" + local + "' in '" + text_ + "' of " + owner +
+              (close.empty() ? "" : " (did you mean " + JoinNames(close) + "?)") +
+              " (valid names: " + JoinNames(names) + ", time, pi)");
+}
+
+/// interpolate(table, x[, column]) as an interpolation of the table's node; timeTable(table, x,
+/// column, smoothness, extrapolation) and booleanTable(table, x) as nodes that each instance
+/// expands (TableExpansion). A column given by a parameter is lowered first, as the table node's
+/// child c.
+std::optional<TypeLowering::Node> TypeLowering::TableCall(const Ast& a) {
+  auto operand = [&](size_t k) { return Lower(*a.args[k], this); };
+  TNode n;
+  if (a.op == "timeTable" || a.op == "booleanTable") {
+    const bool boolean = a.op == "booleanTable";
+    TNode table = TableOperand(a, boolean ? 1 : 2);
+    if (table.value == 0) table.c = operand(2);
+    n.kind = boolean ? TNode::kBooleanTable : TNode::kTimeTable;
+    n.a = operand(1);
+    n.b = Push(table);
+    if (!boolean) {
+      n.c = operand(3);
+      n.local = static_cast<uint32_t>(operand(4));
+    }
+    return Push(n);
+  }
+  if (a.op == "interpolate") {
+    TNode table = TableOperand(a, 2);
+    if (table.value == 0) table.c = operand(2);
+    n.kind = TNode::kOp;
+    n.op = Op::kInterp;
+    n.a = operand(1);
+    n.b = Push(table);
+    return Push(n);
+  }
+  return std::nullopt;
 }
 
 std::string TypeLowering::LocalPath(const Ast& a) {
@@ -221,7 +191,9 @@ std::string TypeLowering::LocalPath(const Ast& a) {
     if (!i || !std::isfinite(*i) || *i != std::floor(*i)) {
       throw ModelError(loc_.Shifted(a.column), "a subscript inside a type must be a whole number (or the index i of an array part), in '" + text_ + "'");
     }
-    local += "[" + NumberText(*i) + "]";
+    local += '[';
+    local += NumberText(*i);
+    local += ']';
   }
   return local;
 }
@@ -306,15 +278,16 @@ std::optional<double> ConstantValue(const Ast& a, const LoopIndex* loop) {
 Template MakeTemplate(const TypeLayout& layout, const Ast& a, const std::string& text, const SourceLoc& loc,
                       bool params_only, const LoopIndex* loop) {
   Template t;
-  t.root = TypeLowering(layout, Excerpt(text, 0), loc, params_only, loop, &t).Add(a);
+  TypeLowering scope(layout, Excerpt(text, 0), loc, params_only, loop, &t);  // messages quote the text
+  t.root = Lower(a, &scope);
   return t;
 }
 
 Template EquationTemplate(const TypeLayout& layout, const EquationDecl& e) {
   Template t;
-  TypeLowering lowering(layout, Excerpt(e.text, 0), e.loc, false, nullptr, &t);  // messages quote the text
-  int32_t lhs = lowering.Add(*e.ast.lhs);
-  int32_t rhs = lowering.Add(*e.ast.rhs);
+  TypeLowering scope(layout, Excerpt(e.text, 0), e.loc, false, nullptr, &t);  // messages quote the text
+  const int32_t lhs = Lower(*e.ast.lhs, &scope);
+  const int32_t rhs = Lower(*e.ast.rhs, &scope);
   TNode n;
   n.kind = TNode::kOp;
   n.op = Op::kSub;
