@@ -41,26 +41,26 @@ void CheckLayoutBudget(FlattenContext* context, const ComponentSpec& c, const Ty
 /// in the composite's subs, its parts' records after it, and its variables and parameters under
 /// its path.
 PartPlan AddPart(TypeLayout* layout, const ComponentSpec& c, const TypeLayout& part, uint32_t k) {
-  PartPlan pl;
-  pl.spec = &c;
-  pl.layout = &part;
-  pl.path = c.count ? c.name + "[" + std::to_string(k + 1) + "]" : c.name;
-  pl.index = c.count ? k + 1.0 : 0.0;
-  pl.first_slot = 0;
+  PartPlan plan;
+  plan.spec = &c;
+  plan.layout = &part;
+  plan.path = c.count ? c.name + "[" + std::to_string(k + 1) + "]" : c.name;
+  plan.index = c.count ? k + 1.0 : 0.0;
+  plan.first_slot = 0;
   const auto var_off = static_cast<uint32_t>(layout->vars.size());
   const auto param_off = static_cast<uint32_t>(layout->params.size());
-  pl.sub = static_cast<int32_t>(layout->subs.size());
-  layout->subs.push_back({pl.path, &part, c.loc, var_off, param_off});
-  pl.sub_base = static_cast<int32_t>(layout->subs.size());
+  plan.sub = static_cast<int32_t>(layout->subs.size());
+  layout->subs.push_back({plan.path, &part, c.loc, var_off, param_off});
+  plan.sub_base = static_cast<int32_t>(layout->subs.size());
   for (const SubInstance& ss : part.subs) {
-    layout->subs.push_back({pl.path + "." + ss.path, ss.layout, ss.loc, var_off + ss.first_var, param_off + ss.first_param});
+    layout->subs.push_back({plan.path + "." + ss.path, ss.layout, ss.loc, var_off + ss.first_var, param_off + ss.first_param});
   }
-  auto remap = [&](int32_t sub) { return sub < 0 ? pl.sub : pl.sub_base + sub; };
+  auto remap = [&](int32_t sub) { return sub < 0 ? plan.sub : plan.sub_base + sub; };
   // The part's variables and parameters under their paths in the composite.
   auto adopt = [&](const auto& items, auto* out, auto* index) {
     for (const auto& item : items) {
       auto local = item;
-      local.name = pl.path + "." + item.name;
+      local.name = plan.path + "." + item.name;
       local.sub = remap(item.sub);
       if (layout->var_index.count(local.name) || layout->param_index.count(local.name)) {
         throw ModelError(c.loc, "the name " + local.name + " in " + layout->type->name + " is used twice");
@@ -72,7 +72,7 @@ PartPlan AddPart(TypeLayout* layout, const ComponentSpec& c, const TypeLayout& p
   adopt(part.vars, &layout->vars, &layout->var_index);
   adopt(part.params, &layout->params, &layout->param_index);
   for (const auto& [var, at] : part.connected) layout->connected.emplace(var_off + var, at);
-  return pl;
+  return plan;
 }
 
 /// A template with its local variables and parameters moved by the given offsets.
@@ -87,18 +87,18 @@ Template Rebased(const Template& t, uint32_t var_offset, uint32_t param_offset) 
   return r;
 }
 
-/// Part `pl`'s own templates (its parameters' defaults, start values, equations, when-clauses
+/// Part `plan`'s own templates (its parameters' defaults, start values, equations, when-clauses
 /// and impacts), rebased into `layout`.
-void AdoptPartTemplates(TypeLayout* layout, const PartPlan& pl) {
-  const TypeLayout& part = *pl.layout;
-  const uint32_t vo = layout->subs[pl.sub].first_var, po = layout->subs[pl.sub].first_param;
-  auto rebase = [&](const Template& t) { return Rebased(t, vo, po); };
+void AdoptPartTemplates(TypeLayout* layout, const PartPlan& plan) {
+  const TypeLayout& part = *plan.layout;
+  const uint32_t var_off = layout->subs[plan.sub].first_var, param_off = layout->subs[plan.sub].first_param;
+  auto rebase = [&](const Template& t) { return Rebased(t, var_off, param_off); };
   auto remap = [&](const PartInfo& info) {
     PartInfo r = info;
-    r.sub = info.sub < 0 ? pl.sub : pl.sub_base + info.sub;
+    r.sub = info.sub < 0 ? plan.sub : plan.sub_base + info.sub;
     // Connection texts name connectors relative to the part: insert the part's path.
     for (size_t at = r.text.find('\x01'); at != std::string::npos; at = r.text.find('\x01', at + 1)) {
-      r.text.insert(at + 1, pl.path + ".");
+      r.text.insert(at + 1, plan.path + ".");
     }
     return r;
   };
@@ -116,8 +116,8 @@ void AdoptPartTemplates(TypeLayout* layout, const PartPlan& pl) {
     const auto& w = part.whens[k];
     TypeLayout::WhenTemplate wt;
     wt.condition = rebase(w.condition);
-    for (const auto& [target, value] : w.assigns) wt.assigns.emplace_back(target + vo, rebase(value));
-    for (const auto& [target, value] : w.reinits) wt.reinits.emplace_back(target + vo, rebase(value));
+    for (const auto& [target, value] : w.assigns) wt.assigns.emplace_back(target + var_off, rebase(value));
+    for (const auto& [target, value] : w.reinits) wt.reinits.emplace_back(target + var_off, rebase(value));
     layout->whens.push_back(std::move(wt));
     layout->when_info.push_back(remap(part.when_info[k]));
   }
@@ -128,32 +128,32 @@ void AdoptPartTemplates(TypeLayout* layout, const PartPlan& pl) {
     t.restitution = rebase(im.restitution);
     t.v_small = rebase(im.v_small);
     t.release = rebase(im.release);
-    t.force = im.force + vo;
-    t.contact = im.contact + vo;
+    t.force = im.force + var_off;
+    t.contact = im.contact + var_off;
     t.decl = im.decl;
-    t.sub = im.sub < 0 ? pl.sub : pl.sub_base + im.sub;
+    t.sub = im.sub < 0 ? plan.sub : plan.sub_base + im.sub;
     layout->impacts.push_back(std::move(t));
   }
 }
 
-/// The composite's modifiers of part `pl`, in place of the part's defaults: a parameter's value,
+/// The composite's modifiers of part `plan`, in place of the part's defaults: a parameter's value,
 /// or a variable's start, fixed and stateSelect.
-void ApplyModifiers(TypeLayout* layout, const PartPlan& pl) {
-  const TypeLayout& part = *pl.layout;
-  const uint32_t vo = layout->subs[pl.sub].first_var, po = layout->subs[pl.sub].first_param;
-  LoopIndex index{"i", pl.index};
-  const LoopIndex* loop = pl.index > 0 ? &index : nullptr;
-  for (const Modifier& m : pl.spec->modifiers) {
-    auto [is_param, k] = ModifierTarget(*pl.spec, part, m);
+void ApplyModifiers(TypeLayout* layout, const PartPlan& plan) {
+  const TypeLayout& part = *plan.layout;
+  const uint32_t var_off = layout->subs[plan.sub].first_var, param_off = layout->subs[plan.sub].first_param;
+  LoopIndex index{"i", plan.index};
+  const LoopIndex* loop = plan.index > 0 ? &index : nullptr;
+  for (const Modifier& m : plan.spec->modifiers) {
+    auto [is_param, k] = ModifierTarget(*plan.spec, part, m);
     if (is_param) {
-      const AstPtr value = ModifierValue(m, *part.params[k].decl, pl.spec->name);
-      layout->param_defaults[po + k] = MakeTemplate(*layout, *value, m.value_text, m.loc, true, loop);
-      layout->params[po + k].loc = m.loc;
+      const AstPtr value = ModifierValue(m, *part.params[k].decl, plan.spec->name);
+      layout->param_defaults[param_off + k] = MakeTemplate(*layout, *value, m.value_text, m.loc, true, loop);
+      layout->params[param_off + k].loc = m.loc;
     } else {
-      if (m.start) layout->starts[vo + k] = MakeTemplate(*layout, *m.start, AstToString(*m.start), m.loc, true, loop);
-      if (m.fixed) layout->vars[vo + k].fixed = *m.fixed;
-      if (m.state_priority) layout->vars[vo + k].state_priority = *m.state_priority;
-      layout->vars[vo + k].loc = m.loc;
+      if (m.start) layout->starts[var_off + k] = MakeTemplate(*layout, *m.start, AstToString(*m.start), m.loc, true, loop);
+      if (m.fixed) layout->vars[var_off + k].fixed = *m.fixed;
+      if (m.state_priority) layout->vars[var_off + k].state_priority = *m.state_priority;
+      layout->vars[var_off + k].loc = m.loc;
     }
   }
 }
@@ -194,9 +194,9 @@ std::vector<PartPlan> LayoutPartNames(TypeLayout* layout, TypeLayoutBuilder* bui
 }
 
 void LayoutPartTemplates(TypeLayout* layout, const std::vector<PartPlan>& plans) {
-  for (const PartPlan& pl : plans) {
-    AdoptPartTemplates(layout, pl);
-    ApplyModifiers(layout, pl);
+  for (const PartPlan& plan : plans) {
+    AdoptPartTemplates(layout, plan);
+    ApplyModifiers(layout, plan);
   }
 }
 

@@ -33,29 +33,4 @@ SourceLoc ConnectionSets::Location(const std::vector<uint32_t>& set) const {
   return SourceLoc();
 }
 
-void ConnectionSets::WriteEquations(const std::vector<std::vector<uint32_t>>& sets, ConnectionWriter* writer) const {
-  for (const auto& set : sets) {
-    const ConnectorType& type = writer->TypeOf(set[0]);
-    if (set.size() == 1) {
-      writer->Unconnected(set[0]);
-      continue;
-    }
-    const SourceLoc loc = Location(set);
-    if (type.is_signal) {
-      // Every member but the driver equals it.
-      const uint32_t driver = writer->Driver(set, loc);
-      for (uint32_t s : set) {
-        if (s != driver) writer->Equal(s, driver, 0, loc);
-      }
-      continue;
-    }
-    // Each potential equal to the first member's, then one sum per flow.
-    const auto num_potentials = static_cast<uint32_t>(type.potentials.size());
-    for (uint32_t k = 0; k < num_potentials; ++k) {
-      for (size_t j = 1; j < set.size(); ++j) writer->Equal(set[j], set[0], k, loc);
-    }
-    for (uint32_t k = 0; k < type.flows.size(); ++k) writer->FlowSum(set, k, loc);
-  }
-}
-
 }  // namespace momenta::flatten_internal

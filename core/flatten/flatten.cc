@@ -70,22 +70,22 @@ class Flattener {
   void ModelEquations() {
     const ModelSpec& spec = context_.spec;
     FlatSystem& flat = context_.flat;
-    auto add = [&](const EquationDecl& d, EquationOrigin origin, std::vector<FlatEquation>* out) {
+    auto add = [&](const EquationDecl& equation, EquationOrigin origin, std::vector<FlatEquation>* out) {
       FlatEquation eq;
-      ExprId l = scope_.Expr(*d.ast.lhs, d.text, d.loc, nullptr, true);
-      ExprId r = scope_.Expr(*d.ast.rhs, d.text, d.loc, nullptr, true);
+      ExprId l = scope_.Expr(*equation.ast.lhs, equation.text, equation.loc, nullptr, true);
+      ExprId r = scope_.Expr(*equation.ast.rhs, equation.text, equation.loc, nullptr, true);
       eq.residual = pool().Sub(l, r);
       eq.origin = origin;
-      eq.text = flat.Own(d.text);
-      eq.loc = d.loc;
+      eq.text = flat.Own(equation.text);
+      eq.loc = equation.loc;
       out->push_back(std::move(eq));
     };
-    for (const auto& d : spec.equations) add(d, EquationOrigin::kModel, &flat.equations);
+    for (const auto& equation : spec.equations) add(equation, EquationOrigin::kModel, &flat.equations);
     for (const auto* list : {&spec.equations, &spec.initial_equations}) {
-      for (const auto& d : *list) scope_.Units().CheckEquation(*d.ast.lhs, *d.ast.rhs, d.text, d.loc);
+      for (const auto& equation : *list) scope_.Units().CheckEquation(*equation.ast.lhs, *equation.ast.rhs, equation.text, equation.loc);
     }
     for (const auto& w : spec.whens) ModelWhen(w);
-    for (const auto& d : spec.initial_equations) add(d, EquationOrigin::kInitial, &flat.initial_equations);
+    for (const auto& equation : spec.initial_equations) add(equation, EquationOrigin::kInitial, &flat.initial_equations);
   }
 
   /// A when-clause of the model: a variable it assigns becomes discrete.

@@ -14,15 +14,15 @@ FlattenContext::FlattenContext(const ModelSpec& spec, const Library& library,
   flat.model_name = spec.name;
   flat.file = spec.file;
   flat.experiment = spec.experiment;
-  for (const auto& d : spec.defines) {
-    if (library.HasComponent(d.name)) {
-      throw ModelError(d.loc, "type " + d.name +
+  for (const auto& defined : spec.defines) {
+    if (library.HasComponent(defined.name)) {
+      throw ModelError(defined.loc, "type " + defined.name +
                                   " has the name of a library component; choose another name");
     }
-    if (const ComponentType* other = defines->FindComponent(d.name)) {
-      throw ModelError(d.loc, "type " + d.name + " is defined twice (also at " + other->loc.ToString() + ")");
+    if (const ComponentType* other = defines->FindComponent(defined.name)) {
+      throw ModelError(defined.loc, "type " + defined.name + " is defined twice (also at " + other->loc.ToString() + ")");
     }
-    defines->AddComponent(d);
+    defines->AddComponent(defined);
   }
 }
 
@@ -33,7 +33,7 @@ const ComponentType* FlattenContext::FindType(const std::string& name) const {
 
 void FlattenContext::UnknownType(const ComponentSpec& c) const {
   std::vector<std::string> names = library.ComponentNames();
-  for (const auto& d : spec.defines) names.push_back(d.name);
+  for (const auto& defined : spec.defines) names.push_back(defined.name);
   auto close = ClosestNames(c.type, names);
   throw ModelError(c.type_loc, "unknown component type '" + c.type + "' for " + c.name +
                                    (close.empty() ? "" : " (did you mean " + JoinNames(close) + "?)") +

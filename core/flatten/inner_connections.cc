@@ -47,7 +47,8 @@ Template SignedSum(const std::vector<std::pair<uint32_t, bool>>& terms) {
 }
 
 /// The connectors of one composite type and its parts as slots of its connection sets.
-class InnerConnectionSets final : public ConnectionWriter {
+/// A ConnectionWriter (connection_sets.h) of templates over the type's local variables.
+class InnerConnectionSets {
  public:
   InnerConnectionSets(TypeLayout* layout, std::vector<PartPlan>* plans);
   /// Joins the slots that the type's connections name.
@@ -55,11 +56,11 @@ class InnerConnectionSets final : public ConnectionWriter {
   /// Appends the sets' equations to the layout.
   void Write() { sets_.WriteEquations(sets_.Sets(), this); }
 
-  const ConnectorType& TypeOf(uint32_t slot) const override { return *slots_[slot].cs->type; }
-  void Unconnected(uint32_t slot) override;
-  uint32_t Driver(const std::vector<uint32_t>& set, const SourceLoc& loc) override;
-  void Equal(uint32_t slot, uint32_t to, uint32_t k, const SourceLoc& loc) override;
-  void FlowSum(const std::vector<uint32_t>& set, uint32_t flow, const SourceLoc& loc) override;
+  const ConnectorType& TypeOf(uint32_t slot) const { return *slots_[slot].cs->type; }
+  void Unconnected(uint32_t slot);
+  uint32_t Driver(const std::vector<uint32_t>& set, const SourceLoc& loc);
+  void Equal(uint32_t slot, uint32_t to, uint32_t k, const SourceLoc& loc);
+  void FlowSum(const std::vector<uint32_t>& set, uint32_t flow, const SourceLoc& loc);
 
  private:
   struct Slot {
@@ -93,12 +94,12 @@ InnerConnectionSets::InnerConnectionSets(TypeLayout* layout, std::vector<PartPla
     slots_.push_back({&cs, cs.first_local_var, true, cs.decl->name, cs.decl->loc});
   }
   for (size_t k = 0; k < plans_.size(); ++k) {
-    PartPlan& pl = plans_[k];
-    plans_of_[pl.spec->name].push_back(k);
-    pl.first_slot = static_cast<uint32_t>(slots_.size());
-    const uint32_t vo = layout_.subs[pl.sub].first_var;
-    for (const ConnectorSlot& cs : pl.layout->connectors) {
-      slots_.push_back({&cs, vo + cs.first_local_var, false, pl.path + "." + cs.decl->name, pl.spec->loc});
+    PartPlan& plan = plans_[k];
+    plans_of_[plan.spec->name].push_back(k);
+    plan.first_slot = static_cast<uint32_t>(slots_.size());
+    const uint32_t var_off = layout_.subs[plan.sub].first_var;
+    for (const ConnectorSlot& cs : plan.layout->connectors) {
+      slots_.push_back({&cs, var_off + cs.first_local_var, false, plan.path + "." + cs.decl->name, plan.spec->loc});
     }
   }
   sets_ = ConnectionSets(slots_.size());
@@ -129,9 +130,9 @@ uint32_t InnerConnectionSets::Resolve(const Ast& a, const std::string& text, con
       } else if (a.path[0].index) {
         throw ModelError(loc, a.path[0].name + " is not an array (it has no count:), in '" + text + "'");
       }
-      const PartPlan& pl = plans_[elems[e]];
-      auto c = pl.layout->connector_index.find(a.path[1].name);
-      if (c != pl.layout->connector_index.end()) return pl.first_slot + c->second;
+      const PartPlan& plan = plans_[elems[e]];
+      auto c = plan.layout->connector_index.find(a.path[1].name);
+      if (c != plan.layout->connector_index.end()) return plan.first_slot + c->second;
     }
   }
   std::vector<std::string> names;

@@ -10,14 +10,14 @@
 
 namespace momenta::flatten_internal {
 
-std::vector<AstPtr> TableElements(const AstPtr& value, const ParameterDecl& d, const SourceLoc& loc,
+std::vector<AstPtr> TableElements(const AstPtr& value, const ParameterDecl& decl, const SourceLoc& loc,
                                   const std::string& who, uint32_t* rows, uint32_t* cols) {
-  const std::string example = d.shape.size() == 1 ? "[0, 1, 2]" : "[[0, 1], [1, 2]]";
-  const std::string expected = "the value of " + who + " (shape " + ShapeText(d.shape) + ") must be a list of " +
-                               (d.shape.size() == 1 ? "numbers" : "rows of one length") + ", e.g. " + example;
+  const std::string example = decl.shape.size() == 1 ? "[0, 1, 2]" : "[[0, 1], [1, 2]]";
+  const std::string expected = "the value of " + who + " (shape " + ShapeText(decl.shape) + ") must be a list of " +
+                               (decl.shape.size() == 1 ? "numbers" : "rows of one length") + ", e.g. " + example;
   std::vector<AstPtr> elements;
   const bool list = value->kind == Ast::Kind::kArray;
-  if (d.shape.size() == 1) {
+  if (decl.shape.size() == 1) {
     if (!list) throw ModelError(loc, expected);
     for (const AstPtr& e : value->args) {
       if (e->kind == Ast::Kind::kArray) throw ModelError(loc, expected + "; found a nested list");
@@ -42,12 +42,12 @@ std::vector<AstPtr> TableElements(const AstPtr& value, const ParameterDecl& d, c
       }
     }
   }
-  const Shape found = d.shape.size() == 1 ? Shape{static_cast<int>(*rows)}
+  const Shape found = decl.shape.size() == 1 ? Shape{static_cast<int>(*rows)}
                                           : Shape{static_cast<int>(*rows), static_cast<int>(*cols)};
-  for (size_t k = 0; k < d.shape.size(); ++k) {
-    if (d.shape[k] != kOpenSize && d.shape[k] != found[k]) {
+  for (size_t k = 0; k < decl.shape.size(); ++k) {
+    if (decl.shape[k] != kOpenSize && decl.shape[k] != found[k]) {
       throw ModelError(loc, "the value of " + who + " has shape " + ShapeText(found) + ", but it is declared with shape " +
-                                ShapeText(d.shape));
+                                ShapeText(decl.shape));
     }
   }
   if (elements.size() > kMaxArrayElements) {
@@ -65,32 +65,32 @@ void InstanceTables::Add(const ComponentSpec& c, const TypeLayout& layout, const
   const std::string path = flat.InstancePath(inst);
   for (size_t k = 0; k < layout.tables.size(); ++k) {
     const TypeLayout::TableSlot& slot = layout.tables[k];
-    const ParameterDecl& d = *slot.decl;
+    const ParameterDecl& decl = *slot.decl;
     const Modifier* m = k < values.size() ? values[k] : nullptr;
     InstanceTable table{ParamId(flat.parameters.size()), slot.rows, slot.cols, flat.tables.size()};
     std::vector<AstPtr> given;
-    if (m) given = TableElements(m->value, d, m->loc, path + "." + d.name, &table.rows, &table.cols);
-    const Shape shape = d.shape.size() == 1 ? Shape{static_cast<int>(table.rows)}
+    if (m) given = TableElements(m->value, decl, m->loc, path + "." + decl.name, &table.rows, &table.cols);
+    const Shape shape = decl.shape.size() == 1 ? Shape{static_cast<int>(table.rows)}
                                             : Shape{static_cast<int>(table.rows), static_cast<int>(table.cols)};
-    const TextRef unit = flat.Own(d.unit), doc = flat.Own(d.doc);  // one for all elements
+    const TextRef unit = flat.Own(decl.unit), doc = flat.Own(decl.doc);  // one for all elements
     for (size_t e = 0; e < static_cast<size_t>(table.rows) * table.cols; ++e) {
       FlatParameter fp;
-      fp.name = flat.Own(path + "." + ElementName(d.name, shape, e));
+      fp.name = flat.Own(path + "." + ElementName(decl.name, shape, e));
       fp.unit = unit;
       fp.doc = doc;
-      if (d.min) fp.min = *d.min;  // every element: a table of friction forces has min: 0
-      if (d.max) fp.max = *d.max;
+      if (decl.min) fp.min = *decl.min;  // every element: a table of friction forces has min: 0
+      if (decl.max) fp.max = *decl.max;
       fp.instance = inst;
       if (m) {
         fp.binding = scope_.Expr(*given[e], m->value_text, m->loc, index, false);
         fp.loc = m->loc;
       } else {
-        fp.binding = Instantiate(slot.defaults[e], data.first_var, data.first_param, inst, d.value_text, d.loc);
+        fp.binding = Instantiate(slot.defaults[e], data.first_var, data.first_param, inst, decl.value_text, decl.loc);
         fp.loc = c.loc;
       }
       flat.parameters.push_back(std::move(fp));
     }
-    flat.tables.push_back({path + "." + d.name, table.first, table.rows, table.cols, inst, m ? m->loc : c.loc, {}});
+    flat.tables.push_back({path + "." + decl.name, table.first, table.rows, table.cols, inst, m ? m->loc : c.loc, {}});
     current_.push_back(table);
   }
 }

@@ -399,18 +399,18 @@ void InstanceBuilder::AddEquations(const NewInstance& instance, const std::vecto
                                    const std::vector<uint32_t>* shapes, std::vector<FlatEquation>* out) {
   const InstanceData& data = instance.data;
   for (size_t k = 0; k < templates.size(); ++k) {
-    const PartInfo& d = info[k];
+    const PartInfo& part_info = info[k];
     FlatEquation eq;
     if (shapes != nullptr && (*shapes)[k] != kNotSure) {
       MakeBelowRoot(templates[k], data.first_var, data.first_param);
       context_.deferred->AddCopy(out->size(), (*shapes)[k], data.first_var, data.first_param);
     } else {
-      eq.residual = Instantiate(instance, templates[k], d.text, instance.component.loc);
+      eq.residual = Instantiate(instance, templates[k], part_info.text, instance.component.loc);
     }
-    eq.origin = d.origin;
-    eq.instance = d.origin == EquationOrigin::kConnection ? InstanceId() : instance.InstanceOf(d.sub);
+    eq.origin = part_info.origin;
+    eq.instance = part_info.origin == EquationOrigin::kConnection ? InstanceId() : instance.InstanceOf(part_info.sub);
     eq.text = {TextRef::kType, instance.id.value(), first_text + static_cast<uint32_t>(k)};
-    eq.loc = d.loc;
+    eq.loc = part_info.loc;
     out->push_back(std::move(eq));
   }
 }
@@ -442,30 +442,30 @@ void InstanceBuilder::AddImpacts(const NewInstance& instance) {
   };
   auto var_of = [&](uint32_t local) { return VarId(instance.data.first_var.value() + local); };
   for (const auto& it : instance.layout.impacts) {
-    const ImpactDecl& d = *it.decl;
+    const ImpactDecl& decl = *it.decl;
     FlatImpact im;
-    im.gap = inst_expr(it.gap, d.gap_text);
-    im.velocity = inst_expr(it.velocity, d.velocity_text);
-    im.restitution = inst_expr(it.restitution, d.restitution_text);
-    im.v_small = inst_expr(it.v_small, d.v_small_text);
-    im.release = inst_expr(it.release, d.release_text);
+    im.gap = inst_expr(it.gap, decl.gap_text);
+    im.velocity = inst_expr(it.velocity, decl.velocity_text);
+    im.restitution = inst_expr(it.restitution, decl.restitution_text);
+    im.v_small = inst_expr(it.v_small, decl.v_small_text);
+    im.release = inst_expr(it.release, decl.release_text);
     im.force = var_of(it.force);
     im.contact = var_of(it.contact);
     im.instance = instance.InstanceOf(it.sub);
-    im.loc = d.loc;
+    im.loc = decl.loc;
     // The contact law: no force while open, no relative acceleration while closed.
-    ExprPool& p = context_.pool();
-    if (p.mask(im.velocity) & kHasDer) {
-      throw ModelError(d.loc, "the impact velocity of " + flat.instances[im.instance.value()].type->name +
+    ExprPool& pool = context_.pool();
+    if (pool.mask(im.velocity) & kHasDer) {
+      throw ModelError(decl.loc, "the impact velocity of " + flat.instances[im.instance.value()].type->name +
                                   " may not contain der()");
     }
-    ExprId dvel = TimeDerivative(&p, im.velocity);
+    ExprId dvel = TimeDerivative(&pool, im.velocity);
     FlatEquation eq;
-    eq.residual = p.If(p.Var(im.contact), dvel, p.Var(im.force));
+    eq.residual = pool.If(pool.Var(im.contact), dvel, pool.Var(im.force));
     eq.origin = EquationOrigin::kComponent;
     eq.instance = im.instance;
-    eq.text = flat.Own("0 = if " + d.contact + " then der(" + d.velocity_text + ") else " + d.force + " (impact)");
-    eq.loc = d.loc;
+    eq.text = flat.Own("0 = if " + decl.contact + " then der(" + decl.velocity_text + ") else " + decl.force + " (impact)");
+    eq.loc = decl.loc;
     im.mode_equation = static_cast<uint32_t>(flat.equations.size());
     flat.equations.push_back(std::move(eq));
     flat.impacts.push_back(std::move(im));

@@ -141,20 +141,20 @@ void ModelConnections::CheckConnectedUnits(VarId a, const std::string& a_name, V
 }
 
 VarId ModelConnections::VarOf(uint32_t slot, uint32_t k) const {
-  const InstanceData& d = context_.instance_data[context_.slot_instance[slot]];
-  const ConnectorSlot& cs = d.layout->connectors[slot - d.first_slot];
-  return VarId(d.first_var.value() + cs.first_local_var + k);
+  const InstanceData& data = context_.instance_data[context_.slot_instance[slot]];
+  const ConnectorSlot& cs = data.layout->connectors[slot - data.first_slot];
+  return VarId(data.first_var.value() + cs.first_local_var + k);
 }
 
 std::string ModelConnections::NameOf(uint32_t slot) const {
-  const InstanceData& d = context_.instance_data[context_.slot_instance[slot]];
+  const InstanceData& data = context_.instance_data[context_.slot_instance[slot]];
   return context_.flat.InstancePath(InstanceId(context_.slot_instance[slot])) + "." +
-         d.layout->connectors[slot - d.first_slot].decl->name;
+         data.layout->connectors[slot - data.first_slot].decl->name;
 }
 
 const ConnectorType& ModelConnections::TypeOf(uint32_t slot) const {
-  const InstanceData& d = context_.instance_data[context_.slot_instance[slot]];
-  return *d.layout->connectors[slot - d.first_slot].type;
+  const InstanceData& data = context_.instance_data[context_.slot_instance[slot]];
+  return *data.layout->connectors[slot - data.first_slot].type;
 }
 
 void ModelConnections::Add(ExprId residual, TextRef text, const SourceLoc& loc) {

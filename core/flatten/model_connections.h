@@ -16,13 +16,21 @@
 
 namespace momenta::flatten_internal {
 
-class ModelConnections final : private ConnectionWriter {
+class ModelConnections {
  public:
   ModelConnections(FlattenContext* context, ModelScope* scope)
       : context_(*context), scope_(*scope), sets_(context->slot_instance.size()) {}
 
   /// Joins every connection of the model, then appends the connection sets' equations.
   void Run();
+
+  // The model's ConnectionWriter (connection_sets.h), for ConnectionSets::WriteEquations: the
+  // equations as expressions over flat variables, deferred where they are aliases.
+  const ConnectorType& TypeOf(uint32_t slot) const;
+  void Unconnected(uint32_t slot);
+  uint32_t Driver(const std::vector<uint32_t>& set, const SourceLoc& loc);
+  void Equal(uint32_t slot, uint32_t to, uint32_t k, const SourceLoc& loc);
+  void FlowSum(const std::vector<uint32_t>& set, uint32_t flow, const SourceLoc& loc);
 
  private:
   /// One end of a connection: an instance's connector, and where the end is written.
@@ -62,12 +70,6 @@ class ModelConnections final : private ConnectionWriter {
   /// Whether a connection equation between `a` and `b` names two continuous variables: an
   /// alias, which a build with deferred equations does not make.
   bool Continuous(VarId a, VarId b) const;
-
-  const ConnectorType& TypeOf(uint32_t slot) const override;
-  void Unconnected(uint32_t slot) override;
-  uint32_t Driver(const std::vector<uint32_t>& set, const SourceLoc& loc) override;
-  void Equal(uint32_t slot, uint32_t to, uint32_t k, const SourceLoc& loc) override;
-  void FlowSum(const std::vector<uint32_t>& set, uint32_t flow, const SourceLoc& loc) override;
 
   FlattenContext& context_;
   ModelScope& scope_;

@@ -101,12 +101,12 @@ double ModelScope::ParameterValue(ParamId id) {
       param_state_[q] = 1;
       stack.push_back({q, true});
       for (ExprId pe : deps) {
-        uint32_t d = pool.node(pe).a;
-        if (param_state_[d] == 1) {
-          throw ModelError(flat.parameters[d].loc,
-                           "the parameters' bindings form a cycle through " + flat.ParameterName(ParamId(d)));
+        uint32_t dependency = pool.node(pe).a;
+        if (param_state_[dependency] == 1) {
+          throw ModelError(flat.parameters[dependency].loc,
+                           "the parameters' bindings form a cycle through " + flat.ParameterName(ParamId(dependency)));
         }
-        if (param_state_[d] == 0) stack.push_back({d, false});
+        if (param_state_[dependency] == 0) stack.push_back({dependency, false});
       }
       continue;
     }

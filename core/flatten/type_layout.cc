@@ -46,11 +46,11 @@ void LayoutOwnVariables(const Library& library, TypeLayout* layout) {
       lv.name = c.name;
       lv.type = ct->signal_type;
       lv.is_input = ct->is_input;
-      auto d = declared.find(c.name);
-      if (d != declared.end()) {
-        lv.decl = d->second;
-        lv.unit = d->second->unit;
-        declared.erase(d);
+      auto declaration = declared.find(c.name);
+      if (declaration != declared.end()) {
+        lv.decl = declaration->second;
+        lv.unit = declaration->second->unit;
+        declared.erase(declaration);
       }
       layout->vars.push_back(lv);
     } else {
@@ -96,12 +96,12 @@ void LayoutOwnParameters(TypeLayout* layout) {
     }
     layout->param_index[p.name] = k;
   }
-  for (const auto& d : type->tables) {
-    if (layout->param_index.count(d.name) || layout->var_index.count(d.name) || layout->table_index.count(d.name)) {
-      throw ModelError(d.loc, type->name + "." + d.name + " is declared twice");
+  for (const auto& table : type->tables) {
+    if (layout->param_index.count(table.name) || layout->var_index.count(table.name) || layout->table_index.count(table.name)) {
+      throw ModelError(table.loc, type->name + "." + table.name + " is declared twice");
     }
-    layout->table_index[d.name] = static_cast<uint32_t>(layout->tables.size());
-    layout->tables.push_back({&d, 0, 0, {}});
+    layout->table_index[table.name] = static_cast<uint32_t>(layout->tables.size());
+    layout->tables.push_back({&table, 0, 0, {}});
   }
 }
 
@@ -135,9 +135,9 @@ void LayoutOwnTemplates(TypeLayout* layout, size_t own_vars) {
     layout->param_defaults.push_back(MakeTemplate(*layout, *p.value, p.value_text, p.loc, true));
   }
   for (TypeLayout::TableSlot& slot : layout->tables) {
-    const ParameterDecl& d = *slot.decl;
-    for (const AstPtr& e : TableElements(d.value, d, d.loc, type->name + "." + d.name, &slot.rows, &slot.cols)) {
-      slot.defaults.push_back(MakeTemplate(*layout, *e, d.value_text, d.loc, true));
+    const ParameterDecl& decl = *slot.decl;
+    for (const AstPtr& e : TableElements(decl.value, decl, decl.loc, type->name + "." + decl.name, &slot.rows, &slot.cols)) {
+      slot.defaults.push_back(MakeTemplate(*layout, *e, decl.value_text, decl.loc, true));
     }
   }
   for (size_t k = 0; k < own_vars; ++k) {
@@ -177,9 +177,9 @@ void LayoutEvents(TypeLayout* layout, const std::vector<PartPlan>& parts) {
   const ComponentType* type = layout->type;
   layout->discrete.assign(layout->vars.size(), false);
   for (size_t k = 0; k < layout->vars.size(); ++k) layout->discrete[k] = layout->vars[k].type != ValueType::kReal;
-  for (const PartPlan& pl : parts) {  // a part's own discrete variables
-    const uint32_t vo = layout->subs[pl.sub].first_var;
-    for (size_t k = 0; k < pl.layout->vars.size(); ++k) layout->discrete[vo + k] = pl.layout->discrete[k];
+  for (const PartPlan& plan : parts) {  // a part's own discrete variables
+    const uint32_t var_off = layout->subs[plan.sub].first_var;
+    for (size_t k = 0; k < plan.layout->vars.size(); ++k) layout->discrete[var_off + k] = plan.layout->discrete[k];
   }
   for (const auto& w : type->whens) {
     TypeLayout::WhenTemplate wt;

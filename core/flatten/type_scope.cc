@@ -213,21 +213,21 @@ TNode TypeLowering::TableOperand(const Ast& a, size_t dims) {
     throw ModelError(loc.Shifted(name.column), "the first argument of interpolate() must name a table, found '" +
                                                    AstToString(name) + "' in '" + text + "' of " + owner + valid);
   }
-  const ParameterDecl& d = *layout_.tables[found->second].decl;
-  if (d.shape.size() != dims) {
+  const ParameterDecl& decl = *layout_.tables[found->second].decl;
+  if (decl.shape.size() != dims) {
     throw ModelError(loc.Shifted(name.column),
                      a.op + "() takes " + (dims == 2 ? "a table of rows {x, y1, y2, …}" : "a vector of times") + ", but " +
-                         owner + "." + d.name + " has shape " + ShapeText(d.shape) + ", in '" + text + "'");
+                         owner + "." + decl.name + " has shape " + ShapeText(decl.shape) + ", in '" + text + "'");
   }
   double column = dims == 2 ? 2 : 1;
   if (dims == 2 && a.args.size() >= 3) {
     std::optional<double> c = ConstantValue(*a.args[2], loop_);
     if (!c && a.args[2]->kind == Ast::Kind::kName) {
       column = 0;  // a parameter: the caller adds it as the node's child c
-    } else if (!c || *c != std::floor(*c) || *c < 1 || (d.shape[1] != kOpenSize && *c > d.shape[1])) {
+    } else if (!c || *c != std::floor(*c) || *c < 1 || (decl.shape[1] != kOpenSize && *c > decl.shape[1])) {
       throw ModelError(loc.Shifted(a.args[2]->column),
                        "the column of " + a.op + "() must be a whole number from 1 to the table's columns" +
-                           std::string(d.shape[1] != kOpenSize ? " (" + std::to_string(d.shape[1]) + ")" : "") +
+                           std::string(decl.shape[1] != kOpenSize ? " (" + std::to_string(decl.shape[1]) + ")" : "") +
                            ", found '" + AstToString(*a.args[2]) + "' in '" + text + "' of " + owner);
     } else {
       column = *c;
