@@ -1,3 +1,6 @@
+// A composite type's parts inside its layout: their names first, so that every expression of the
+// type can name them, their templates after, rebased, with the composite's modifiers in place.
+
 #include "core/flatten/composite_parts.h"
 
 #include <unordered_set>

@@ -1,3 +1,6 @@
+// Connection sets: the first connection that names each slot, and whether two connectors may be
+// joined. The skeleton of a set's equations is a template over its writer (connection_sets.h).
+
 #include "core/flatten/connection_sets.h"
 
 namespace momenta::flatten_internal {

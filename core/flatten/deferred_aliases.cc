@@ -1,3 +1,6 @@
+// Deferred alias equations: each one's form, read from its template or its two variables, and
+// the equation made on demand with the leaves in the order flattening would have made them.
+
 #include "core/flatten/deferred_aliases.h"
 
 #include <algorithm>

@@ -1,3 +1,6 @@
+// The shared record of flattening: its start (the model's own types collected, each once) and
+// the look-ups every job makes.
+
 #include "core/flatten/flatten_context.h"
 
 #include "core/base/error.h"

@@ -1,3 +1,6 @@
+// The connection sets inside a composite type, as templates of its layout: the composite's own
+// connectors stand outside (their flows count negative), its parts' inside.
+
 #include "core/flatten/inner_connections.h"
 
 #include <cmath>

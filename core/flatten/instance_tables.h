@@ -17,12 +17,6 @@
 
 namespace momenta::flatten_internal {
 
-/// The elements of a table's value row by row, with its rows and columns: a list of rows of one
-/// length (`[[0, 1], [1, 2]]`) for a matrix table, a list of numbers for a vector (one column).
-/// The declared fixed sizes must match. `who` names the table in messages.
-std::vector<AstPtr> TableElements(const AstPtr& value, const ParameterDecl& decl, const SourceLoc& loc,
-                                  const std::string& who, uint32_t* rows, uint32_t* cols);
-
 class InstanceTables {
  public:
   InstanceTables(FlattenContext* context, ModelScope* scope) : context_(*context), scope_(*scope) {}

@@ -1,3 +1,7 @@
+// The model's components as instances: their records reserved first (the sizes are known from
+// the layouts), then each instance made one kind of record at a time, in the order of the flat
+// system's arrays and of the expression pool's nodes.
+
 #include "core/flatten/instances.h"
 
 #include <algorithm>

@@ -1,3 +1,5 @@
+// The operations of operators and functions, read alike in both lowering scopes.
+
 #include "core/flatten/lower.h"
 
 #include <unordered_map>

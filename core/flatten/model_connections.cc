@@ -1,3 +1,6 @@
+// The model's connections: ends resolved to slots, slots joined, and each set's equations made in
+// the pool, or deferred when they are aliases.
+
 #include "core/flatten/model_connections.h"
 
 #include "core/base/error.h"

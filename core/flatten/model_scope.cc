@@ -1,3 +1,7 @@
+// The model scope: the model's parameters and variables, the names its expressions use, the
+// structural values the model is built with, and its expressions lowered into the pool
+// (ModelScope::Lowering).
+
 #include "core/flatten/model_scope.h"
 
 #include <cmath>

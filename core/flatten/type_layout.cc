@@ -1,3 +1,6 @@
+// Type layouts: a type's own names and templates, its parts' (composite_parts.cc) and inner
+// connections (inner_connections.cc), and what is checked once per type (units, local balance).
+
 #include "core/flatten/type_layout.h"
 
 #include <algorithm>
@@ -8,8 +11,8 @@
 #include "core/base/messages.h"
 #include "core/flatten/composite_parts.h"
 #include "core/flatten/inner_connections.h"
-#include "core/flatten/instance_tables.h"
 #include "core/flatten/type_scope.h"
+#include "core/lang/arrays.h"
 #include "core/lang/parser.h"
 #include "core/lang/unit_check.h"
 
@@ -357,6 +360,53 @@ uint32_t CheckedCount(FlattenContext* context, const ComponentSpec& c, const Typ
                                 "momenta numbers (2^31)");
   }
   return static_cast<uint32_t>(n);
+}
+
+std::vector<AstPtr> TableElements(const AstPtr& value, const ParameterDecl& decl, const SourceLoc& loc,
+                                  const std::string& who, uint32_t* rows, uint32_t* cols) {
+  const std::string example = decl.shape.size() == 1 ? "[0, 1, 2]" : "[[0, 1], [1, 2]]";
+  const std::string expected = "the value of " + who + " (shape " + ShapeText(decl.shape) + ") must be a list of " +
+                               (decl.shape.size() == 1 ? "numbers" : "rows of one length") + ", e.g. " + example;
+  std::vector<AstPtr> elements;
+  const bool list = value->kind == Ast::Kind::kArray;
+  if (decl.shape.size() == 1) {
+    if (!list) throw ModelError(loc, expected);
+    for (const AstPtr& e : value->args) {
+      if (e->kind == Ast::Kind::kArray) throw ModelError(loc, expected + "; found a nested list");
+      elements.push_back(e);
+    }
+    *rows = static_cast<uint32_t>(elements.size());
+    *cols = 1;
+  } else {
+    if (!list || value->args[0]->kind != Ast::Kind::kArray) throw ModelError(loc, expected);
+    *rows = static_cast<uint32_t>(value->args.size());
+    *cols = static_cast<uint32_t>(value->args[0]->args.size());
+    for (size_t r = 0; r < value->args.size(); ++r) {
+      const Ast& row = *value->args[r];
+      if (row.kind != Ast::Kind::kArray || row.args.size() != *cols) {
+        throw ModelError(loc, expected + "; row " + std::to_string(r + 1) + " has " +
+                                  std::to_string(row.kind == Ast::Kind::kArray ? row.args.size() : 1) +
+                                  " elements, row 1 has " + std::to_string(*cols));
+      }
+      for (const AstPtr& e : row.args) {
+        if (e->kind == Ast::Kind::kArray) throw ModelError(loc, expected + "; found a list nested deeper");
+        elements.push_back(e);
+      }
+    }
+  }
+  const Shape found = decl.shape.size() == 1 ? Shape{static_cast<int>(*rows)}
+                                          : Shape{static_cast<int>(*rows), static_cast<int>(*cols)};
+  for (size_t k = 0; k < decl.shape.size(); ++k) {
+    if (decl.shape[k] != kOpenSize && decl.shape[k] != found[k]) {
+      throw ModelError(loc, "the value of " + who + " has shape " + ShapeText(found) + ", but it is declared with shape " +
+                                ShapeText(decl.shape));
+    }
+  }
+  if (elements.size() > kMaxArrayElements) {
+    throw ModelError(loc, "the value of " + who + " has " + std::to_string(elements.size()) + " elements, more than " +
+                              std::to_string(kMaxArrayElements));
+  }
+  return elements;
 }
 
 std::pair<bool, uint32_t> ModifierTarget(const ComponentSpec& c, const TypeLayout& layout, const Modifier& m) {

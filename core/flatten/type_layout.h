@@ -139,6 +139,12 @@ double EstimatedBytes(const TypeLayout& layout);
 uint32_t CheckedCount(FlattenContext* context, const ComponentSpec& c, const TypeLayout& layout, double n,
                       std::string what, const std::string& text);
 
+/// The elements of a table's value row by row, with its rows and columns: a list of rows of one
+/// length (`[[0, 1], [1, 2]]`) for a matrix table, a list of numbers for a vector (one column).
+/// The declared fixed sizes must match. `who` names the table in messages.
+std::vector<AstPtr> TableElements(const AstPtr& value, const ParameterDecl& decl, const SourceLoc& loc,
+                                  const std::string& who, uint32_t* rows, uint32_t* cols);
+
 /// Which parameter (first = true) or variable of `layout` a modifier of component `c` sets.
 std::pair<bool, uint32_t> ModifierTarget(const ComponentSpec& c, const TypeLayout& layout, const Modifier& m);
 

@@ -1,3 +1,6 @@
+// The type scope: a type's expressions lowered into templates over its local indices
+// (TypeLowering), names resolved to its variables, parameters and tables.
+
 #include "core/flatten/type_scope.h"
 
 #include <cmath>
