@@ -402,4 +402,32 @@ std::vector<std::vector<uint32_t>> StronglyConnectedComponents(uint32_t n,
   return out;
 }
 
+DisjointSets::DisjointSets(size_t num_elements) : parent_(num_elements) {
+  for (uint32_t k = 0; k < parent_.size(); ++k) parent_[k] = k;
+}
+
+uint32_t DisjointSets::Find(uint32_t x) {
+  while (parent_[x] != x) {
+    parent_[x] = parent_[parent_[x]];
+    x = parent_[x];
+  }
+  return x;
+}
+
+void DisjointSets::Join(uint32_t x, uint32_t y) { parent_[Find(x)] = Find(y); }
+
+std::vector<std::vector<uint32_t>> DisjointSets::Sets() {
+  std::vector<std::vector<uint32_t>> sets;
+  std::vector<int32_t> set_of_root(parent_.size(), -1);
+  for (uint32_t k = 0; k < parent_.size(); ++k) {
+    const uint32_t root = Find(k);
+    if (set_of_root[root] < 0) {
+      set_of_root[root] = static_cast<int32_t>(sets.size());
+      sets.emplace_back();
+    }
+    sets[set_of_root[root]].push_back(k);
+  }
+  return sets;
+}
+
 }  // namespace momenta

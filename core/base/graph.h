@@ -1,8 +1,8 @@
 #pragma once
 /// Graph algorithms for structural analysis: maximum bipartite matching (augmenting paths in the
 /// manner of Duff's MC21), alternating-path reachability (the Dulmage–Mendelsohn over- and
-/// under-determined parts) and strongly connected components (Tarjan). All iterative, so a model
-/// of a million equations cannot overflow the call stack.
+/// under-determined parts), strongly connected components (Tarjan) and disjoint sets (connection
+/// sets). All iterative, so a model of a million equations cannot overflow the call stack.
 
 #include <cstddef>
 #include <cstdint>
@@ -70,5 +70,22 @@ void UnderDeterminedPart(const BipartiteGraph& g, const Matching& m, std::vector
 std::vector<std::vector<uint32_t>> StronglyConnectedComponents(uint32_t num_nodes,
                                                                const std::vector<uint32_t>& start,
                                                                const std::vector<uint32_t>& adj);
+
+/// Disjoint sets over the elements 0 … n-1 (union-find with path halving), such as the connectors
+/// joined by connections into connection sets.
+class DisjointSets {
+ public:
+  explicit DisjointSets(size_t num_elements);
+  size_t size() const { return parent_.size(); }
+  /// The root of x's set (halving the path to it on the way).
+  uint32_t Find(uint32_t x);
+  /// Joins the sets of x and y: x's root is hung under y's.
+  void Join(uint32_t x, uint32_t y);
+  /// The sets, each in element order, ordered by their first element (whatever the roots are).
+  std::vector<std::vector<uint32_t>> Sets();
+
+ private:
+  std::vector<uint32_t> parent_;
+};
 
 }  // namespace momenta

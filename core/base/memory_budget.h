@@ -30,7 +30,7 @@ double EstimatedComponentBytes(size_t num_variables, size_t num_parameters,
 /// Builds planned above this many bytes (sizes given by the model's `count:`) are large: their
 /// time goes largely to page faults and TLB misses. Huge pages took 0.28 → 0.23 s of CPU off the
 /// RC ladder at n = 2 500 (about 40 MB at its peak), 0.91 → 0.70 s at n = 10 000 and 5.2 → 3.4 s
-/// at n = 50 000 (3 interleaved runs each, medians); this estimate (core/flatten/flatten.cc) reaches
+/// at n = 50 000 (3 interleaved runs each, medians); this estimate (core/flatten/type_layout.cc, EstimatedBytes) reaches
 /// 32 MiB near n = 4 000.
 constexpr double kLargeBuildBytes = 32.0 * 1024 * 1024;
 
@@ -45,7 +45,7 @@ class LargeBuildWatch {
   LargeBuildWatch& operator=(const LargeBuildWatch&) = delete;
 };
 
-/// Called by the flattener with the bytes planned so far (core/flatten/flatten.cc, CheckedCount).
+/// Called by the flattener with the bytes planned so far (core/flatten/type_layout.cc, CheckedCount).
 void NotePlannedBuild(double bytes);
 
 }  // namespace momenta

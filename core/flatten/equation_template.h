@@ -1,7 +1,7 @@
 #pragma once
 /// Equation templates: a component type's equations, start values and parameter bindings as
 /// expressions over its local variables and parameters, prepared once per type
-/// (core/flatten/flatten.cc's TypeLayout) and copied into the expression pool for each instance with its
+/// (core/flatten/type_layout.h's TypeLayout) and copied into the expression pool for each instance with its
 /// own first variable and parameter. What is known of every copy from the template alone is read
 /// here once (ReadSureAlias), not from each copy.
 

@@ -1,7 +1,8 @@
 #pragma once
 /// The flat system: every variable, parameter and equation of a model after instantiation and
-/// connection, in the user's names. The simplification and analysis passes take a FlatSystem and
-/// return a smaller one; the expression pool is shared between them.
+/// connection, in the user's names, as flattening makes it (core/flatten/flatten.h). The passes
+/// work on an EquationSystem made from it (core/passes/equation_system.h), which shares its
+/// expression pool and refers to its records.
 
 #include <limits>
 #include <map>
@@ -24,7 +25,7 @@ constexpr int kStateNever = -2, kStateDefault = 0, kStatePrefer = 1, kStateAlway
 
 /// A name, unit, doc or text of the flat system, made when it is needed (a message, `check -v`,
 /// an output column) rather than held by each record: a model of 100 000 components would
-/// otherwise carry a million strings (docs/ARRAY-BUILD.md, step 1). FlatSystem makes the string
+/// otherwise carry a million strings (docs/ARRAY-BUILD.md). FlatSystem makes the string
 /// (VariableName, EquationText, ...).
 struct TextRef {
   enum Kind : uint8_t {
@@ -135,7 +136,7 @@ struct FlatInstance {
   uint32_t path_text = 0;  ///< outside a block: its path, FlatSystem::texts[path_text]
 };
 
-/// A `count:` array of components (docs/ARRAY-BUILD.md, step 2): `count` elements of one type,
+/// A `count:` array of components (docs/ARRAY-BUILD.md): `count` elements of one type,
 /// made one after the other. Element k (0-based) is the instance first_instance + stride·k (a
 /// composite's parts follow it, at the offsets 1 … stride - 1, named part_paths), with the
 /// variables first_var + vars_per·k + local, the parameters first_param + params_per·k + local,

@@ -1,5 +1,5 @@
-// Maximum bipartite matching, the over- and under-determined parts, and strongly connected
-// components, on small graphs with known answers and on 100 000-long chains and cycles (the
+// Maximum bipartite matching, the over- and under-determined parts, strongly connected components
+// and disjoint sets, on small graphs with known answers and on 100 000-long chains and cycles (the
 // algorithms are iterative: no stack overflow).
 
 #include "core/base/graph.h"
@@ -345,6 +345,37 @@ TEST(GraphTest, IncrementalMatchingKeepsRowsThatStillFit) {
   EXPECT_EQ(ic.ColumnMatched(0) && ic.ColumnMatched(n), false);
   EXPECT_TRUE(ic.TryAdd({cm.col_to_row[0] < 0 ? n : 0}));
   for (uint32_t c = 0; c <= n; ++c) EXPECT_TRUE(ic.ColumnMatched(c)) << c;
+}
+
+TEST(GraphTest, DisjointSetsInElementOrder) {
+  DisjointSets sets(7);
+  sets.Join(5, 1);
+  sets.Join(3, 6);
+  sets.Join(6, 1);
+  EXPECT_EQ(sets.Find(3), sets.Find(5));
+  EXPECT_NE(sets.Find(0), sets.Find(1));
+  // Ordered by first element, each in element order, whichever element is the root.
+  const std::vector<std::vector<uint32_t>> expected = {{0}, {1, 3, 5, 6}, {2}, {4}};
+  EXPECT_EQ(sets.Sets(), expected);
+}
+
+TEST(GraphTest, DisjointSetsJoinHangsTheFirstRootUnderTheSecond) {
+  // Callers that order sets by their roots (dummy derivatives) rely on which root stays.
+  DisjointSets sets(3);
+  sets.Join(0, 1);
+  EXPECT_EQ(sets.Find(0), 1u);
+  sets.Join(2, 0);
+  EXPECT_EQ(sets.Find(2), 1u);
+}
+
+TEST(GraphTest, DisjointSets100000LongChain) {
+  const uint32_t n = 100000;
+  DisjointSets sets(n);
+  for (uint32_t k = 0; k + 1 < n; ++k) sets.Join(k, k + 1);
+  EXPECT_EQ(sets.Find(0), n - 1);
+  const std::vector<std::vector<uint32_t>> all = sets.Sets();
+  ASSERT_EQ(all.size(), 1u);
+  EXPECT_EQ(all[0].size(), n);
 }
 
 }  // namespace
