@@ -68,13 +68,22 @@ void MatWriter::Row(double t, const std::vector<double>& values) {
   ++rows_;
 }
 
-void MatWriter::Close() {
-  if (!file_) return;
+/// The six matrices of a Dymola-compatible result file (MAT v4), ready to write.
+struct MatWriter::Matrices {
+  std::vector<char> aclass;  ///< four rows of 11 characters, stored column by column
+  std::vector<char> name, description;
+  size_t name_height = 0, description_height = 0, num_columns = 0;
+  std::vector<int32_t> info;  ///< dataInfo: 4 rows per name
+  std::vector<double> data1;  ///< the time range and each parameter at start and stop
+};
+
+MatWriter::Matrices MatWriter::MakeMatrices() const {
   const size_t n_out = outputs_.size(), n_par = parameters_.size();
-  const size_t n = 1 + n_out + n_par;
+  Matrices m;
+  m.num_columns = 1 + n_out + n_par;
   std::vector<std::string> names, descriptions;
-  names.reserve(n);
-  descriptions.reserve(n);
+  names.reserve(m.num_columns);
+  descriptions.reserve(m.num_columns);
   names.push_back("time");
   descriptions.push_back("Simulation time [s]");
   for (size_t k = 0; k < outputs_.size(); ++k) {
@@ -86,42 +95,33 @@ void MatWriter::Close() {
     names.push_back(p.name);
     descriptions.push_back(p.description);
   }
-  // Aclass: four rows of 11 characters, stored column by column.
   const char* aclass_rows[4] = {"Atrajectory", "1.1", "", "binTrans"};
-  std::vector<char> aclass(4 * 11, '\0');
+  m.aclass.assign(4 * 11, '\0');
   for (size_t r = 0; r < 4; ++r) {
-    for (size_t c = 0; c < std::strlen(aclass_rows[r]); ++c) aclass[c * 4 + r] = aclass_rows[r][c];
+    for (size_t c = 0; c < std::strlen(aclass_rows[r]); ++c) m.aclass[c * 4 + r] = aclass_rows[r][c];
   }
-  size_t name_h = 0, desc_h = 0;
-  std::vector<char> name = Columns(names, &name_h), description = Columns(descriptions, &desc_h);
-  std::vector<int32_t> info(4 * n);
+  m.name = Columns(names, &m.name_height);
+  m.description = Columns(descriptions, &m.description_height);
+  m.info.resize(4 * m.num_columns);
   auto set_info = [&](size_t j, int32_t matrix, int32_t index, int32_t extrapolation) {
-    info[4 * j] = matrix;
-    info[4 * j + 1] = index;
-    info[4 * j + 2] = 0;  // linear interpolation
-    info[4 * j + 3] = extrapolation;
+    m.info[4 * j] = matrix;
+    m.info[4 * j + 1] = index;
+    m.info[4 * j + 2] = 0;  // linear interpolation
+    m.info[4 * j + 3] = extrapolation;
   };
   set_info(0, 0, 1, -1);  // time: the abscissa, row 1 of data_2, not defined outside the range
   for (size_t k = 0; k < n_out; ++k) set_info(1 + k, 2, static_cast<int32_t>(k + 2), 0);
   for (size_t p = 0; p < n_par; ++p) set_info(1 + n_out + p, 1, static_cast<int32_t>(p + 2), 0);
   // data_1: the time range, then each parameter, at the start (column 1) and stop (column 2).
   const size_t n1 = 1 + n_par;
-  std::vector<double> data1(2 * n1);
-  data1[0] = start_;
-  data1[n1] = stop_;
-  for (size_t p = 0; p < n_par; ++p) data1[1 + p] = data1[n1 + 1 + p] = parameters_[p].value;
+  m.data1.resize(2 * n1);
+  m.data1[0] = start_;
+  m.data1[n1] = stop_;
+  for (size_t p = 0; p < n_par; ++p) m.data1[1 + p] = m.data1[n1 + 1 + p] = parameters_[p].value;
+  return m;
+}
 
-  // libmatio 1.5 does not report failed writes (a full disk, /dev/full): it writes a temporary
-  // regular file, whose size is checked, and that file's bytes are copied to the results file
-  // with every write checked.
-  std::string temp = (std::filesystem::temp_directory_path() / "momenta-XXXXXX.mat").string();
-  const int fd = mkstemps(temp.data(), 4);
-  if (fd < 0) Fail("cannot create a temporary file in " + std::filesystem::temp_directory_path().string(), errno);
-  close(fd);
-  struct TempRemover {
-    std::string path;
-    ~TempRemover() { std::remove(path.c_str()); }
-  } remover{temp};
+void MatWriter::WriteTemporary(const std::string& temp, Matrices* m) {
   mat_t* mat = Mat_CreateVer(temp.c_str(), nullptr, MAT_FT_MAT4);
   if (!mat) Fail("cannot create the temporary file " + temp, errno);
   bool ok = true;
@@ -135,12 +135,13 @@ void MatWriter::Close() {
     std::unique_ptr<matvar_t, VarDeleter> v(Mat_VarCreate(var_name, cls, type, 2, dims, data, MAT_F_DONT_COPY_DATA));
     ok = v && Mat_VarWrite(mat, v.get(), MAT_COMPRESSION_NONE) == 0;
   };
-  write("Aclass", MAT_C_CHAR, MAT_T_UINT8, 4, 11, aclass.data());
-  write("name", MAT_C_CHAR, MAT_T_UINT8, name_h, n, name.data());
-  write("description", MAT_C_CHAR, MAT_T_UINT8, desc_h, n, description.data());
-  write("dataInfo", MAT_C_INT32, MAT_T_INT32, 4, n, info.data());
-  write("data_1", MAT_C_DOUBLE, MAT_T_DOUBLE, n1, 2, data1.data());
-  write("data_2", MAT_C_DOUBLE, MAT_T_DOUBLE, 1 + n_out, rows_, data_.data());
+  const size_t n = m->num_columns;
+  write("Aclass", MAT_C_CHAR, MAT_T_UINT8, 4, 11, m->aclass.data());
+  write("name", MAT_C_CHAR, MAT_T_UINT8, m->name_height, n, m->name.data());
+  write("description", MAT_C_CHAR, MAT_T_UINT8, m->description_height, n, m->description.data());
+  write("dataInfo", MAT_C_INT32, MAT_T_INT32, 4, n, m->info.data());
+  write("data_1", MAT_C_DOUBLE, MAT_T_DOUBLE, 1 + parameters_.size(), 2, m->data1.data());
+  write("data_2", MAT_C_DOUBLE, MAT_T_DOUBLE, 1 + outputs_.size(), rows_, data_.data());
   const bool closed = Mat_Close(mat) == 0;
   std::error_code ec;
   const uintmax_t size = std::filesystem::file_size(temp, ec);
@@ -149,7 +150,9 @@ void MatWriter::Close() {
              " bytes were written to the temporary file " + temp + " (is the disk full?)",
          0);
   }
-  // The bytes to the results file.
+}
+
+void MatWriter::CopyToResults(const std::string& temp) {
   std::unique_ptr<std::FILE, int (*)(std::FILE*)> in(std::fopen(temp.c_str(), "rb"), &std::fclose);
   if (!in) Fail("cannot read back the temporary file " + temp, errno);
   std::vector<char> chunk(1 << 16);
@@ -167,6 +170,24 @@ void MatWriter::Close() {
     Fail("", errno);
   }
   if (!copied) Fail("", copy_errno);
+}
+
+void MatWriter::Close() {
+  if (!file_) return;
+  Matrices matrices = MakeMatrices();
+  // libmatio 1.5 does not report failed writes (a full disk, /dev/full): it writes a temporary
+  // regular file, whose size is checked, and that file's bytes are copied to the results file
+  // with every write checked.
+  std::string temp = (std::filesystem::temp_directory_path() / "momenta-XXXXXX.mat").string();
+  const int fd = mkstemps(temp.data(), 4);
+  if (fd < 0) Fail("cannot create a temporary file in " + std::filesystem::temp_directory_path().string(), errno);
+  close(fd);
+  struct TempRemover {
+    std::string path;
+    ~TempRemover() { std::remove(path.c_str()); }
+  } remover{temp};
+  WriteTemporary(temp, &matrices);
+  CopyToResults(temp);
 }
 
 void MatWriter::Fail(const std::string& what, int error) const {

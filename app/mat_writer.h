@@ -61,6 +61,12 @@ class MatWriter : public ResultWriter {
   std::vector<MatParameter> parameters_;
   /// Throws ResultWriteError "cannot write the results file <path>: <what>: <strerror(error)>".
   [[noreturn]] void Fail(const std::string& what, int error) const;
+  struct Matrices;
+  Matrices MakeMatrices() const;
+  /// Writes the matrices and data_2 to `temp` and checks its size (libmatio reports no failed write).
+  void WriteTemporary(const std::string& temp, Matrices* matrices);
+  /// Copies `temp` into the results file, every write checked, and closes it.
+  void CopyToResults(const std::string& temp);
 
   double start_, stop_;
   std::FILE* file_ = nullptr;  ///< the results file, open from construction to Close()
