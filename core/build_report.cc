@@ -1,3 +1,6 @@
+// The text of the build's report (core/build_report.h): every pass's note, and the notes and
+// warnings the compiled model gives the user, worded in one place.
+
 #include "core/build_report.h"
 
 #include <sstream>

@@ -1,3 +1,6 @@
+// The chain rule over PostOrderWalk (core/expr/expr_walk.h), for one leaf or the time, and a
+// Jacobian row's partials from one walk of the expression (PartialDerivatives).
+
 #include "core/expr/expr_derivatives.h"
 
 #include <algorithm>

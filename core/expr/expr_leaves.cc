@@ -1,3 +1,6 @@
+// Leaf collection (core/expr/expr_leaves.h): a small tree is walked without remembering its
+// inner nodes, a large one with VisitLeaves (core/expr/expr_walk.h), which visits each node once.
+
 #include "core/expr/expr_leaves.h"
 
 #include <algorithm>

@@ -1,3 +1,6 @@
+// Infix text of an expression (core/expr/expr_print.h): precedence decides the parentheses;
+// deep or long expressions are elided.
+
 #include "core/expr/expr_print.h"
 
 #include <sstream>

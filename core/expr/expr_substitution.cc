@@ -1,3 +1,6 @@
+// Substitution (a memo by node id that lives across calls, for the passes' accumulated
+// eliminations) and one-off replacement over PostOrderWalk (core/expr/expr_walk.h).
+
 #include "core/expr/expr_substitution.h"
 
 #include "core/expr/expr_walk.h"

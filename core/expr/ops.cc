@@ -1,3 +1,6 @@
+// The operations' arity and names (core/expr/ops.h); their arithmetic is inline in the header,
+// where constant folding, the evaluator and the program interpreter inline it.
+
 #include "core/expr/ops.h"
 
 namespace momenta {

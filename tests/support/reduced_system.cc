@@ -1,3 +1,6 @@
+// The passes before Pantelides' algorithm, run as the build runs them, for the pass tests
+// (tests/support/reduced_system.h).
+
 #include "tests/support/reduced_system.h"
 
 #include <gtest/gtest.h>
