@@ -15,7 +15,6 @@
 #include "core/base/memory_budget.h"
 #include "core/compile/model_state.h"
 #include "core/lang/units.h"
-#include "core/flatten/flatten.h"
 #include "core/lang/yaml_loader.h"
 #include "core/lang/builtin_library.h"
 
@@ -76,30 +75,6 @@ void WriteUnitsFile(const std::string& path, const std::vector<std::string>& nam
   if (!f) throw CsvWriteError("cannot write the units file " + path);
 }
 
-bool ApplyOverrideUnits(const FlatSystem& flat, const OverrideUnits& units, ParameterOverrides* overrides) {
-  bool changed = false;
-  for (const auto& [name, q] : units) {
-    std::optional<ParamId> p = flat.FindParameter(name);
-    if (!p) continue;  // reported by the build as an unknown parameter
-    const std::string& unit = flat.ParameterUnit(*p);
-    std::ostringstream given;
-    given << "-p " << name << "=" << q.value << " " << q.unit;
-    if (unit.empty()) {
-      throw UsageError("momenta: " + given.str() + ": " + name + " declares no unit, so a value in " + q.unit +
-                       " cannot be converted; give it as a plain number");
-    }
-    double v;
-    try {
-      v = ConvertValue(q.value, q.unit, unit);
-    } catch (const UnitError& e) {
-      throw UsageError("momenta: " + given.str() + ": " + name + " is in " + unit + ": " + e.what());
-    }
-    changed = changed || v != (*overrides)[name];
-    (*overrides)[name] = v;
-  }
-  return changed;
-}
-
 ParameterOverrides ParseOverrides(const std::vector<std::string>& pairs, OverrideUnits* units) {
   ParameterOverrides out;
   for (const auto& p : pairs) {
@@ -114,8 +89,8 @@ ParameterOverrides ParseOverrides(const std::vector<std::string>& pairs, Overrid
     } else if (text == "false") {
       v = 0;
     } else if (std::optional<Quantity> q = QuantityOf(name, text)) {
-      // A value with a unit (10kN/m): SI for now; ApplyOverrideUnits converts it to the
-      // parameter's own unit once the model tells it.
+      // A value with a unit (10kN/m): SI for now; the build converts it to the parameter's
+      // own unit once the flattened model tells it.
       if (!units) throw std::invalid_argument("-p " + name + ": this command takes plain numbers, found '" + text + "'");
       (*units)[name] = *q;
       const Unit unit = ParseUnit(q->unit);
@@ -170,13 +145,19 @@ int LoadAndBuild(const std::string& path, const ParameterOverrides& overrides, L
     out->doc = spec.doc;
     // An array model's file is small: a large build shows once its counts are known.
     LargeBuildWatch large_build([](double) { RestartWithHugePagesForLargeBuild(); });
-    // The report's scene: outputs added for what the parts draw (flattens once more).
-    if (out->with_scene) out->scene = PrepareScene(&spec, BuiltinLibrary(), out->overrides);
     auto t1 = Clock::now();
-    // Values given with units are converted to their parameters' declared units, which the
-    // flattened model tells (flattened with the values in SI, in case one shapes the structure).
-    if (!units.empty()) ApplyOverrideUnits(Flatten(spec, BuiltinLibrary(), out->overrides), units, &out->overrides);
-    out->model = BuildModel(std::move(spec), BuiltinLibrary(), out->overrides, &out->report);
+    BuildOptions options;
+    options.overrides = out->overrides;
+    options.override_units = units;
+    // The report's scene: outputs added for what the parts draw, once the build has flattened
+    // the model.
+    if (out->with_scene) {
+      options.add_outputs = [out](const FlatSystem& flat, ModelSpec* model) {
+        out->scene = AddSceneOutputs(flat, model);
+      };
+    }
+    out->model = BuildModel(std::move(spec), BuiltinLibrary(), options, &out->report);
+    out->overrides = out->report.overrides;
     out->build_s = Since(t1);
     // Native code for the programs (from the cache, or compiled now) where it pays.
     out->model = AttachNativeCode(std::move(out->model), out->codegen, &out->codegen_report);

@@ -57,16 +57,10 @@ std::string UnitsPath(const std::string& csv_path);
 void WriteUnitsFile(const std::string& path, const std::vector<std::string>& names,
                     const std::vector<std::string>& units);
 
-/// -p values written with a unit (`-p k=10kN/m`), by parameter name.
-using OverrideUnits = std::map<std::string, Quantity>;
-
 /// Parses NAME=VALUE pairs; throws std::invalid_argument with a usage message. A value with a
-/// unit is stored in SI in the result and recorded in `*units` (refused when `units` is null).
+/// unit is stored in SI in the result and recorded in `*units` (refused when `units` is null);
+/// the build converts it to its parameter's declared unit (BuildOptions::override_units).
 ParameterOverrides ParseOverrides(const std::vector<std::string>& pairs, OverrideUnits* units = nullptr);
-
-/// Converts the values of `units` into their parameters' declared units in `*overrides`; returns
-/// whether any value changed. Throws UsageError naming both units when the dimensions differ.
-bool ApplyOverrideUnits(const FlatSystem& flat, const OverrideUnits& units, ParameterOverrides* overrides);
 
 /// What simulate, check and sweep start from: the built model and its parameter values.
 struct LoadedModel {

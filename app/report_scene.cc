@@ -3,9 +3,7 @@
 #include <algorithm>
 #include <set>
 
-#include "core/build.h"
 #include "core/lang/parser.h"
-#include "core/flatten/flatten.h"
 
 namespace momenta {
 
@@ -35,10 +33,8 @@ AstPtr InScope(const AstPtr& a, const std::vector<NameSegment>& prefix) {
 
 }  // namespace
 
-Scene AddSceneOutputs(ModelSpec* spec, const Library& library,
-                      const ParameterOverrides& overrides) {
+Scene AddSceneOutputs(const FlatSystem& flat, ModelSpec* spec) {
   Scene scene;
-  const FlatSystem flat = Flatten(*spec, library, overrides);
   std::set<std::string> listed;
   for (const auto& o : spec->outputs) listed.insert(o.text);
   for (uint32_t i = 0; i < flat.instances.size(); ++i) {
@@ -73,21 +69,6 @@ Scene AddSceneOutputs(ModelSpec* spec, const Library& library,
     }
   }
   return scene;
-}
-
-Scene PrepareScene(ModelSpec* spec, const Library& library, const ParameterOverrides& overrides) {
-  if (spec->outputs.empty()) {
-    BuildReport report;
-    const auto model = BuildModel(*spec, library, overrides, &report);
-    for (const std::string& name : model->output_names) {
-      OutputSpec o;
-      o.text = name;
-      o.loc = spec->loc;
-      o.expr = ParseName(name, spec->loc);
-      spec->outputs.push_back(std::move(o));
-    }
-  }
-  return AddSceneOutputs(spec, library, overrides);
 }
 
 size_t ResolveSceneColumns(const std::vector<std::string>& columns, Scene* scene) {

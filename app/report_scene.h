@@ -32,16 +32,14 @@ struct Scene {
   bool empty() const { return shapes.empty(); }
 };
 
-/// The scene of `spec`'s model: AddSceneOutputs, after giving a model that lists no outputs its
-/// states as outputs (what it would output without a scene; found by building it once).
-Scene PrepareScene(ModelSpec* spec, const Library& library, const ParameterOverrides& overrides);
-
-/// Flattens `spec`, finds every instance whose type declares an animation and appends to
-/// spec->outputs the expressions its shapes need, in the model's scope (`A.r`, `[cord.frame_a.x,
-/// cord.frame_a.y]`); an expression the model already outputs is not added again. Returns the
-/// scene with the output texts each field reads; ResolveSceneColumns turns them into column
-/// names once the model is built. Throws ModelError as Flatten does.
-Scene AddSceneOutputs(ModelSpec* spec, const Library& library, const ParameterOverrides& overrides);
+/// Finds every instance of the flattened model `flat` whose type declares an animation and
+/// appends to spec->outputs the expressions its shapes need, in the model's scope (`A.r`,
+/// `[cord.frame_a.x, cord.frame_a.y]`); an expression the model already outputs is not added
+/// again. Returns the scene with the output texts each field reads; ResolveSceneColumns turns
+/// them into column names once the model is built. The build calls it (BuildOptions::add_outputs)
+/// and flattens the model again with these outputs, reporting a name a field lacks as Flatten
+/// does.
+Scene AddSceneOutputs(const FlatSystem& flat, ModelSpec* spec);
 
 /// Replaces each field's output text by the built model's column names for it (a vector output
 /// `A.r` is the columns `A.r[1]`, `A.r[2]`); a field whose columns are missing from `columns`

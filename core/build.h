@@ -1,50 +1,54 @@
 #pragma once
 /// The pipeline from a model file's spec to a CompiledModel: flatten, eliminate aliases, reduce
 /// the index, analyse, prune, causalise, set up initialisation, compile. Each pass reports its
-/// size and time (what `momenta check` prints).
+/// size and time (core/build_report.h, what `momenta check` prints).
 
+#include <functional>
+#include <map>
 #include <memory>
 #include <string>
-#include <vector>
+#include <utility>
 
+#include "core/build_report.h"
 #include "core/compile/compiled_model.h"
 #include "core/lang/model_spec.h"
+#include "core/lang/units.h"
 
 namespace momenta {
 
-struct PassReport {
-  std::string name;
-  double seconds = 0;      ///< wall-clock time
-  double cpu_seconds = 0;  ///< CPU time of the building thread (leaves out waiting for a core)
-  size_t variables = 0;  ///< unknowns after the pass
-  size_t equations = 0;  ///< equations after the pass
-  std::string note;
-};
+struct FlatSystem;
 
-struct BuildReport {
-  std::vector<PassReport> passes;
-  std::vector<std::string> warnings;
-  std::vector<std::string> notes;       ///< what was accepted but deserves a word (redundant initial conditions)
-  std::vector<std::string> pruned;      ///< names of pruned variables
-  std::vector<std::string> states;      ///< names of the states
-  size_t num_components = 0, num_parameters = 0;
-  /// Index reduction (Pantelides and dummy derivatives), when the model needed it.
-  uint32_t structural_index = 1;
-  std::vector<std::string> differentiated;      ///< differentiated equations, described
-  std::vector<std::string> dummy_derivatives;   ///< e.g. "der(pendulum.y)"
-  std::vector<std::string> state_choices;       ///< where a choice of states was made
-  std::string compile_note;
+/// -p values written with a unit (`-p k=10kN/m`), by parameter name.
+using OverrideUnits = std::map<std::string, Quantity>;
+
+/// What a build takes besides the model's spec and the library.
+struct BuildOptions {
+  BuildOptions() = default;
+  /// -p values alone, what most builds are given (implicit, so that they can be passed as such).
+  // NOLINTNEXTLINE(runtime/explicit)
+  BuildOptions(ParameterOverrides values) : overrides(std::move(values)) {}
+
+  /// -p values by parameter name; those also in `override_units` are given in SI.
+  ParameterOverrides overrides;
+  /// -p values given with a unit: converted to their parameters' declared units, which the
+  /// flattened model tells (BuildReport::overrides holds the values built with). Throws
+  /// UsageError naming both units when the dimensions differ, or when the parameter declares no
+  /// unit.
+  OverrideUnits override_units;
+  /// Outputs to add once the model is flattened (the report's scene, app/report_scene.h): called
+  /// with the flattened model and the spec, to which it may append outputs. They come after the
+  /// model's own outputs, which for a model that lists none are its states. The model is then
+  /// flattened again with them.
+  std::function<void(const FlatSystem& flat, ModelSpec* spec)> add_outputs;
 };
 
 /// Flattens, simplifies and compiles the model (the passes recorded in `report`). Throws
 /// ModelError naming the file, line and the user's component.
 std::shared_ptr<const CompiledModel> BuildModel(const ModelSpec& spec, const Library& library,
-                                                const ParameterOverrides& overrides,
-                                                BuildReport* report);
+                                                const BuildOptions& options, BuildReport* report);
 /// The same, releasing the spec once it is flattened: a large model's parsed file is about a
 /// fifth of the build's peak memory, and nothing after flattening reads it.
 std::shared_ptr<const CompiledModel> BuildModel(ModelSpec&& spec, const Library& library,
-                                                const ParameterOverrides& overrides,
-                                                BuildReport* report);
+                                                const BuildOptions& options, BuildReport* report);
 
 }  // namespace momenta

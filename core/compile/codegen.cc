@@ -68,8 +68,9 @@ class Writer {
   std::string text_;
 };
 
-/// The C helpers the instructions call: PowValue and InterpolateTable (core/expr/expr_eval.h) written
-/// out operation for operation, so that their results agree to the bit.
+/// The C helpers the instructions call: PowValue (core/expr/ops.h) and InterpolateTable
+/// (core/expr/expr_eval.h) written out operation for operation, so that their results agree to the
+/// bit.
 constexpr const char* kPrelude = R"(#include <math.h>
 #include <stddef.h>
 #include <stdint.h>

@@ -78,6 +78,56 @@ std::string Sources(const CompiledModel& m, std::vector<uint32_t> rows) {
   return from.str();
 }
 
+/// The start values that may complete the kept rows `ids` of [F; G], in the order they are
+/// tried: the states in the under-determined part, those whose derivatives index reduction made
+/// dummy (the positions and velocities of a constrained mechanism, what the user would have
+/// fixed) first.
+std::vector<uint32_t> StartValueOrder(const EquationSystem& sys, const CompiledModel& m,
+                                      const InitGraph& ig, const std::vector<uint32_t>& ids,
+                                      const std::vector<int32_t>& y_of_var) {
+  const uint32_t n = ig.n();
+  std::vector<uint32_t> kept = ids;
+  std::sort(kept.begin(), kept.end());
+  BipartiteGraph gk = ig.Graph(kept);
+  Matching mk = MaximumMatching(gk);
+  std::vector<uint32_t> under_rows, under_cols;
+  UnderDeterminedPart(gk, mk, &under_rows, &under_cols);
+  std::sort(under_cols.begin(), under_cols.end());
+  std::vector<bool> has_dummy_derivative(n, false);
+  for (const FlatVariable& fv : sys.flat->variables) {
+    if (fv.derivative_order != 1 || !fv.derivative_of.valid()) continue;
+    int32_t y = y_of_var[fv.derivative_of.value()];
+    if (y >= 0) has_dummy_derivative[y] = true;
+  }
+  std::vector<uint32_t> order;
+  for (uint32_t c : under_cols) {
+    if (c < n && has_dummy_derivative[c]) order.push_back(c);
+  }
+  for (uint32_t c : under_cols) {
+    if (c < n && m.is_state[c] && !has_dummy_derivative[c]) order.push_back(c);
+  }
+  return order;
+}
+
+/// Throws ModelError naming the unknowns that no row of the completed system determines.
+void CheckAllDetermined(const EquationSystem& sys, const CompiledModel& m, const InitGraph& ig,
+                        const IncrementalMatching& im) {
+  const uint32_t n = ig.n();
+  std::vector<uint32_t> free_cols;
+  for (uint32_t c = 0; c < ig.num_cols(); ++c) {
+    if (!im.ColumnMatched(c)) free_cols.push_back(c);
+  }
+  if (free_cols.empty()) return;
+  std::ostringstream msg;
+  msg << sys.flat->file << ": the initial conditions of " << sys.flat->model_name << " leave unknowns undetermined:";
+  for (size_t k = 0; k < free_cols.size() && k < 12; ++k) {
+    const uint32_t c = free_cols[k];
+    uint32_t y = c < n ? c : m.state_y[c - n];
+    msg << "\n    " << (c < n ? "" : "der of ") << sys.flat->DescribeVariable(m.unknowns[y]);
+  }
+  throw ModelError(msg.str());
+}
+
 }  // namespace
 
 InitialConditionPlan PlanInitialConditions(const EquationSystem& sys, const CompiledModel& m,
@@ -123,47 +173,13 @@ InitialConditionPlan PlanInitialConditions(const EquationSystem& sys, const Comp
   }
 
   // Too few: the start values of states in the under-determined part, one at a time while each
-  // still adds one. Variables whose derivatives index reduction made dummy (the positions and
-  // velocities of a constrained mechanism) are what the user would have fixed: they go first.
+  // still adds one.
   if (ids.size() < ig.num_cols()) {
-    std::vector<uint32_t> kept = ids;
-    std::sort(kept.begin(), kept.end());
-    BipartiteGraph gk = ig.Graph(kept);
-    Matching mk = MaximumMatching(gk);
-    std::vector<uint32_t> under_rows, under_cols;
-    UnderDeterminedPart(gk, mk, &under_rows, &under_cols);
-    std::sort(under_cols.begin(), under_cols.end());
-    std::vector<bool> has_dummy_derivative(n, false);
-    for (const FlatVariable& fv : sys.flat->variables) {
-      if (fv.derivative_order != 1 || !fv.derivative_of.valid()) continue;
-      int32_t y = y_of_var[fv.derivative_of.value()];
-      if (y >= 0) has_dummy_derivative[y] = true;
-    }
-    std::vector<uint32_t> order;
-    for (uint32_t c : under_cols) {
-      if (c < n && has_dummy_derivative[c]) order.push_back(c);
-    }
-    for (uint32_t c : under_cols) {
-      if (c < n && m.is_state[c] && !has_dummy_derivative[c]) order.push_back(c);
-    }
-    for (uint32_t c : order) {
+    for (uint32_t c : StartValueOrder(sys, m, ig, ids, y_of_var)) {
       if (im.TryAdd({c})) plan.defaulted.push_back(c);
     }
   }
-  std::vector<uint32_t> free_cols;
-  for (uint32_t c = 0; c < ig.num_cols(); ++c) {
-    if (!im.ColumnMatched(c)) free_cols.push_back(c);
-  }
-  if (!free_cols.empty()) {
-    std::ostringstream msg;
-    msg << sys.flat->file << ": the initial conditions of " << sys.flat->model_name << " leave unknowns undetermined:";
-    for (size_t k = 0; k < free_cols.size() && k < 12; ++k) {
-      const uint32_t c = free_cols[k];
-      uint32_t y = c < n ? c : m.state_y[c - n];
-      msg << "\n    " << (c < n ? "" : "der of ") << sys.flat->DescribeVariable(m.unknowns[y]);
-    }
-    throw ModelError(msg.str());
-  }
+  CheckAllDetermined(sys, m, ig, im);
   return plan;
 }
 

@@ -228,8 +228,43 @@ uint32_t ProgramCompiler::Visit(uint32_t id) {
   return static_cast<uint32_t>(visited_.size() - 1);
 }
 
-Program ProgramCompiler::Compile(const std::vector<ExprId>& roots, const std::vector<uint32_t>* registers) {
+/// Compile()'s second step: the program being emitted and the temporaries' bookkeeping.
+struct ProgramCompiler::Emission {
+  explicit Emission(const std::vector<uint32_t>* registers) : registers(registers) {}
+
+  /// Root k's value (register `src`) stored into out[k], or into its register.
+  void Store(uint32_t k, uint32_t src) {
+    if (registers) {
+      prog.code().push_back({kStoreRegister, (*registers)[k], src, 0, 0});
+    } else {
+      prog.code().push_back({kStore, k, src, 0, 0});
+    }
+  }
+  /// A temporary whose last reader has run.
+  void Free(uint32_t reg) {
+    free_regs.push_back(reg);
+    std::push_heap(free_regs.begin(), free_regs.end(), std::greater<uint32_t>());
+  }
+  /// The lowest free temporary, or a new one.
+  uint32_t TakeTemporary() {
+    if (free_regs.empty()) return num_temps++;
+    std::pop_heap(free_regs.begin(), free_regs.end(), std::greater<uint32_t>());
+    const uint32_t reg = free_regs.back();
+    free_regs.pop_back();
+    return reg;
+  }
+
   Program prog;
+  const std::vector<uint32_t>* registers;
+  std::vector<uint32_t> free_regs;  ///< a min-heap
+  uint32_t num_temps = 0;
+  /// Per temporary: the instruction that wrote its value (the value a live register holds).
+  std::vector<uint32_t> written_at;
+  /// Into registers: the roots of each computed value, stored as soon as it is computed.
+  std::unordered_map<uint32_t, std::vector<uint32_t>> root_slots;
+};
+
+Program ProgramCompiler::Compile(const std::vector<ExprId>& roots, const std::vector<uint32_t>* registers) {
   // Per-node scratch (remaining readers, temporary register, visit state) for the nodes this call
   // computes, numbered in visit order: node_slot_ (by node id, never cleared) finds a node's
   // number, which is valid when visited_ has the node at that place (a sparse set), so nothing
@@ -239,155 +274,148 @@ Program ProgramCompiler::Compile(const std::vector<ExprId>& roots, const std::ve
   if (node_slot_.size() < pool_.size()) GrowNodeSlots();
   visited_.clear();
   local_.clear();
-  // 1. The nodes this program computes, children first, and how often each is read; after each
-  //    root, a marker (its index with kTempFlag): the root is stored in its turn.
-  std::vector<uint32_t>& order = order_;
-  order.clear();
-  {
-    std::vector<uint32_t>& stack = stack_;
-    stack.clear();
-    for (size_t k = 0; k < roots.size(); ++k) {
-      const uint32_t root = roots[k].value();
-      if (Computed(root)) {
-        const uint32_t r = Visit(root);
-        ++local_[r].uses;
-        stack.push_back(r);
-      }
-      while (!stack.empty()) {
-        const uint32_t q = stack.back();
-        if (local_[q].state == 2) {
-          stack.pop_back();
-          continue;
-        }
-        if (local_[q].state == 0) {
-          local_[q].state = 1;
-          const Node& n = pool_.node(ExprId(visited_[q]));
-          int arity = Arity(n.op);
-          uint32_t kids[3] = {n.a, n.b, n.c};
-          for (int j = arity - 1; j >= 0; --j) {
-            if (!Computed(kids[j])) continue;
-            const uint32_t kid = Visit(kids[j]);
-            ++local_[kid].uses;
-            if (local_[kid].state == 0) stack.push_back(kid);
-          }
-          continue;
-        }
-        local_[q].state = 2;
-        stack.pop_back();
-        order.push_back(q);
-      }
-      order.push_back(kTempFlag | static_cast<uint32_t>(k));
-    }
-  }
+  OrderNodes(roots);
   // 2. Emit, reusing a temporary as soon as its last reader has run, the lowest free one first
   //    (last-freed first would rotate the registers of values carried from one component to the
   //    next irregularly); roots are stored in their turns (into registers: when computed).
   // One instruction per computed node and one store per root: the program's size, known now,
   // reserved exactly (grown by doubling, the programs held up to twice their size at the build's
   // memory peak, and copied on the way).
-  prog.code().reserve(order.size());
-  std::vector<uint32_t> free_regs;  // a min-heap
-  uint32_t num_temps = 0;
-  auto operand = [&](uint32_t child) -> uint32_t {
-    if (Computed(child)) return kTempFlag | local_[Visit(child)].reg;
-    const Node& n = pool_.node(ExprId(child));
-    if (n.op != Op::kConst && IsLeaf(n.op)) return LeafRegister(ExprId(child));
-    return ParamOnlyRegister(ExprId(child));
-  };
-  // Per temporary: the instruction that wrote its value (the value a live register holds).
-  std::vector<uint32_t> written_at;
-  constexpr uint32_t kNotComputed = ~0u;
-  auto release = [&](uint32_t child) {
-    if (!Computed(child)) return;
-    Local& s = local_[Visit(child)];
-    if (--s.uses == 0) {
-      free_regs.push_back(s.reg);
-      std::push_heap(free_regs.begin(), free_regs.end(), std::greater<uint32_t>());
-    }
-  };
-  std::unordered_map<uint32_t, std::vector<uint32_t>> root_slots;
+  Emission emission(registers);
+  emission.prog.code().reserve(order_.size());
   for (size_t k = 0; registers && k < roots.size(); ++k) {
-    if (Computed(roots[k].value())) root_slots[roots[k].value()].push_back(static_cast<uint32_t>(k));
-  }
-  auto store = [&](uint32_t k, uint32_t src) {
-    if (registers) {
-      prog.code().push_back({kStoreRegister, (*registers)[k], src, 0, 0});
-    } else {
-      prog.code().push_back({kStore, k, src, 0, 0});
+    if (Computed(roots[k].value())) {
+      emission.root_slots[roots[k].value()].push_back(static_cast<uint32_t>(k));
     }
-  };
-  for (uint32_t q : order) {
+  }
+  for (uint32_t q : order_) {
     if (q & kTempFlag) {
-      // A root's turn is over: it is stored here (into out), also when an earlier root computed
-      // it, so that the code of like components stays alike (loop rerolling, core/compile/reroll.h).
-      uint32_t k = q & ~kTempFlag;
-      const uint32_t root = roots[k].value();
-      if (!Computed(root)) {
-        store(k, operand(root));
-      } else if (!registers) {
-        store(k, kTempFlag | local_[Visit(root)].reg);
-        release(root);
-      }
-      continue;
-    }
-    const uint32_t id = visited_[q];
-    const Node& n = pool_.node(ExprId(id));
-    const int arity = Arity(n.op);
-    // The operands' registers, in operand order (a parameter-only operand may be emitted into
-    // the parameter program here), and for a computed one its number: looked up once each.
-    const uint32_t kids[3] = {n.a, n.b, n.c};
-    uint32_t regs[3] = {0, 0, 0};
-    uint32_t kid_number[3] = {kNotComputed, kNotComputed, kNotComputed};
-    for (int j = 0; j < arity; ++j) {
-      if (Computed(kids[j])) {
-        kid_number[j] = Visit(kids[j]);
-        regs[j] = kTempFlag | local_[kid_number[j]].reg;
-      } else {
-        regs[j] = operand(kids[j]);
-      }
-    }
-    Instruction in{static_cast<uint8_t>(n.op), 0, regs[0], regs[1], regs[2]};
-    // Operands of + and * in an order that does not depend on node ids (which follow the order
-    // the expressions were made in): inputs first by register, then computed values oldest
-    // first, so that like components give like code (loop rerolling, core/compile/reroll.h). Both are
-    // commutative in IEEE arithmetic: the value is the same bit for bit.
-    auto operand_order = [&](int j) -> uint64_t {
-      return kid_number[j] != kNotComputed ? (uint64_t{1} << 32) | written_at[local_[kid_number[j]].reg] : regs[j];
-    };
-    if ((n.op == Op::kAdd || n.op == Op::kMul) && operand_order(1) < operand_order(0)) std::swap(in.a, in.b);
-    if (n.op == Op::kInterp || n.op == Op::kInterpSlope) in.c = prog.AddTable(pool_.node(ExprId(n.b)));
-    for (int j = 0; j < arity; ++j) {
-      if (kid_number[j] == kNotComputed) continue;
-      Local& s = local_[kid_number[j]];
-      if (--s.uses == 0) {
-        free_regs.push_back(s.reg);
-        std::push_heap(free_regs.begin(), free_regs.end(), std::greater<uint32_t>());
-      }
-    }
-    uint32_t dst;
-    if (!free_regs.empty()) {
-      std::pop_heap(free_regs.begin(), free_regs.end(), std::greater<uint32_t>());
-      dst = free_regs.back();
-      free_regs.pop_back();
+      EndRootTurn(q & ~kTempFlag, roots, &emission);
     } else {
-      dst = num_temps++;
-    }
-    local_[q].reg = dst;
-    if (written_at.size() <= dst) written_at.resize(dst + 1);
-    written_at[dst] = static_cast<uint32_t>(prog.code().size());
-    in.dst = kTempFlag | dst;
-    prog.code().push_back(in);
-    // Into registers, every root of this value is stored at once (later roots read them).
-    auto slots = registers ? root_slots.find(id) : root_slots.end();
-    if (slots != root_slots.end()) {
-      for (uint32_t k : slots->second) {
-        store(k, kTempFlag | dst);
-        release(id);
-      }
+      EmitNode(q, &emission);
     }
   }
-  max_temps_ = std::max(max_temps_, num_temps);
-  return prog;
+  max_temps_ = std::max(max_temps_, emission.num_temps);
+  return std::move(emission.prog);
+}
+
+void ProgramCompiler::OrderNodes(const std::vector<ExprId>& roots) {
+  // 1. The nodes this program computes, children first, and how often each is read; after each
+  //    root, a marker (its index with kTempFlag): the root is stored in its turn.
+  std::vector<uint32_t>& order = order_;
+  order.clear();
+  std::vector<uint32_t>& stack = stack_;
+  stack.clear();
+  for (size_t k = 0; k < roots.size(); ++k) {
+    const uint32_t root = roots[k].value();
+    if (Computed(root)) {
+      const uint32_t r = Visit(root);
+      ++local_[r].uses;
+      stack.push_back(r);
+    }
+    while (!stack.empty()) {
+      const uint32_t q = stack.back();
+      if (local_[q].state == 2) {
+        stack.pop_back();
+        continue;
+      }
+      if (local_[q].state == 0) {
+        local_[q].state = 1;
+        const Node& n = pool_.node(ExprId(visited_[q]));
+        int arity = Arity(n.op);
+        uint32_t kids[3] = {n.a, n.b, n.c};
+        for (int j = arity - 1; j >= 0; --j) {
+          if (!Computed(kids[j])) continue;
+          const uint32_t kid = Visit(kids[j]);
+          ++local_[kid].uses;
+          if (local_[kid].state == 0) stack.push_back(kid);
+        }
+        continue;
+      }
+      local_[q].state = 2;
+      stack.pop_back();
+      order.push_back(q);
+    }
+    order.push_back(kTempFlag | static_cast<uint32_t>(k));
+  }
+}
+
+uint32_t ProgramCompiler::OperandRegister(uint32_t child) {
+  if (Computed(child)) return kTempFlag | local_[Visit(child)].reg;
+  const Node& n = pool_.node(ExprId(child));
+  if (n.op != Op::kConst && IsLeaf(n.op)) return LeafRegister(ExprId(child));
+  return ParamOnlyRegister(ExprId(child));
+}
+
+void ProgramCompiler::EndRootTurn(uint32_t k, const std::vector<ExprId>& roots,
+                                  Emission* emission) {
+  // A root's turn is over: it is stored here (into out), also when an earlier root computed it,
+  // so that the code of like components stays alike (loop rerolling, core/compile/reroll.h).
+  const uint32_t root = roots[k].value();
+  if (!Computed(root)) {
+    emission->Store(k, OperandRegister(root));
+  } else if (!emission->registers) {
+    emission->Store(k, kTempFlag | local_[Visit(root)].reg);
+    Release(root, emission);
+  }
+}
+
+void ProgramCompiler::Release(uint32_t child, Emission* emission) {
+  if (!Computed(child)) return;
+  Local& s = local_[Visit(child)];
+  if (--s.uses == 0) emission->Free(s.reg);
+}
+
+void ProgramCompiler::EmitNode(uint32_t q, Emission* emission) {
+  constexpr uint32_t kNotComputed = ~0u;
+  const uint32_t id = visited_[q];
+  const Node& n = pool_.node(ExprId(id));
+  const int arity = Arity(n.op);
+  // The operands' registers, in operand order (a parameter-only operand may be emitted into
+  // the parameter program here), and for a computed one its number: looked up once each.
+  const uint32_t kids[3] = {n.a, n.b, n.c};
+  uint32_t regs[3] = {0, 0, 0};
+  uint32_t kid_number[3] = {kNotComputed, kNotComputed, kNotComputed};
+  for (int j = 0; j < arity; ++j) {
+    if (Computed(kids[j])) {
+      kid_number[j] = Visit(kids[j]);
+      regs[j] = kTempFlag | local_[kid_number[j]].reg;
+    } else {
+      regs[j] = OperandRegister(kids[j]);
+    }
+  }
+  Instruction in{static_cast<uint8_t>(n.op), 0, regs[0], regs[1], regs[2]};
+  // Operands of + and * in an order that does not depend on node ids (which follow the order
+  // the expressions were made in): inputs first by register, then computed values oldest
+  // first, so that like components give like code (loop rerolling, core/compile/reroll.h). Both are
+  // commutative in IEEE arithmetic: the value is the same bit for bit.
+  const std::vector<uint32_t>& written_at = emission->written_at;
+  auto operand_order = [&](int j) -> uint64_t {
+    return kid_number[j] != kNotComputed ? (uint64_t{1} << 32) | written_at[local_[kid_number[j]].reg] : regs[j];
+  };
+  if ((n.op == Op::kAdd || n.op == Op::kMul) && operand_order(1) < operand_order(0)) std::swap(in.a, in.b);
+  if (n.op == Op::kInterp || n.op == Op::kInterpSlope) {
+    in.c = emission->prog.AddTable(pool_.node(ExprId(n.b)));
+  }
+  for (int j = 0; j < arity; ++j) {
+    if (kid_number[j] == kNotComputed) continue;
+    Local& s = local_[kid_number[j]];
+    if (--s.uses == 0) emission->Free(s.reg);
+  }
+  const uint32_t dst = emission->TakeTemporary();
+  local_[q].reg = dst;
+  if (emission->written_at.size() <= dst) emission->written_at.resize(dst + 1);
+  emission->written_at[dst] = static_cast<uint32_t>(emission->prog.code().size());
+  in.dst = kTempFlag | dst;
+  emission->prog.code().push_back(in);
+  // Into registers, every root of this value is stored at once (later roots read them).
+  auto slots = emission->registers ? emission->root_slots.find(id) : emission->root_slots.end();
+  if (slots != emission->root_slots.end()) {
+    for (uint32_t k : slots->second) {
+      emission->Store(k, kTempFlag | dst);
+      Release(id, emission);
+    }
+  }
 }
 
 void ProgramCompiler::Finish(std::vector<Program*> programs) {

@@ -130,6 +130,20 @@ class ProgramCompiler {
   uint32_t max_temps_ = 0;
   /// Compile()'s number of the computed node `id` in this call, visiting it if new (see Compile).
   uint32_t Visit(uint32_t id);
+  /// Compile()'s first step: the nodes the program computes, children first, into order_, each
+  /// with its count of readers; after each root a marker (its index with kTempFlag).
+  void OrderNodes(const std::vector<ExprId>& roots);
+  /// Compile()'s second step, node by node in order_ (program.cc).
+  struct Emission;
+  /// The register an operand is read from: a temporary for a computed value, else its global
+  /// register (a parameter-only value emitted into the parameter program first).
+  uint32_t OperandRegister(uint32_t child);
+  /// One reader of `child` has run: its temporary is freed after the last.
+  void Release(uint32_t child, Emission* emission);
+  /// The instruction of the computed node numbered `q`, into the lowest free temporary.
+  void EmitNode(uint32_t q, Emission* emission);
+  /// The end of root k's turn: its value stored.
+  void EndRootTurn(uint32_t k, const std::vector<ExprId>& roots, Emission* emission);
   // Compile()'s scratch, reused across calls (see Compile).
   struct Local {
     uint32_t uses;   ///< readers not yet emitted

@@ -12,41 +12,9 @@
 
 #include "core/base/huge_alloc.h"
 #include "core/base/ids.h"
+#include "core/expr/ops.h"
 
 namespace momenta {
-
-enum class Op : uint8_t {
-  // Leaves.
-  kConst,    ///< value
-  kVar,      ///< a = VarId: the value of a variable
-  kDer,      ///< a = VarId, b = order - 1: a time derivative of a variable (order 1, 2, …)
-  kPre,      ///< a = VarId: the left limit of a discrete variable at an event
-  kParam,    ///< a = ParamId
-  kTime,     ///< the independent variable
-  kInitial,  ///< true during initialisation only
-  kCj,       ///< IDA's coefficient cj in dF/dy + cj dF/dy' (Jacobians only)
-  kCond,     ///< a = condition index: an event relation's value, frozen between events
-  /// A column of a table parameter (docs/FORMAT.md, "Tables"): a = ParamId of its element [1,1],
-  /// b = rows, c = the columns (elements row by row in consecutive parameters) and the column
-  /// read (1-based; Node::TableColumns, Node::TableColumn). Read only as the second operand of
-  /// kInterp and kInterpSlope.
-  kTable,
-  // Arithmetic.
-  kAdd, kSub, kMul, kDiv, kPow, kNeg,
-  // Functions of one argument.
-  kSin, kCos, kTan, kAsin, kAcos, kAtan, kSinh, kCosh, kTanh, kExp, kLog, kLog10, kSqrt, kAbs,
-  kSign,
-  // Functions of two arguments.
-  kAtan2, kMin, kMax,
-  // Relations and logic; values are 1.0 (true) and 0.0 (false).
-  kLt, kLe, kGt, kGe, kEq, kNe, kAnd, kOr, kNot,
-  // if a then b else c.
-  kIf,
-  // interpolate(table, x): a = x, b = a kTable leaf; linear between rows, linear extrapolation
-  // through the first or last two rows, constant for a one-row table. kInterpSlope is its
-  // derivative with respect to x (the slope of the segment x lies in).
-  kInterp, kInterpSlope,
-};
 
 /// Bits of Node::flags.
 enum NodeFlag : uint8_t {
@@ -96,12 +64,6 @@ static_assert(sizeof(Node) == 16, "a node is 16 bytes");
 
 /// The most columns a table may have (a table leaf keeps its column count and column in 16 bits each).
 constexpr uint32_t kMaxTableColumns = 0xFFFF;
-
-int Arity(Op op);
-bool IsLeaf(Op op);
-bool IsRelation(Op op);
-bool IsBooleanOp(Op op);  ///< relations, and/or/not: the value is 0 or 1
-const char* OpName(Op op);
 
 /// Owner of all expression nodes of one model. Ids stay valid while the pool lives; the pool only
 /// grows.

@@ -16,6 +16,6 @@ struct CausalStats {
   size_t loop_variables = 0;
 };
 
-EquationSystem Causalize(EquationSystem sys, Structure* st, CausalStats* stats);
+EquationSystem Causalize(EquationSystem sys, Structure* structure, CausalStats* stats);
 
 }  // namespace momenta

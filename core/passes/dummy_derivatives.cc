@@ -23,8 +23,6 @@ constexpr size_t kDenseLimit = 200;
 constexpr double kPivotFraction = 0.1;
 constexpr double kNeverPivotFraction = 1e-8;
 
-/// stateSelect priorities (FlatVariable::state_priority).
-
 /// A state set switches when its current choice's pivot falls below this fraction of the best.
 constexpr double kSwitchFraction = 0.5;
 /// Dynamic sets are made for blocks of at most this many equations (symbolic determinants).
@@ -471,12 +469,14 @@ void AddStateSet(EquationSystem* sys, const DynamicSet& set, size_t number) {
   sys->whens.push_back({w.condition, w.assigns, w.reinits, static_cast<uint32_t>(flat.whens.size() - 1)});
 }
 
-}  // namespace
-
-StateSelection SelectDummyDerivatives(EquationSystem* sys, const DifferentiatedSystem& d,
-                                      const std::vector<double>& params) {
+/// Chooses the dummy derivatives level by level, from the differentiated equations at the top
+/// of their chains down, with the highest derivatives of every variable as the first
+/// candidates; returns by variable the lowest derivative order made dummy (UINT32_MAX: none),
+/// with the dynamic state sets in `*sets` and the choices and warnings in `*out`.
+std::vector<uint32_t> ChooseLevels(EquationSystem* sys, const DifferentiatedSystem& differentiated,
+                                   const std::vector<double>& params, std::vector<DynamicSet>* sets,
+                                   StateSelection* out) {
   ExprPool& p = *sys->pool;
-  StateSelection out;
   const size_t nv = sys->role.size();
   // The start point the pivots are chosen at.
   std::vector<double> start(nv, 0.0);
@@ -485,22 +485,20 @@ StateSelection SelectDummyDerivatives(EquationSystem* sys, const DifferentiatedS
     lv.params = params.data();
     for (size_t v = 0; v < nv; ++v) start[v] = sys->guess[v].valid() ? Evaluate(p, sys->guess[v], lv) : 0.0;
   }
-
-  // Level by level: the differentiated equations at the top of their chains, and the highest
-  // derivatives of every variable as candidates.
   std::vector<uint32_t> rows;
-  for (uint32_t e = 0; e < d.derivative.size(); ++e) {
-    if (d.derivative[e] < 0 && d.antiderivative[e] >= 0) rows.push_back(e);
+  for (uint32_t e = 0; e < differentiated.derivative.size(); ++e) {
+    if (differentiated.derivative[e] < 0 && differentiated.antiderivative[e] >= 0) {
+      rows.push_back(e);
+    }
   }
   std::vector<Candidate> cands;
-  for (uint32_t v = 0; v < d.max_order.size(); ++v) {
-    if (d.max_order[v] >= 1) cands.push_back({v, d.max_order[v]});
+  for (uint32_t v = 0; v < differentiated.max_order.size(); ++v) {
+    if (differentiated.max_order[v] >= 1) cands.push_back({v, differentiated.max_order[v]});
   }
   std::vector<uint32_t> lowest_dummy(nv, UINT32_MAX);
   LevelChoice chooser(sys, params, start);
-  std::vector<DynamicSet> sets;
   while (!rows.empty()) {
-    std::vector<Candidate> chosen = chooser.Choose(rows, cands, &out.choices, &sets);
+    std::vector<Candidate> chosen = chooser.Choose(rows, cands, &out->choices, sets);
     cands.clear();
     for (const Candidate& c : chosen) {
       lowest_dummy[c.var] = std::min(lowest_dummy[c.var], c.order);
@@ -508,19 +506,25 @@ StateSelection SelectDummyDerivatives(EquationSystem* sys, const DifferentiatedS
     }
     std::vector<uint32_t> next;
     for (uint32_t r : rows) {
-      int32_t a = d.antiderivative[r];
-      if (a >= 0 && d.antiderivative[a] >= 0) next.push_back(static_cast<uint32_t>(a));
+      int32_t a = differentiated.antiderivative[r];
+      if (a >= 0 && differentiated.antiderivative[a] >= 0) next.push_back(static_cast<uint32_t>(a));
     }
     rows.swap(next);
   }
-  out.warnings = chooser.warnings();
+  out->warnings = chooser.warnings();
+  return lowest_dummy;
+}
 
-  // Rewrite: dummy derivatives become algebraic variables; derivatives of order two or more that
-  // stay derivatives go through new states (first-order form).
+/// Rewrites `sys` in the choice: dummy derivatives become algebraic variables; derivatives of
+/// order two or more that stay derivatives go through new states (first-order form).
+void RewriteInDummyDerivatives(EquationSystem* sys, const DifferentiatedSystem& differentiated,
+                               const std::vector<uint32_t>& lowest_dummy,
+                               const std::vector<DynamicSet>& sets, StateSelection* out) {
+  ExprPool& p = *sys->pool;
   Substitution s(&p);
   std::vector<std::pair<ExprId, ExprId>> links;  // der(prev) = w, added after the substitution
-  for (uint32_t v = 0; v < d.max_order.size(); ++v) {
-    const uint32_t top = d.max_order[v];
+  for (uint32_t v = 0; v < differentiated.max_order.size(); ++v) {
+    const uint32_t top = differentiated.max_order[v];
     if (top == 0) continue;
     const FlatVariable base = sys->flat->variables[v];
     const std::string base_name = sys->flat->VariableName(VarId(v));
@@ -538,7 +542,7 @@ StateSelection SelectDummyDerivatives(EquationSystem* sys, const DifferentiatedS
     for (uint32_t k = first_dummy; k <= top; ++k) {
       VarId w = make(k);
       s.Set(p.Der(VarId(v), k), p.Var(w));
-      out.dummy_derivatives.push_back(DerName(base_name, k));
+      out->dummy_derivatives.push_back(DerName(base_name, k));
     }
     const uint32_t highest_kept = first_dummy - 1;
     if (highest_kept >= 2) {
@@ -547,14 +551,14 @@ StateSelection SelectDummyDerivatives(EquationSystem* sys, const DifferentiatedS
         VarId w = make(j);
         s.Set(p.Der(VarId(v), j), p.Var(w));
         links.push_back({p.Der(prev), p.Var(w)});
-        out.new_states.push_back(DerName(base_name, j));
+        out->new_states.push_back(DerName(base_name, j));
         prev = w;
       }
       s.Set(p.Der(VarId(v), highest_kept), p.Der(prev));
     }
   }
   for (size_t k = 0; k < sets.size(); ++k) AddStateSet(sys, sets[k], k + 1);
-  if (s.size() == 0) return out;
+  if (s.size() == 0) return;
   sys->ApplySubstitution(&s);
   for (auto [der_prev, w] : links) {
     const VarId wid(p.node(w).a);
@@ -563,6 +567,17 @@ StateSelection SelectDummyDerivatives(EquationSystem* sys, const DifferentiatedS
                     sys->flat->VariableName(wid) + " = " + DerName(sys->flat->VariableName(wv.derivative_of), wv.derivative_order),
                     wv.loc);
   }
+}
+
+}  // namespace
+
+StateSelection SelectDummyDerivatives(EquationSystem* sys,
+                                      const DifferentiatedSystem& differentiated,
+                                      const std::vector<double>& params) {
+  StateSelection out;
+  std::vector<DynamicSet> sets;
+  const std::vector<uint32_t> lowest_dummy = ChooseLevels(sys, differentiated, params, &sets, &out);
+  RewriteInDummyDerivatives(sys, differentiated, lowest_dummy, sets, &out);
   return out;
 }
 

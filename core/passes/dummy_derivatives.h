@@ -39,7 +39,8 @@ struct StateSelection {
 /// Chooses the dummy derivatives of `sys` (after Pantelides) and rewrites the system in them;
 /// `params` are the parameter values (for the start values). Throws ModelError naming the
 /// equations when a level admits no nonsingular choice.
-StateSelection SelectDummyDerivatives(EquationSystem* sys, const DifferentiatedSystem& d,
+StateSelection SelectDummyDerivatives(EquationSystem* sys,
+                                      const DifferentiatedSystem& differentiated,
                                       const std::vector<double>& params);
 
 }  // namespace momenta

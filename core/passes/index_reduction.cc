@@ -77,8 +77,6 @@ void DerivativeAliases(EquationSystem* sys, IndexStats* stats, EquationLeaves* l
   for (auto& o : sys->outputs) o = rewrite.Apply(o);
 }
 
-/// stateSelect priorities (FlatVariable::state_priority).
-
 /// Whether every variable leaf among `leaves` (an equation's) has `members` set.
 bool AllVariablesIn(const ExprPool& p, const ExprId* begin, const ExprId* end, const std::vector<bool>& members) {
   for (const ExprId* l = begin; l != end; ++l) {
@@ -88,22 +86,49 @@ bool AllVariablesIn(const ExprPool& p, const ExprId* begin, const ExprId* end, c
   return true;
 }
 
-/// Step 2: constraints among differentiated variables. `leaves` holds the equations' leaves, and
-/// is kept current.
-void ConstrainedStates(EquationSystem* sys, IndexStats* stats, EquationLeaves* leaves) {
-  ExprPool& p = *sys->pool;
-  const FlatSystem& flat = *sys->flat;
-  Substitution& s = *sys->eliminated;
-  std::vector<bool> diff = leaves->Differentiated(p, sys->role.size());
-  // Equations that define a variable as the derivative of another, u = c*der(x) + offset (a
-  // body's v = der(r)), by x (the first such equation): a constrained x with such a u can stay
-  // an unknown.
-  constexpr int32_t kNone = -1;
-  std::vector<int32_t> derivative_definition(sys->role.size(), kNone);
-  {
+/// Step 2: constraints among differentiated variables, each solved for one of its variables x,
+/// which leaves with der(x). `leaves` holds the equations' leaves, and is kept current.
+class ConstrainedStates {
+ public:
+  ConstrainedStates(EquationSystem* sys, IndexStats* stats, EquationLeaves* leaves)
+      : sys_(*sys),
+        pool_(*sys->pool),
+        flat_(*sys->flat),
+        eliminated_(*sys->eliminated),
+        stats_(*stats),
+        leaves_(*leaves),
+        differentiated_(leaves->Differentiated(pool_, sys->role.size())),
+        derivative_definition_(sys->role.size(), kNone),
+        constraint_count_(sys->role.size(), 0),
+        maybe_constraint_(sys->equations.size(), false),
+        drop_(sys->equations.size(), false),
+        shared_solution_(sys->role.size(), false) {}
+
+  void Run() {
+    FindDerivativeDefinitions();
+    CountConstraints();
+    for (size_t k = 0; k < sys_.equations.size(); ++k) SolveConstraint(k);
+    std::vector<SystemEquation> kept;
+    kept.reserve(sys_.equations.size());
+    for (size_t k = 0; k < sys_.equations.size(); ++k) {
+      if (!drop_[k]) kept.push_back(sys_.equations[k]);
+    }
+    sys_.equations.swap(kept);
+    leaves_.Drop(drop_);
+    if (changed_) ApplyEliminations(&sys_, &leaves_);
+  }
+
+ private:
+  static constexpr int32_t kNone = -1;
+
+  /// Equations that define a variable as the derivative of another, u = c*der(x) + offset (a
+  /// body's v = der(r)), by x (the first such equation): a constrained x with such a u can stay
+  /// an unknown.
+  void FindDerivativeDefinitions() {
+    ExprPool& p = pool_;
     AffineForm form;
-    for (uint32_t k = 0; k < sys->equations.size(); ++k) {
-      ExprId r = sys->equations[k].residual;
+    for (uint32_t k = 0; k < sys_.equations.size(); ++k) {
+      ExprId r = sys_.equations[k].residual;
       const uint8_t m = p.mask(r);
       if (!(m & kHasDer) || (m & (kHasPre | kHasTime | kHasInitial))) continue;
       if (!DecomposeAffine(&p, r, 2, &form) || form.terms.size() != 2) continue;
@@ -111,7 +136,7 @@ void ConstrainedStates(EquationSystem* sys, IndexStats* stats, EquationLeaves* l
       const bool d0 = p.op(t0.first) == Op::kDer && p.DerOrder(t0.first) == 1 && p.op(t1.first) == Op::kVar;
       const bool d1 = p.op(t1.first) == Op::kDer && p.DerOrder(t1.first) == 1 && p.op(t0.first) == Op::kVar;
       if (d0 == d1) continue;
-      int32_t& definition = derivative_definition[p.node((d0 ? t0 : t1).first).a];
+      int32_t& definition = derivative_definition_[p.node((d0 ? t0 : t1).first).a];
       if (definition == kNone) definition = static_cast<int32_t>(k);
       // A velocity that should be a state (MSL's v_rel = der(s_rel) with stateSelect prefer)
       // takes part in constraints among states as if it were differentiated: a constraint
@@ -120,55 +145,62 @@ void ConstrainedStates(EquationSystem* sys, IndexStats* stats, EquationLeaves* l
       // stays algebraic and a reinit of v_a (a hard stop) would make v_rel jump where MSL's
       // reference keeps it.
       const uint32_t u = p.node((d0 ? t1 : t0).first).a;
-      if (flat.variables[u].state_priority >= kStatePrefer) diff[u] = true;
+      if (flat_.variables[u].state_priority >= kStatePrefer) differentiated_[u] = true;
     }
   }
-  // How many constraints each state occurs in. Eliminating a variable that occurs in one
-  // constraint keeps every substitution local; eliminating one shared by two (a mass between two
-  // spring-dampers) would make each mass position a sum over the chain: dense expressions.
-  std::vector<uint32_t> constraint_count(sys->role.size(), 0);
-  std::vector<ExprId> vars, original_vars;  // scratch for the loops below
-  // Which equations are constraints among states as they stand now: one that is not and is not
-  // rewritten below is skipped there without collecting its variables again.
-  std::vector<bool> maybe_constraint(sys->equations.size(), false);
-  for (size_t k = 0; k < sys->equations.size(); ++k) {
-    const ExprId r = sys->equations[k].residual;
-    const uint8_t m = p.mask(r);
-    if ((m & (kHasDer | kHasPre | kHasInitial)) || !(m & kHasVar)) continue;
+
+  /// Whether `r`, an equation's residual with leaves `leaves_` of row k, is a constraint among
+  /// states: no derivatives, pre-values or initial(), and every variable differentiated.
+  bool IsConstraint(ExprId r, size_t k) const {
+    const uint8_t m = pool_.mask(r);
+    if ((m & (kHasDer | kHasPre | kHasInitial)) || !(m & kHasVar)) return false;
     // Without derivatives and pre-values, the equation's leaves are its variables.
-    if (!AllVariablesIn(p, leaves->begin(k), leaves->end(k), diff)) continue;
-    maybe_constraint[k] = true;
-    for (const ExprId* v = leaves->begin(k); v != leaves->end(k); ++v) ++constraint_count[p.node(*v).a];
+    return AllVariablesIn(pool_, leaves_.begin(k), leaves_.end(k), differentiated_);
   }
-  std::vector<bool> drop(sys->equations.size(), false);
-  // Variables replaced by the solution of a constraint they share with another: a second such
-  // solution that holds one (the next frame of a chain) is nested, and is kept instead (below).
-  std::vector<bool> shared_solution(sys->role.size(), false);
-  bool changed = false;
-  for (size_t k = 0; k < sys->equations.size(); ++k) {
-    SystemEquation& eq = sys->equations[k];
+
+  /// How many constraints each state occurs in. Eliminating a variable that occurs in one
+  /// constraint keeps every substitution local; eliminating one shared by two (a mass between two
+  /// spring-dampers) would make each mass position a sum over the chain: dense expressions. Also
+  /// which equations are constraints as they stand now: one that is not and is not rewritten is
+  /// skipped later without collecting its variables again.
+  void CountConstraints() {
+    for (size_t k = 0; k < sys_.equations.size(); ++k) {
+      if (!IsConstraint(sys_.equations[k].residual, k)) continue;
+      maybe_constraint_[k] = true;
+      for (const ExprId* v = leaves_.begin(k); v != leaves_.end(k); ++v) {
+        ++constraint_count_[pool_.node(*v).a];
+      }
+    }
+  }
+
+  /// Equation k, rewritten by what this pass replaced so far, solved for one of its variables
+  /// when it is a constraint among states.
+  void SolveConstraint(size_t k) {
+    ExprPool& p = pool_;
+    SystemEquation& eq = sys_.equations[k];
     const ExprId original = eq.residual;
     // Rewritten by what this pass replaced so far (only if it holds some of it: the same result).
-    ExprId r = changed && leaves->Touches(s, k) ? s.Apply(eq.residual) : eq.residual;
+    ExprId r =
+        changed_ && leaves_.Touches(eliminated_, k) ? eliminated_.Apply(eq.residual) : eq.residual;
     eq.residual = r;
-    if (r != original) leaves->Update(p, k, r);
-    if (r == original && !maybe_constraint[k]) continue;
-    const uint8_t m = p.mask(r);
-    if ((m & (kHasDer | kHasPre | kHasInitial)) || !(m & kHasVar)) continue;
-    if (!AllVariablesIn(p, leaves->begin(k), leaves->end(k), diff)) continue;
-    vars.assign(leaves->begin(k), leaves->end(k));
+    if (r != original) leaves_.Update(p, k, r);
+    if (r == original && !maybe_constraint_[k]) return;
+    if (!IsConstraint(r, k)) return;
+    vars_.assign(leaves_.begin(k), leaves_.end(k));
     // Eliminate a `stateSelect: never` variable first, then the variable in the fewest
     // constraints, then the one that least wants to be a state (avoid < default < prefer), then
     // the one declared last. An `always` variable is never eliminated here, nor anything while a
     // `never` one cannot be: such constraints go to Pantelides and the dummy derivatives, which
     // honour the priorities whether or not the constraint is linear.
     auto rank = [&](uint32_t v) {
-      const int prio = flat.variables[v].state_priority;
-      return std::make_tuple(prio == kStateNever ? 0 : prio == kStateAlways ? 2 : 1, constraint_count[v], prio, -static_cast<int64_t>(v));
+      const int prio = flat_.variables[v].state_priority;
+      const int kind = prio == kStateNever ? 0 : prio == kStateAlways ? 2 : 1;
+      return std::make_tuple(kind, constraint_count_[v], prio, -static_cast<int64_t>(v));
     };
-    std::sort(vars.begin(), vars.end(), [&](ExprId a, ExprId b) { return rank(p.node(a).a) < rank(p.node(b).a); });
-    for (ExprId x : vars) {
-      const int prio = flat.variables[p.node(x).a].state_priority;
+    std::sort(vars_.begin(), vars_.end(),
+              [&](ExprId a, ExprId b) { return rank(p.node(a).a) < rank(p.node(b).a); });
+    for (ExprId x : vars_) {
+      const int prio = flat_.variables[p.node(x).a].state_priority;
       if (prio == kStateAlways) break;
       ExprId coefficient;
       ExprId value = SolveFor(&p, r, x, true, &coefficient);
@@ -177,64 +209,92 @@ void ConstrainedStates(EquationSystem* sys, IndexStats* stats, EquationLeaves* l
         if (prio == kStateNever) break;
         continue;
       }
-      uint32_t v = p.node(x).a;
+      const uint32_t v = p.node(x).a;
       ExprId der = p.Der(VarId(v));
-      if (!p.IsConst(coefficient)) sys->guards.push_back({coefficient, eq.origin, VarId(v)});
-      const int32_t def = derivative_definition[v];
-      auto nests = [&] {
-        CollectLeaves(p, original, kHasVar, &original_vars);
-        for (ExprId w : original_vars) {
-          if (shared_solution[p.node(w).a]) return true;
-        }
-        return false;
-      };
-      if (constraint_count[v] >= 2 && def != kNone && nests()) {
-        // x is shared with another constraint (a frame between two bars of a chain), and its
-        // constraint holds a variable already replaced so: replacing x too would nest every such
-        // solution into the next one, so that the position of the k-th link of a chain becomes a
-        // sum of k terms, and its velocity and acceleration (and their Jacobians) grow with it.
-        // x stays an unknown with the constraint as its equation instead (the chain restarts
-        // from it), its derivative becomes the variable u that the definition
-        // u = c*der(x) + offset names, and that definition becomes the differentiated constraint
-        // (der(x) replaced by the time derivative of the solution). Every equation stays local.
-        // u is left to the next round: its new equation is a constraint on velocities.
-        SystemEquation& definition = sys->equations[def];
-        ExprId u_eq = s.Apply(definition.residual);
-        ExprId der_value;  // der(x) from the definition: c*der(x) + c_u*u + offset = 0
-        ExprId unused;
-        der_value = SolveFor(&p, u_eq, der, false, &unused);
-        if (der_value.valid() && !(p.mask(der_value) & kHasDer)) {
-          definition.residual = ReplaceLeaf(&p, u_eq, der, dvalue);
-          leaves->Update(p, def, definition.residual);
-          maybe_constraint[def] = true;  // a new residual: looked at afresh
-          s.Set(der, der_value);
-          derivative_definition[v] = kNone;
-          ++stats->kept_constraints;
-          changed = true;
-          break;
-        }
+      if (!p.IsConst(coefficient)) sys_.guards.push_back({coefficient, eq.origin, VarId(v)});
+      if (constraint_count_[v] >= 2 && derivative_definition_[v] != kNone && Nests(original) &&
+          KeepConstraint(v, der, dvalue)) {
+        return;
       }
-      s.Set(x, value);
-      s.Set(der, dvalue);
-      ExprId pre = p.FindLeaf(Op::kPre, v);
-      if (pre.valid()) s.Set(pre, value);  // pre() of a continuous variable is its value
-      sys->role[v] = VarRole::kConstrained;
-      shared_solution[v] = constraint_count[v] >= 2;
-      ++stats->constrained_states;
-      drop[k] = true;
-      changed = true;
-      break;
+      Eliminate(k, x, value, der, dvalue);
+      return;
     }
   }
-  std::vector<SystemEquation> kept;
-  kept.reserve(sys->equations.size());
-  for (size_t k = 0; k < sys->equations.size(); ++k) {
-    if (!drop[k]) kept.push_back(sys->equations[k]);
+
+  /// Whether the constraint `original` holds a variable replaced by the solution of a constraint
+  /// it shares with another.
+  bool Nests(ExprId original) {
+    CollectLeaves(pool_, original, kHasVar, &original_vars_);
+    for (ExprId w : original_vars_) {
+      if (shared_solution_[pool_.node(w).a]) return true;
+    }
+    return false;
   }
-  sys->equations.swap(kept);
-  leaves->Drop(drop);
-  if (changed) ApplyEliminations(sys, leaves);
-}
+
+  /// x (variable v) is shared with another constraint (a frame between two bars of a chain), and
+  /// its constraint holds a variable already replaced so: replacing x too would nest every such
+  /// solution into the next one, so that the position of the k-th link of a chain becomes a sum
+  /// of k terms, and its velocity and acceleration (and their Jacobians) grow with it. x stays an
+  /// unknown with the constraint as its equation instead (the chain restarts from it), its
+  /// derivative becomes the variable u that the definition u = c*der(x) + offset names, and that
+  /// definition becomes the differentiated constraint (der(x) replaced by `dvalue`, the time
+  /// derivative of the solution). Every equation stays local. u is left to the next round: its
+  /// new equation is a constraint on velocities. Returns false when der(x) cannot be taken from
+  /// the definition.
+  bool KeepConstraint(uint32_t v, ExprId der, ExprId dvalue) {
+    ExprPool& p = pool_;
+    const int32_t def = derivative_definition_[v];
+    SystemEquation& definition = sys_.equations[def];
+    ExprId u_eq = eliminated_.Apply(definition.residual);
+    ExprId unused;
+    // der(x) from the definition: c*der(x) + c_u*u + offset = 0
+    ExprId der_value = SolveFor(&p, u_eq, der, false, &unused);
+    if (!der_value.valid() || (p.mask(der_value) & kHasDer)) return false;
+    definition.residual = ReplaceLeaf(&p, u_eq, der, dvalue);
+    leaves_.Update(p, def, definition.residual);
+    maybe_constraint_[def] = true;  // a new residual: looked at afresh
+    eliminated_.Set(der, der_value);
+    derivative_definition_[v] = kNone;
+    ++stats_.kept_constraints;
+    changed_ = true;
+    return true;
+  }
+
+  /// x and der(x) replaced everywhere by the solution of constraint k and its time derivative.
+  void Eliminate(size_t k, ExprId x, ExprId value, ExprId der, ExprId dvalue) {
+    ExprPool& p = pool_;
+    const uint32_t v = p.node(x).a;
+    eliminated_.Set(x, value);
+    eliminated_.Set(der, dvalue);
+    ExprId pre = p.FindLeaf(Op::kPre, v);
+    if (pre.valid()) eliminated_.Set(pre, value);  // pre() of a continuous variable is its value
+    sys_.role[v] = VarRole::kConstrained;
+    shared_solution_[v] = constraint_count_[v] >= 2;
+    ++stats_.constrained_states;
+    drop_[k] = true;
+    changed_ = true;
+  }
+
+  EquationSystem& sys_;
+  ExprPool& pool_;
+  const FlatSystem& flat_;
+  Substitution& eliminated_;
+  IndexStats& stats_;
+  EquationLeaves& leaves_;
+  /// By variable: a state, or a velocity that prefers to be one.
+  std::vector<bool> differentiated_;
+  /// By variable x: the equation u = c*der(x) + offset that defines its derivative, or kNone.
+  std::vector<int32_t> derivative_definition_;
+  std::vector<uint32_t> constraint_count_;  ///< by variable: the constraints it occurs in
+  /// By equation: a constraint as it stood at the start.
+  std::vector<bool> maybe_constraint_;
+  std::vector<bool> drop_;  ///< by equation: solved, leaves
+  /// Variables replaced by the solution of a constraint they share with another: a second such
+  /// solution that holds one (the next frame of a chain) is nested, and is kept instead.
+  std::vector<bool> shared_solution_;
+  bool changed_ = false;
+  std::vector<ExprId> vars_, original_vars_;  // scratch
+};
 
 }  // namespace
 
@@ -251,7 +311,7 @@ EquationSystem ReduceIndex(EquationSystem sys, IndexStats* stats, EquationLeaves
   if (leaves == nullptr) leaves = &own;
   if (!leaves->valid()) leaves->Collect(sys);
   DerivativeAliases(&sys, stats, leaves);
-  ConstrainedStates(&sys, stats, leaves);
+  ConstrainedStates(&sys, stats, leaves).Run();
   return sys;
 }
 

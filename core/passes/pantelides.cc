@@ -227,7 +227,7 @@ DifferentiatedSystem Pantelides(EquationSystem* sys) {
       for (uint32_t l : eqs) {
         const SystemEquation& eq = sys->equations[l];
         FlatEquation fe = sys->flat->equations[eq.origin];
-        if (fe.differentiations + 1 > kMaxDifferentiations) {
+        if (fe.differentiations + 1u > kMaxDifferentiations) {
           std::ostringstream msg;
           msg << sys->flat->file << ": " << sys->flat->model_name
               << ": index reduction does not terminate: this equation would be differentiated more than "

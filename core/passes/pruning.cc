@@ -7,112 +7,127 @@
 
 namespace momenta {
 
-EquationSystem Prune(EquationSystem sys, Structure* st, PruneStats* stats) {
-  const ExprPool& p = *sys.pool;
-  const size_t nv = sys.role.size();
-  std::vector<bool> need_var(nv, false), need_eq(sys.equations.size(), false),
-      need_init(sys.initial.size(), false);
-  std::vector<uint32_t> queue;
-  auto mark = [&](uint32_t v) {
-    // Cheapest test first: a variable is marked once per leaf that names it, and its flat record
-    // is a cache miss each time.
-    if (!need_var[v] && sys.role[v] == VarRole::kUnknown && !sys.flat->variables[v].discrete) {
-      need_var[v] = true;
-      queue.push_back(v);
-    }
-  };
-  std::vector<ExprId> leaves;  // scratch
-  auto mark_leaves = [&](ExprId e) {
-    CollectLeaves(p, e, kHasVar | kHasDer | kHasPre, &leaves);
-    for (ExprId leaf : leaves) mark(p.node(leaf).a);
-  };
-  // The variables of each initial equation, collected once for the repeated scans below: those
-  // of initial equation k are init_vars[init_start[k] .. init_start[k+1]).
-  std::vector<uint32_t> init_start{0}, init_vars;
-  init_start.reserve(sys.initial.size() + 1);
-  for (const SystemEquation& eq : sys.initial) {
-    CollectLeaves(p, eq.residual, kHasVar | kHasDer | kHasPre, &leaves);
-    for (ExprId leaf : leaves) init_vars.push_back(p.node(leaf).a);
-    init_start.push_back(static_cast<uint32_t>(init_vars.size()));
-  }
-  for (ExprId o : sys.outputs) mark_leaves(o);
-  // Event machinery is kept whole: what it reads and what it sets.
-  for (const auto& w : sys.whens) {
-    mark_leaves(w.condition);
-    for (const auto& a : w.assigns) mark_leaves(a.second);
-    for (const auto& r : w.reinits) {
-      mark_leaves(r.second);
-      mark_leaves(sys.pool->Var(r.first));
+namespace {
+
+/// What the outputs need: variables, equations and initial equations, marked by a closure over
+/// the matching from the outputs and the event machinery.
+class NeededParts {
+ public:
+  NeededParts(const EquationSystem& sys, const Structure& structure)
+      : need_var(sys.role.size(), false), need_eq(sys.equations.size(), false),
+        need_init(sys.initial.size(), false), sys_(sys), pool_(*sys.pool), structure_(structure) {
+    // The variables of each initial equation, collected once for the repeated scans below: those
+    // of initial equation k are init_vars_[init_start_[k] .. init_start_[k+1]).
+    init_start_.reserve(sys.initial.size() + 1);
+    for (const SystemEquation& eq : sys.initial) {
+      CollectLeaves(pool_, eq.residual, kHasVar | kHasDer | kHasPre, &leaves_);
+      for (ExprId leaf : leaves_) init_vars_.push_back(pool_.node(leaf).a);
+      init_start_.push_back(static_cast<uint32_t>(init_vars_.size()));
     }
   }
-  for (const auto& im : sys.impacts) {
-    for (ExprId e : {im.gap, im.velocity, im.release}) mark_leaves(e);
-    mark_leaves(sys.pool->Var(im.force));
-  }
-  for (const auto& d : sys.discrete) mark_leaves(d.value);
-  while (true) {
-    while (!queue.empty()) {
-      uint32_t v = queue.back();
-      queue.pop_back();
-      int32_t e = st->equation_of_var[v];
-      if (e >= 0 && !need_eq[e]) {
-        need_eq[e] = true;
-        mark_leaves(sys.equations[e].residual);
+
+  /// Marks what the outputs and the event machinery read, then everything that determines it.
+  void Mark() {
+    for (ExprId o : sys_.outputs) MarkLeaves(o);
+    // Event machinery is kept whole: what it reads and what it sets.
+    for (const auto& w : sys_.whens) {
+      MarkLeaves(w.condition);
+      for (const auto& a : w.assigns) MarkLeaves(a.second);
+      for (const auto& r : w.reinits) {
+        MarkLeaves(r.second);
+        MarkLeaves(sys_.pool->Var(r.first));
       }
     }
-    // Initial equations that touch what is kept.
+    for (const auto& im : sys_.impacts) {
+      for (ExprId e : {im.gap, im.velocity, im.release}) MarkLeaves(e);
+      MarkLeaves(sys_.pool->Var(im.force));
+    }
+    for (const auto& d : sys_.discrete) MarkLeaves(d.value);
+    do {
+      while (!queue_.empty()) {
+        uint32_t v = queue_.back();
+        queue_.pop_back();
+        int32_t e = structure_.equation_of_var[v];
+        if (e >= 0 && !need_eq[e]) {
+          need_eq[e] = true;
+          MarkLeaves(sys_.equations[e].residual);
+        }
+      }
+    } while (MarkInitialEquations() || !queue_.empty());
+  }
+
+  std::vector<bool> need_var, need_eq, need_init;  ///< by variable, equation, initial equation
+
+ private:
+  void MarkVariable(uint32_t v) {
+    // Cheapest test first: a variable is marked once per leaf that names it, and its flat record
+    // is a cache miss each time.
+    if (!need_var[v] && sys_.role[v] == VarRole::kUnknown && !sys_.flat->variables[v].discrete) {
+      need_var[v] = true;
+      queue_.push_back(v);
+    }
+  }
+
+  void MarkLeaves(ExprId e) {
+    CollectLeaves(pool_, e, kHasVar | kHasDer | kHasPre, &leaves_);
+    for (ExprId leaf : leaves_) MarkVariable(pool_.node(leaf).a);
+  }
+
+  /// Initial equations that touch what is kept, and their variables; returns whether any was
+  /// added.
+  bool MarkInitialEquations() {
     bool added = false;
-    for (size_t k = 0; k < sys.initial.size(); ++k) {
+    for (size_t k = 0; k < sys_.initial.size(); ++k) {
       if (need_init[k]) continue;
       bool touches = false;
-      for (uint32_t j = init_start[k]; j < init_start[k + 1] && !touches; ++j) {
-        const uint32_t v = init_vars[j];
+      for (uint32_t j = init_start_[k]; j < init_start_[k + 1] && !touches; ++j) {
+        const uint32_t v = init_vars_[j];
         // Discrete variables are always kept (events may need them), so are their initial values.
-        touches = need_var[v] || (sys.role[v] == VarRole::kUnknown && sys.flat->variables[v].discrete);
+        touches =
+            need_var[v] || (sys_.role[v] == VarRole::kUnknown && sys_.flat->variables[v].discrete);
       }
       if (touches) {
         need_init[k] = true;
-        for (uint32_t j = init_start[k]; j < init_start[k + 1]; ++j) mark(init_vars[j]);
+        for (uint32_t j = init_start_[k]; j < init_start_[k + 1]; ++j) MarkVariable(init_vars_[j]);
         added = true;
       }
     }
-    if (!added && queue.empty()) break;
+    return added;
   }
+
+  const EquationSystem& sys_;
+  const ExprPool& pool_;
+  const Structure& structure_;
+  std::vector<uint32_t> queue_;
+  std::vector<uint32_t> init_start_{0}, init_vars_;
+  std::vector<ExprId> leaves_;  // scratch
+};
+
+}  // namespace
+
+EquationSystem Prune(EquationSystem sys, Structure* structure, PruneStats* stats) {
+  NeededParts needed(sys, *structure);
+  needed.Mark();
   // Drop the rest and renumber the matching.
-  std::vector<SystemEquation> eqs;
-  std::vector<int32_t> var_of_eq;
-  for (size_t k = 0; k < sys.equations.size(); ++k) {
-    if (!need_eq[k]) {
-      ++stats->equations;
-      continue;
-    }
-    var_of_eq.push_back(st->var_of_equation[k]);
-    eqs.push_back(sys.equations[k]);
-  }
-  sys.equations.swap(eqs);
-  st->var_of_equation.swap(var_of_eq);
-  std::fill(st->equation_of_var.begin(), st->equation_of_var.end(), -1);
-  for (size_t k = 0; k < sys.equations.size(); ++k) {
-    st->equation_of_var[st->var_of_equation[k]] = static_cast<int32_t>(k);
-  }
+  stats->equations += KeepMatchedEquations(&sys, structure, needed.need_eq);
   std::vector<SystemEquation> init;
   for (size_t k = 0; k < sys.initial.size(); ++k) {
-    if (need_init[k]) {
+    if (needed.need_init[k]) {
       init.push_back(sys.initial[k]);
     } else {
       ++stats->initial_equations;
     }
   }
   sys.initial.swap(init);
-  st->num_states = 0;
-  for (uint32_t v = 0; v < nv; ++v) {
+  structure->num_states = 0;
+  for (uint32_t v = 0; v < sys.role.size(); ++v) {
     if (sys.role[v] != VarRole::kUnknown || sys.flat->variables[v].discrete) continue;
-    if (!need_var[v]) {
+    if (!needed.need_var[v]) {
       sys.role[v] = VarRole::kPruned;
-      st->is_state[v] = false;
+      structure->is_state[v] = false;
       ++stats->variables;
     } else {
-      st->num_states += st->is_state[v];
+      structure->num_states += structure->is_state[v];
     }
   }
   return sys;

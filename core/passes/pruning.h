@@ -12,7 +12,7 @@ struct PruneStats {
   size_t variables = 0, equations = 0, initial_equations = 0;
 };
 
-/// Keeps what the outputs need. `st` is updated to the kept equations.
-EquationSystem Prune(EquationSystem sys, Structure* st, PruneStats* stats);
+/// Keeps what the outputs need. `structure` is updated to the kept equations.
+EquationSystem Prune(EquationSystem sys, Structure* structure, PruneStats* stats);
 
 }  // namespace momenta

@@ -8,8 +8,8 @@ namespace {
 
 
 /// Whether `v` is a state, or an alias (±u + offset) of one.
-bool IsStateOrAlias(const EquationSystem& sys, const Structure& st, uint32_t v) {
-  if (sys.role[v] == VarRole::kUnknown) return st.is_state[v];
+bool IsStateOrAlias(const EquationSystem& sys, const Structure& structure, uint32_t v) {
+  if (sys.role[v] == VarRole::kUnknown) return structure.is_state[v];
   if (sys.role[v] != VarRole::kAlias) return false;
   ExprPool& p = *sys.pool;
   AffineForm form;
@@ -18,16 +18,17 @@ bool IsStateOrAlias(const EquationSystem& sys, const Structure& st, uint32_t v) 
     return false;
   }
   uint32_t u = p.node(form.terms[0].first).a;
-  return sys.role[u] == VarRole::kUnknown && st.is_state[u];
+  return sys.role[u] == VarRole::kUnknown && structure.is_state[u];
 }
 
 }  // namespace
 
-void CheckStateSelect(const EquationSystem& sys, const Structure& st, std::vector<std::string>* warnings) {
+void CheckStateSelect(const EquationSystem& sys, const Structure& structure,
+                      std::vector<std::string>* warnings) {
   const FlatSystem& flat = *sys.flat;
   for (uint32_t v = 0; v < sys.role.size(); ++v) {
     const FlatVariable& fv = flat.variables[v];
-    if (fv.state_priority == kStateAlways && !IsStateOrAlias(sys, st, v)) {
+    if (fv.state_priority == kStateAlways && !IsStateOrAlias(sys, structure, v)) {
       const std::string name = flat.VariableName(VarId(v));
       std::string why;
       switch (sys.role[v]) {
@@ -39,7 +40,8 @@ void CheckStateSelect(const EquationSystem& sys, const Structure& st, std::vecto
       throw ModelError(fv.loc, "stateSelect: always on " + name + " cannot be honoured: " + why +
                                    ". Use stateSelect: prefer (or default) on " + name + ".");
     }
-    if (fv.state_priority == kStateNever && sys.role[v] == VarRole::kUnknown && st.is_state[v]) {
+    if (fv.state_priority == kStateNever && sys.role[v] == VarRole::kUnknown &&
+        structure.is_state[v]) {
       warnings->push_back(fv.loc.ToString() + ": stateSelect: never on " + flat.VariableName(VarId(v)) +
                           ", but it is a state: no other variable can carry its degree of freedom");
     }

@@ -17,6 +17,7 @@ namespace momenta {
 
 /// Throws ModelError at the variable for an `always` that is not a state; adds a warning for each
 /// `never` that had to become a state.
-void CheckStateSelect(const EquationSystem& sys, const Structure& st, std::vector<std::string>* warnings);
+void CheckStateSelect(const EquationSystem& sys, const Structure& structure,
+                      std::vector<std::string>* warnings);
 
 }  // namespace momenta

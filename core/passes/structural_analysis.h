@@ -21,4 +21,10 @@ struct Structure {
 /// variables involved (with components and file positions) otherwise.
 Structure AnalyseStructure(const EquationSystem& sys);
 
+/// Keeps the equations of `sys` that `keep` marks (by index) and renumbers `structure`'s matching
+/// to them; returns how many were dropped. For the passes that remove equations after the
+/// analysis (pruning, causalisation).
+size_t KeepMatchedEquations(EquationSystem* sys, Structure* structure,
+                            const std::vector<bool>& keep);
+
 }  // namespace momenta

@@ -1,6 +1,8 @@
 // The build pipeline: the report lists the passes in order with sizes that only shrink, the
 // default outputs are the states, start values that have to stand in for initial conditions are
-// warned about, and redundant initial conditions are left out with a note and checked.
+// warned about, and redundant initial conditions are left out with a note and checked; -p values
+// with units are converted to the declared units, and outputs added once the model is flattened
+// (the report's scene) follow the model's own.
 
 #include "core/build.h"
 
@@ -9,6 +11,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/lang/parser.h"
+#include "core/lang/builtin_library.h"
+#include "core/lang/yaml_loader.h"
 #include "tests/support/test_models.h"
 
 namespace momenta {
@@ -111,6 +116,53 @@ TEST(BuildTest, WithoutOutputsEveryStateIsAnOutput) {
     double x = std::exp(-zeta * w0 * t) * (std::cos(wd * t) + zeta * w0 / wd * std::sin(wd * t));
     EXPECT_NEAR(tr.Column("damper.s_rel", row), x, 1e-4) << t;
   }
+}
+
+const char* kGrams = R"(
+model: Grams
+parameters:
+  m: {value: 500, unit: g}
+variables:
+  x: {start: 0, fixed: true}
+  y: {}
+equations: [der(x) = m, y = 2*x]
+experiment: {stop: 1, interval: 0.5}
+)";
+
+TEST(BuildTest, ValuesWithUnitsAreConvertedToTheDeclaredUnit) {
+  BuildOptions options;
+  options.overrides["m"] = 2.0;  // 2 kg in SI, as -p m=2kg gives it
+  options.override_units["m"] = Quantity{2.0, "kg"};
+  BuildReport report;
+  BuildModel(LoadModelString(kGrams, "grams.yaml"), BuiltinLibrary(), options, &report);
+  EXPECT_EQ(report.overrides.at("m"), 2000.0);
+  // A unit of another dimension is the user's mistake, named with both units.
+  options.override_units["m"] = Quantity{2.0, "m"};
+  BuildReport failed;
+  try {
+    BuildModel(LoadModelString(kGrams, "grams.yaml"), BuiltinLibrary(), options, &failed);
+    ADD_FAILURE() << "a length for a mass was taken";
+  } catch (const UsageError& e) {
+    EXPECT_NE(std::string(e.what()).find("-p m=2 m: m is in g: "), std::string::npos) << e.what();
+  }
+}
+
+TEST(BuildTest, AddedOutputsFollowTheStatesOfAModelWithoutOutputs) {
+  BuildOptions options;
+  size_t instances_seen = 99;
+  options.add_outputs = [&](const FlatSystem& flat, ModelSpec* spec) {
+    instances_seen = flat.instances.size();
+    OutputSpec o;
+    o.text = "y";
+    o.loc = spec->loc;
+    o.expr = ParseName("y", spec->loc);
+    spec->outputs.push_back(std::move(o));
+  };
+  BuildReport report;
+  auto model = BuildModel(LoadModelString(kGrams, "grams.yaml"), BuiltinLibrary(), options, &report);
+  EXPECT_EQ(instances_seen, 0u);
+  EXPECT_EQ(model->output_names, (std::vector<std::string>{"x", "y"}));
+  EXPECT_TRUE(report.pruned.empty());  // y is needed now
 }
 
 TEST(BuildTest, StartValuesStandingInForInitialConditionsAreWarnedAbout) {

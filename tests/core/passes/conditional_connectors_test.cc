@@ -41,7 +41,7 @@ outputs: )" + outputs + "\n";
 // variables drop out as constants, as if the damper had none (the same number of unknowns as a
 // Damper written without it: compared through the build report's alias counts is brittle, so
 // through the solution and the heat the capacitor receives).
-TEST(ConditionalConnectors, AbsentOrPresentTheMechanicsAgree) {
+TEST(ConditionalConnectorsTest, AbsentOrPresentTheMechanicsAgree) {
   Built absent = testing::BuildYaml(DamperYaml(""));
   EXPECT_TRUE(absent.report.warnings.empty());
   Built present = testing::BuildYaml(DamperYaml(", useHeatPort: true", "  heat: {type: HeatCapacitor, C: 1, T: {start: 300, fixed: true}}\n",
@@ -59,7 +59,7 @@ TEST(ConditionalConnectors, AbsentOrPresentTheMechanicsAgree) {
   }
 }
 
-TEST(ConditionalConnectors, ConnectingAnAbsentConnectorIsAnError) {
+TEST(ConditionalConnectorsTest, ConnectingAnAbsentConnectorIsAnError) {
   std::string msg = BuildError(DamperYaml("", "  heat: {type: HeatCapacitor, C: 1}\n", "  - [damper.heatPort, heat.port]\n"));
   EXPECT_NE(msg.find("test.yaml:10:"), std::string::npos) << msg;
   EXPECT_NE(msg.find("cannot connect damper.heatPort: damper (Damper) has the connector heatPort only when "
@@ -75,7 +75,7 @@ TEST(ConditionalConnectors, ConnectingAnAbsentConnectorIsAnError) {
   EXPECT_EQ(BuildError(yaml, {{"withHeat", 1}}), "");
 }
 
-TEST(ConditionalConnectors, NamingAnAbsentConnectorsVariablesIsAnError) {
+TEST(ConditionalConnectorsTest, NamingAnAbsentConnectorsVariablesIsAnError) {
   std::string msg = BuildError(DamperYaml("", "", "", "[mass.v, damper.heatPort.T]"));
   EXPECT_NE(msg.find("the output 'damper.heatPort.T' names damper.heatPort.T, but damper has no connector heatPort "
                      "(damper.useHeatPort is false)"),
@@ -90,7 +90,7 @@ TEST(ConditionalConnectors, NamingAnAbsentConnectorsVariablesIsAnError) {
       << msg;
 }
 
-TEST(ConditionalConnectors, TheConditionFixesTheStructure) {
+TEST(ConditionalConnectorsTest, TheConditionFixesTheStructure) {
   Built b = testing::BuildYaml(DamperYaml(""));
   ModelState state(b.model);
   try {
@@ -101,7 +101,7 @@ TEST(ConditionalConnectors, TheConditionFixesTheStructure) {
   }
 }
 
-TEST(ConditionalConnectors, TheConditionIsABooleanParameterOfTheType) {
+TEST(ConditionalConnectorsTest, TheConditionIsABooleanParameterOfTheType) {
   const std::string head = "model: Bad\ndefine:\n  Leaky:\n    parameters: {useIt: {value: 1, type: Integer}, on: {value: true, type: Boolean}}\n";
   std::string msg = BuildError(head + R"(    connectors:
       flange: Flange
@@ -140,7 +140,7 @@ components:
 // A part's conditional connector inside a composite: absent by default (the Cell of
 // docs/FORMAT.md builds as before), present when the composite sets the condition and connects it,
 // and an error when the composite connects it while absent.
-TEST(ConditionalConnectors, PartsOfACompositeType) {
+TEST(ConditionalConnectorsTest, PartsOfACompositeType) {
   auto cell = [](const std::string& damper_keys, const std::string& more_parts, const std::string& more_connections) {
     return R"(model: Cells
 define:
@@ -179,7 +179,7 @@ outputs: [cell.mass.v]
 
 // A conditional signal input (EddyCurrentForce's excitation): absent, the component uses its
 // parameter and the input may not be connected; present, it must be.
-TEST(ConditionalConnectors, ConditionalSignalInput) {
+TEST(ConditionalConnectorsTest, ConditionalSignalInput) {
   auto brake = [](const std::string& keys, const std::string& connections) {
     return R"(model: Brake
 components:

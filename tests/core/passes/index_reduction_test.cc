@@ -9,6 +9,7 @@
 #include <cmath>
 
 #include "core/passes/alias_elimination.h"
+#include "tests/support/reduced_system.h"
 #include "tests/support/test_models.h"
 #include "core/flatten/flatten.h"
 #include "core/lang/yaml_loader.h"
@@ -17,35 +18,8 @@
 namespace momenta {
 namespace {
 
-/// Flatten, then aliases and index reduction until nothing changes (as BuildModel does).
-struct Reduced {
-  std::shared_ptr<FlatSystem> flat;
-  EquationSystem sys;
-  AliasStats alias;
-  IndexStats index;
-  uint32_t Var(const std::string& name) const {
-    for (uint32_t k = 0; k < flat->variables.size(); ++k) {
-      if (flat->VariableName(VarId(k)) == name) return k;
-    }
-    ADD_FAILURE() << "no variable " << name;
-    return 0;
-  }
-  VarRole role(const std::string& name) const { return sys.role[Var(name)]; }
-};
-
-Reduced Reduce(const std::string& yaml) {
-  Reduced r;
-  ModelSpec spec = LoadModelString(yaml, "test.yaml");
-  r.flat = std::make_shared<FlatSystem>(Flatten(spec, BuiltinLibrary(), {}));
-  r.sys = MakeEquationSystem(r.flat);
-  for (int round = 0; round < 20; ++round) {
-    size_t before = r.sys.num_unknowns(), der_before = r.index.derivative_aliases;
-    r.sys = EliminateAliases(std::move(r.sys), &r.alias);
-    r.sys = ReduceIndex(std::move(r.sys), &r.index);
-    if (r.sys.num_unknowns() == before && r.index.derivative_aliases == der_before) break;
-  }
-  return r;
-}
+using Reduced = testing::ReducedSystem;
+using testing::Reduce;
 
 const char* kSpeedSensor = R"(
 model: Speed

@@ -51,7 +51,7 @@ std::string Pendulum(const std::map<std::string, std::string>& select, bool angl
 
 using States = std::vector<std::string>;
 
-TEST(StateSelect, AngleByDefaultCartesianWhenAlways) {
+TEST(StateSelectTest, AngleByDefaultCartesianWhenAlways) {
   // By default the angle and its rate are the states (x = L sin(phi) is solved for x by the
   // linear fast path); `always` on x and vx keeps them instead (Pantelides differentiates the
   // angle equations), and the motion is the same.
@@ -70,7 +70,7 @@ TEST(StateSelect, AngleByDefaultCartesianWhenAlways) {
   EXPECT_LT(worst, 1e-7);
 }
 
-TEST(StateSelect, PreferAndNeverChooseAmongConstrainedCandidates) {
+TEST(StateSelectTest, PreferAndNeverChooseAmongConstrainedCandidates) {
   // x^2 + y^2 = L^2: by default one of {x, y} is chosen during the run (a state set).
   Built dynamic = testing::BuildYaml(Pendulum({}, false));
   EXPECT_EQ(dynamic.report.states, (States{"stateSet1.x", "stateSet2.x"}));
@@ -92,7 +92,7 @@ TEST(StateSelect, PreferAndNeverChooseAmongConstrainedCandidates) {
   EXPECT_EQ(both.report.states, (States{"stateSet1.x", "stateSet2.x"}));
 }
 
-TEST(StateSelect, AlwaysThatTheConstraintForbidsIsAnError) {
+TEST(StateSelectTest, AlwaysThatTheConstraintForbidsIsAnError) {
   std::string err = testing::BuildError(Pendulum({{"x", "always"}, {"y", "always"}}, false));
   EXPECT_NE(err.find("test.yaml:18:6: stateSelect: always on p.y cannot be honoured: the other states determine p.y "
                      "through\n"
@@ -103,7 +103,7 @@ TEST(StateSelect, AlwaysThatTheConstraintForbidsIsAnError) {
       << err;
 }
 
-TEST(StateSelect, AlwaysOnAVariableNeverDifferentiatedIsAnError) {
+TEST(StateSelectTest, AlwaysOnAVariableNeverDifferentiatedIsAnError) {
   std::string err = testing::BuildError(Pendulum({{"F", "always"}}, false));
   EXPECT_NE(err.find("stateSelect: always on p.F cannot be honoured: der(p.F) appears in no equation (states are "
                      "chosen among the variables that appear differentiated). Use stateSelect: prefer (or "
@@ -115,7 +115,7 @@ TEST(StateSelect, AlwaysOnAVariableNeverDifferentiatedIsAnError) {
   EXPECT_NE(err.find("stateSelect: always on p.y cannot be honoured"), std::string::npos) << err;
 }
 
-TEST(StateSelect, NeverOnEveryCandidateIsAWarning) {
+TEST(StateSelectTest, NeverOnEveryCandidateIsAWarning) {
   Built b = testing::BuildYaml(Pendulum({{"x", "never"}, {"y", "never"}}, false));
   EXPECT_EQ(b.report.states, (States{"stateSet1.x", "stateSet2.x"}));
   ASSERT_EQ(b.report.warnings.size(), 1u);
@@ -135,7 +135,7 @@ equations:
             "test.yaml:4:6: stateSelect: never on x, but it is a state: no other variable can carry its degree of freedom");
 }
 
-TEST(StateSelect, ComponentModifierAndBadValue) {
+TEST(StateSelectTest, ComponentModifierAndBadValue) {
   // Two masses joined by a rod: one position and one velocity are states; the modifier picks
   // which mass carries them.
   auto rod = [](const std::string& m1, const std::string& m2) {

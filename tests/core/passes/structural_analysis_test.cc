@@ -180,32 +180,5 @@ components:
   EXPECT_NE(msg.find("… and 8 more"), std::string::npos) << msg;  // the 20 equations
 }
 
-const char* kPendulum = R"(
-model: Pendulum
-define:
-  Pendulum:
-    parameters: {L: 1, g: 9.81}
-    variables:
-      x: {start: 1}
-      y: {start: 0}
-      vx: {}
-      vy: {}
-      lambda: {}
-    equations:
-      - der(x) = vx
-      - der(y) = vy
-      - der(vx) = -lambda*x
-      - der(vy) = -lambda*y - g
-      - x^2 + y^2 = L^2
-components:
-  p: {type: Pendulum}
-)";
-
-TEST(StructuralAnalysisTest, HigherIndexIsReducedNotReported) {
-  // A nonlinear position constraint between two states (index 3): Pantelides' algorithm and
-  // dummy derivatives reduce it (tests/physics/pendulum_test.cc checks the motion).
-  EXPECT_EQ(BuildError(kPendulum), "");
-}
-
 }  // namespace
 }  // namespace momenta
