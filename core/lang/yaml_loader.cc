@@ -22,7 +22,7 @@
 #include "core/lang/model_spec.h"
 #include "core/lang/parser.h"
 #include "core/lang/unit_check.h"
-#include "core/lang/yaml_tree.h"
+#include "core/lang/yaml_document.h"
 #include "core/lang/yaml_loader.h"
 
 namespace momenta {
@@ -72,11 +72,7 @@ std::string operator+(const char* a, const What& b) { return a + b.str(); }
 
 /// The text of a mapping's key as yaml-cpp's as<std::string>() gives it ("null" for a null key;
 /// YAML::TypedBadConversion for a list or mapping), without a copy.
-std::string_view KeyText(const YamlNode& key) {
-  if (key.IsScalar()) return key.Scalar();
-  if (key.IsNull()) return "null";
-  throw YAML::TypedBadConversion<std::string>(key.Mark());
-}
+std::string_view KeyText(const YamlNode& key) { return key.AsText(); }
 
 class Reader {
  public:
@@ -84,7 +80,7 @@ class Reader {
 
   SourceLoc Loc(const YamlNode& n) const {
     SourceLoc l = file_loc_;  // the file name interned once, not at every place
-    YAML::Mark m = n.Mark();
+    YamlMark m = n.Mark();
     if (m.line >= 0) {
       l.line = m.line + 1;
       l.column = m.column + 1;
@@ -818,14 +814,22 @@ class Reader {
   SourceLoc file_loc_;  ///< no place yet: the file
 };
 
-SourceLoc MarkLoc(const std::string& file, const YAML::Mark& mark) {
+/// The place of a 0-based line and column (a node's YamlMark or a yaml-cpp exception's mark;
+/// none when the line is negative: yaml-cpp's null mark).
+SourceLoc MarkLoc(const std::string& file, int line, int column) {
   SourceLoc loc;
   loc.set_file(file);
-  if (mark.line >= 0) {
-    loc.line = mark.line + 1;
-    loc.column = mark.column + 1;
+  if (line >= 0) {
+    loc.line = line + 1;
+    loc.column = column + 1;
   }
   return loc;
+}
+SourceLoc MarkLoc(const std::string& file, const YamlMark& mark) {
+  return MarkLoc(file, mark.line, mark.column);
+}
+SourceLoc MarkLoc(const std::string& file, const YAML::Mark& mark) {
+  return MarkLoc(file, mark.line, mark.column);
 }
 
 /// Where a mapping's key `k` was first given before (its index), or -1 when it is new. Small
@@ -907,7 +911,7 @@ void CheckDuplicateKeys(const YamlDoc& doc, const std::string& file, const std::
       const std::string_view key = it->first.Scalar();
       const long before = first.Add(key, k);
       if (before >= 0) {
-        const YAML::Mark at = (*YamlNode::Iterator(node, static_cast<size_t>(before))).first.Mark();
+        const YamlMark at = (*YamlNode::Iterator(node, static_cast<size_t>(before))).first.Mark();
         const std::string path = path_of(here);
         throw ModelError(MarkLoc(file, it->first.Mark()),
                          "'" + std::string(key) + "' is given twice in " +
@@ -939,7 +943,7 @@ std::unique_ptr<YamlDoc> ParseYaml(const std::string& text, const std::string& f
     // yaml-cpp's parser does not consume a ',' where a document should start (0.7: the input ",").
     if (parsed.stuck) {
       throw ModelError(MarkLoc(file, parsed.second_mark),
-                       "YAML syntax error: unexpected '" + text.substr(parsed.second_mark.pos, 1) + "'");
+                       "YAML syntax error: unexpected '" + text.substr(parsed.second_offset, 1) + "'");
     }
     throw ModelError(MarkLoc(file, parsed.second_mark),
                      "a second YAML document starts here; a " + what + " holds one document");

@@ -1,6 +1,6 @@
-// The YAML document tree (core/lang/yaml_tree.h): the subset reader (core/lang/yaml_fast.h) and libyaml's
-// reader must give the document yaml-cpp's event parser gives (every node's kind, tag, text, line,
-// column and position), on every model, library and test data file, on YAML written to probe the
+// The YAML document tree (core/lang/yaml_tree.h) and its readers (core/lang/yaml_document.h): the
+// subset reader (core/lang/yaml_fast.h) and libyaml's reader must give the document yaml-cpp's event
+// parser gives (every node's kind, tag, text, line and column), on every model, library and test data file, on YAML written to probe the
 // differences and on random documents; and yaml-cpp's message wherever they cannot read the text.
 
 #include <gtest/gtest.h>
@@ -15,6 +15,7 @@
 
 #include "core/base/error.h"
 #include "core/lang/model_spec.h"
+#include "core/lang/yaml_document.h"
 #include "core/lang/yaml_fast.h"
 #include "core/lang/yaml_tree.h"
 #include "core/lang/yaml_loader.h"
@@ -23,8 +24,8 @@ namespace momenta {
 namespace {
 
 void Dump(const YamlNode& n, int depth, std::ostringstream* o) {
-  const YAML::Mark m = n.Mark();
-  *o << std::string(2 * depth, ' ') << m.line << ":" << m.column << " @" << m.pos << " ";
+  const YamlMark m = n.Mark();
+  *o << std::string(2 * depth, ' ') << m.line << ":" << m.column << " ";
   if (n.IsNull()) {
     *o << "null\n";
   } else if (n.IsScalar()) {
@@ -498,6 +499,9 @@ TEST(YamlTreeTest, NodeAnswersAsYamlCppNodes) {
   EXPECT_FALSE(root["c"][2]);
   EXPECT_EQ(root["d"].as<std::string>(), "null");
   EXPECT_THROW(root["a"].as<std::string>(), YAML::BadConversion);
+  EXPECT_EQ(root["c"][0].AsText(), "x");
+  EXPECT_EQ(root["d"].AsText(), "null");
+  EXPECT_THROW(root["c"].AsText(), YAML::BadConversion);
   EXPECT_EQ(root["a"].Scalar(), "");
   EXPECT_EQ(root["c"].size(), 2u);
   EXPECT_EQ(root.size(), 3u);
