@@ -84,14 +84,4 @@ class UnitChecker {
 /// parameters and its parts' names).
 void CheckComponentUnits(const ComponentType& type, const UnitOfName& unit_of);
 
-/// The number `value` written in `unit` as a number in `target_unit` (docs/FORMAT.md, "Units"),
-/// as an expression tree. Throws ModelError at `loc` naming `who` and both units when the
-/// dimensions differ or the target declares no unit.
-AstPtr ValueInUnit(double value, const std::string& unit, const std::string& target_unit,
-                   const std::string& who, const SourceLoc& loc);
-
-/// Parses `unit` and throws ModelError at `loc` when it does not parse (the loader's check of
-/// every `unit:` string).
-void CheckUnitString(const std::string& unit, const SourceLoc& loc, const std::string& what);
-
 }  // namespace momenta
