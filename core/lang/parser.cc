@@ -354,6 +354,8 @@ class Parser {
     return r;
   }
 
+  /// An operand: a number, a parenthesised expression, an array literal, true or false, a call or
+  /// a name.
   AstPtr Primary() {
     const Token& t = Peek();
     if (t.kind == Tok::kNumber) {
@@ -385,37 +387,43 @@ class Parser {
     for (const char* r : kReserved) {
       if (t.text == r) Fail("expected an operand");
     }
-    // A function call.
-    if (tokens_[pos_ + 1].kind == Tok::kLParen) {
-      Token name = Next();
-      Next();
-      int arity = 0;
-      if (!IsKnownFunction(name.text, &arity)) {
-        throw ModelError(loc_.Shifted(name.column),
-                         "unknown function '" + name.text + "' in '" + Excerpt(text_, name.column) +
-                             "' (valid functions: " + KnownFunctionList() + ")");
-      }
-      std::vector<AstPtr> args;
-      if (Peek().kind != Tok::kRParen) args = ExpressionList();
-      if (Peek().kind != Tok::kRParen) Fail("expected ')' or ','");
-      Next();
-      const int count = static_cast<int>(args.size());
-      const bool bad_count = arity == -2   ? count < 1 || count > 2
-                             : arity == -3 ? count < 2 || count > 3
-                                           : count != arity;
-      if (bad_count) {
-        throw ModelError(loc_.Shifted(name.column),
-                         name.text + "() takes " +
-                             (arity == -2 ? "1 or 2" : arity == -3 ? "2 or 3" : std::to_string(arity)) +
-                             " argument" + (arity == 1 ? "" : "s") + ", found " +
-                             std::to_string(args.size()) + " in '" + Excerpt(text_, name.column) + "'");
-      }
-      return Make(Ast::Kind::kCall, name.column, name.text, std::move(args));
+    if (tokens_[pos_ + 1].kind == Tok::kLParen) return Call();
+    return DottedName();
+  }
+
+  /// A function call `f(a, b)`: a known function with as many arguments as it takes.
+  AstPtr Call() {
+    Token name = Next();
+    Next();
+    int arity = 0;
+    if (!IsKnownFunction(name.text, &arity)) {
+      throw ModelError(loc_.Shifted(name.column),
+                       "unknown function '" + name.text + "' in '" + Excerpt(text_, name.column) +
+                           "' (valid functions: " + KnownFunctionList() + ")");
     }
-    // A dotted name with optional subscripts.
+    std::vector<AstPtr> args;
+    if (Peek().kind != Tok::kRParen) args = ExpressionList();
+    if (Peek().kind != Tok::kRParen) Fail("expected ')' or ','");
+    Next();
+    const int count = static_cast<int>(args.size());
+    const bool bad_count = arity == -2   ? count < 1 || count > 2
+                           : arity == -3 ? count < 2 || count > 3
+                                         : count != arity;
+    if (bad_count) {
+      throw ModelError(loc_.Shifted(name.column),
+                       name.text + "() takes " +
+                           (arity == -2 ? "1 or 2" : arity == -3 ? "2 or 3" : std::to_string(arity)) +
+                           " argument" + (arity == 1 ? "" : "s") + ", found " +
+                           std::to_string(args.size()) + " in '" + Excerpt(text_, name.column) + "'");
+    }
+    return Make(Ast::Kind::kCall, name.column, name.text, std::move(args));
+  }
+
+  /// A dotted name with optional subscripts: `R[i+1].p.v`, `body.R[1, 2]`.
+  AstPtr DottedName() {
     auto a = std::make_shared<Ast>();
     a->kind = Ast::Kind::kName;
-    a->column = t.column;
+    a->column = Peek().column;
     while (true) {
       if (Peek().kind != Tok::kIdent) Fail("expected a name after '.'");
       NameSegment seg;

@@ -62,7 +62,13 @@ class UnitChecker {
 
  private:
   struct Term;
+  /// The dimension of a tree, bottom-up; each kind of node has its rule.
   Term Eval(const Ast& a);
+  Term SumTerm(const Ast& a);      ///< every term one dimension
+  Term ProductTerm(const Ast& a);  ///< the product of the known factors' dimensions
+  Term BinaryTerm(const Ast& a);   ///< `and`/`or`, a power, a relation
+  Term IfTerm(const Ast& a);       ///< every branch one dimension
+  Term CallTerm(const Ast& a);     ///< der, pre, the transcendental functions, sqrt, min, max …
   /// The common dimension of x and y; throws naming `what()` (e.g. "the two sides") when both
   /// are known and differ.
   Term Unify(const Term& x, const Term& y, const Ast& at, const std::function<std::string()>& what);
