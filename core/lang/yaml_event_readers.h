@@ -1,9 +1,9 @@
 #pragma once
 /// The two readers of YAML that are event parsers, each filling a YamlDoc (core/lang/yaml_tree.h)
 /// from its events: yaml-cpp's, which defines the format and gives every message, and libyaml's,
-/// about 4× faster, for large files the subset reader (core/lang/yaml_fast.h) refuses. Which one
-/// reads a text is core/lang/yaml_document.h's choice; yaml-cpp's and libyaml's headers stay in
-/// yaml_event_readers.cc.
+/// several times faster (bench/RESULTS.md), for large files the subset reader
+/// (core/lang/yaml_fast.h) refuses. Which one reads a text is core/lang/yaml_document.h's choice;
+/// yaml-cpp's and libyaml's headers stay in yaml_event_readers.cc.
 
 #include <memory>
 #include <string>

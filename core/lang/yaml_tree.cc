@@ -134,7 +134,7 @@ bool YamlDoc::RepeatsAKey(uint32_t map) const {
   };
   const uint32_t pairs = it.count / 2;
   std::string_view a, b;
-  // This runs once per mapping and cost a third of reading the written-out chain: small mappings
+  // This runs once per mapping, a large part of reading the written-out chain: small mappings
   // (a component's few keys) compare their scalar keys pairwise, gathered first into an array
   // left uninitialised; large ones (a model's components) use an open-addressed table of key
   // numbers (a node-based set cost a heap block per key).
