@@ -27,14 +27,16 @@ std::vector<AstPtr> DeclarationScalariser::Fill(const AstPtr& a, const std::stri
   ArrayValue v = ev.Eval(a);
   if (v.scalar()) return std::vector<AstPtr>(ElementCount(shape), v.elements[0]);
   if (v.shape != shape) {
-    ev.Fail(a->column, what + " has shape " + ShapeText(v.shape) + ", but " +
-                           (shape.empty() ? "it is a scalar (declare shape: " + ShapeText(v.shape) + ")"
-                                          : "it is declared with shape " + ShapeText(shape)));
+    ev.Fail(a->column,
+            what + " has shape " + ShapeText(v.shape) + ", but " +
+                (shape.empty() ? "it is a scalar (declare shape: " + ShapeText(v.shape) + ")"
+                               : "it is declared with shape " + ShapeText(shape)));
   }
   return v.elements;
 }
 
-std::vector<ParameterDecl> DeclarationScalariser::Parameters(const std::vector<ParameterDecl>& params) {
+std::vector<ParameterDecl> DeclarationScalariser::Parameters(
+    const std::vector<ParameterDecl>& params) {
   // Shapes first (declared, or of a literal value), so that values may use later arrays.
   for (const auto& p : params) {
     Shape s = p.shape.empty() ? LiteralShape(p.value) : p.shape;
@@ -55,7 +57,8 @@ std::vector<ParameterDecl> DeclarationScalariser::Parameters(const std::vector<P
       }
       shape = (*table_)[p.name] = v.shape;
     }
-    std::vector<AstPtr> values = Fill(p.value, p.value_text, p.loc, shape, "the value of " + Who(p.name));
+    std::vector<AstPtr> values =
+        Fill(p.value, p.value_text, p.loc, shape, "the value of " + Who(p.name));
     for (size_t i = 0; i < values.size(); ++i) {
       ParameterDecl e = p;
       e.name = ElementName(p.name, shape, i);
@@ -69,7 +72,7 @@ std::vector<ParameterDecl> DeclarationScalariser::Parameters(const std::vector<P
 }
 
 std::vector<VariableDecl> DeclarationScalariser::Variables(const std::vector<VariableDecl>& vars,
-                                                          const ArrayShapes& signals) {
+                                                           const ArrayShapes& signals) {
   for (const auto& v : vars) {
     auto sig = signals.find(v.name);
     if (sig != signals.end() && !v.shape.empty() && v.shape != sig->second) {
@@ -91,7 +94,9 @@ std::vector<VariableDecl> DeclarationScalariser::Variables(const std::vector<Var
       continue;
     }
     std::vector<AstPtr> starts;
-    if (v.start) starts = Fill(v.start, AstToString(*v.start), v.loc, shape, "the start value of " + Who(v.name));
+    if (v.start)
+      starts =
+          Fill(v.start, AstToString(*v.start), v.loc, shape, "the start value of " + Who(v.name));
     for (size_t i = 0; i < ElementCount(shape); ++i) {
       VariableDecl e = v;
       e.name = ElementName(v.name, shape, i);
@@ -110,8 +115,8 @@ std::vector<EquationDecl> DeclarationScalariser::Equations(const std::vector<Equ
     ArrayEvaluator ev(scope_, e.text, e.loc);
     ArrayValue l = ev.Eval(e.ast.lhs), r = ev.Eval(e.ast.rhs);
     if (l.shape != r.shape) {
-      ev.Fail(e.ast.rhs->column, "the two sides of the equation have different shapes: " + ShapeText(l.shape) +
-                                     " and " + ShapeText(r.shape));
+      ev.Fail(e.ast.rhs->column, "the two sides of the equation have different shapes: " +
+                                     ShapeText(l.shape) + " and " + ShapeText(r.shape));
     }
     if (l.scalar()) {
       out.push_back(e);
@@ -119,7 +124,9 @@ std::vector<EquationDecl> DeclarationScalariser::Equations(const std::vector<Equ
       continue;
     }
     for (size_t i = 0; i < l.elements.size(); ++i) {
-      out.push_back({e.text + " (element " + SubscriptText(l.shape, i) + ")", {l.elements[i], r.elements[i]}, e.loc});
+      out.push_back({e.text + " (element " + SubscriptText(l.shape, i) + ")",
+                     {l.elements[i], r.elements[i]},
+                     e.loc});
     }
   }
   return out;
@@ -136,8 +143,9 @@ std::vector<WhenDecl> DeclarationScalariser::Whens(const std::vector<WhenDecl>& 
       ArrayValue target = ev.Eval(ParseName(statement.target, statement.loc));
       ArrayValue value = ev.Eval(statement.value);
       if (!value.scalar() && value.shape != target.shape) {
-        ev.Fail(statement.value->column, "the value has shape " + ShapeText(value.shape) + ", but '" + statement.target +
-                                      "' has shape " + ShapeText(target.shape));
+        ev.Fail(statement.value->column, "the value has shape " + ShapeText(value.shape) +
+                                             ", but '" + statement.target + "' has shape " +
+                                             ShapeText(target.shape));
       }
       for (size_t i = 0; i < target.elements.size(); ++i) {
         StatementDecl e = statement;

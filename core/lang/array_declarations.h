@@ -33,7 +33,8 @@ class DeclarationScalariser {
 
   /// Variables. `signals`: shaped signal connectors, whose attributes `variables:` may give
   /// under their name.
-  std::vector<VariableDecl> Variables(const std::vector<VariableDecl>& vars, const ArrayShapes& signals);
+  std::vector<VariableDecl> Variables(const std::vector<VariableDecl>& vars,
+                                      const ArrayShapes& signals);
 
   /// Equations: both sides of one shape, one equation per element.
   std::vector<EquationDecl> Equations(const std::vector<EquationDecl>& eqs);

@@ -24,7 +24,9 @@ std::string SubscriptText(const Shape& shape, size_t flat) {
 namespace {
 
 /// "a scalar" or "shape [2]", for messages.
-std::string Described(const Shape& shape) { return shape.empty() ? "a scalar" : "shape " + ShapeText(shape); }
+std::string Described(const Shape& shape) {
+  return shape.empty() ? "a scalar" : "shape " + ShapeText(shape);
+}
 
 bool IsArrayFunction(const std::string& name) {
   return name == "transpose" || name == "cross" || name == "norm" || name == "identity" ||
@@ -81,7 +83,8 @@ AstPtr Sum(std::vector<AstPtr> terms, int column) {
 /// The value of a tree of numbers and arithmetic, if it is one.
 std::optional<double> ConstantValue(const Ast& a) {
   switch (a.kind) {
-    case Ast::Kind::kNumber: return a.number;
+    case Ast::Kind::kNumber:
+      return a.number;
     case Ast::Kind::kUnary: {
       if (a.op != "-") return std::nullopt;
       auto x = ConstantValue(*a.args[0]);
@@ -94,10 +97,18 @@ std::optional<double> ConstantValue(const Ast& a) {
         auto x = ConstantValue(*a.args[k]);
         if (!x) return std::nullopt;
         switch (a.op[k]) {
-          case '+': r += *x; break;
-          case '-': r -= *x; break;
-          case '*': r *= *x; break;
-          default: r /= *x; break;
+          case '+':
+            r += *x;
+            break;
+          case '-':
+            r -= *x;
+            break;
+          case '*':
+            r *= *x;
+            break;
+          default:
+            r /= *x;
+            break;
         }
       }
       return r;
@@ -107,7 +118,8 @@ std::optional<double> ConstantValue(const Ast& a) {
       auto x = ConstantValue(*a.args[0]), y = ConstantValue(*a.args[1]);
       return x && y ? std::optional<double>(std::pow(*x, *y)) : std::nullopt;
     }
-    default: return std::nullopt;
+    default:
+      return std::nullopt;
   }
 }
 
@@ -140,7 +152,8 @@ ArrayNodeBudget::~ArrayNodeBudget() { --t_budget_depth; }
 // ---------------------------------------------------------------------------------------------
 // Evaluation of one expression
 
-ArrayEvaluator::ArrayEvaluator(const ArrayScope& scope, const std::string& text, const SourceLoc& loc)
+ArrayEvaluator::ArrayEvaluator(const ArrayScope& scope, const std::string& text,
+                               const SourceLoc& loc)
     : scope_(scope), text_(Excerpt(text, 0)), loc_(loc) {}
 
 ArrayValue ArrayEvaluator::Eval(const AstPtr& p) {
@@ -171,17 +184,23 @@ ArrayValue ArrayEvaluator::EvalNode(const AstPtr& p) {
   const Ast& a = *p;
   switch (a.kind) {
     case Ast::Kind::kNumber:
-    case Ast::Kind::kBool: return {{}, {p}};
-    case Ast::Kind::kName: return Name(p);
-    case Ast::Kind::kArray: return Literal(a);
+    case Ast::Kind::kBool:
+      return {{}, {p}};
+    case Ast::Kind::kName:
+      return Name(p);
+    case Ast::Kind::kArray:
+      return Literal(a);
     case Ast::Kind::kUnary:
-    case Ast::Kind::kSum: return Elementwise(p, Operands(a), a.op == "-" ? "-" : "+", false);
-    case Ast::Kind::kProduct: return Multiply(p);
+    case Ast::Kind::kSum:
+      return Elementwise(p, Operands(a), a.op == "-" ? "-" : "+", false);
+    case Ast::Kind::kProduct:
+      return Multiply(p);
     case Ast::Kind::kBinary: {
       std::vector<ArrayValue> ops = Operands(a);
       for (const ArrayValue& v : ops) {
         if (!v.scalar()) {
-          Fail(a.column, "'" + a.op + "' takes scalars, found an operand of shape " + ShapeText(v.shape));
+          Fail(a.column,
+               "'" + a.op + "' takes scalars, found an operand of shape " + ShapeText(v.shape));
         }
       }
       return Elementwise(p, std::move(ops), a.op, true);
@@ -190,7 +209,8 @@ ArrayValue ArrayEvaluator::EvalNode(const AstPtr& p) {
       std::vector<ArrayValue> ops = Operands(a);
       for (size_t k = 0; k + 1 < ops.size(); k += 2) {
         if (!ops[k].scalar()) {
-          Fail(a.args[k]->column, "an if condition must be a scalar, found shape " + ShapeText(ops[k].shape));
+          Fail(a.args[k]->column,
+               "an if condition must be a scalar, found shape " + ShapeText(ops[k].shape));
         }
       }
       return Elementwise(p, std::move(ops), "if", true);
@@ -212,7 +232,8 @@ std::vector<ArrayValue> ArrayEvaluator::Operands(const Ast& a) {
 /// Node `p` applied element by element. Array operands must have the same shape; scalar
 /// operands apply to every element when `broadcast` (functions, if conditions), and are a
 /// shape mismatch otherwise (`a + b`).
-ArrayValue ArrayEvaluator::Elementwise(const AstPtr& p, std::vector<ArrayValue> ops, const std::string& op, bool broadcast) {
+ArrayValue ArrayEvaluator::Elementwise(const AstPtr& p, std::vector<ArrayValue> ops,
+                                       const std::string& op, bool broadcast) {
   const Ast& a = *p;
   Shape shape;
   bool same = true;
@@ -222,8 +243,9 @@ ArrayValue ArrayEvaluator::Elementwise(const AstPtr& p, std::vector<ArrayValue> 
     if (shape.empty()) {
       shape = ops[k].shape;
     } else if (ops[k].shape != shape) {
-      Fail(a.kind == Ast::Kind::kSum ? a.args[k]->column : a.column, "the operands of '" + OpAt(a, op, k) + "' have different shapes: " + ShapeText(shape) +
-                         " and " + ShapeText(ops[k].shape));
+      Fail(a.kind == Ast::Kind::kSum ? a.args[k]->column : a.column,
+           "the operands of '" + OpAt(a, op, k) + "' have different shapes: " + ShapeText(shape) +
+               " and " + ShapeText(ops[k].shape));
     }
   }
   if (shape.empty()) {
@@ -235,8 +257,9 @@ ArrayValue ArrayEvaluator::Elementwise(const AstPtr& p, std::vector<ArrayValue> 
   if (!broadcast) {
     for (size_t k = 0; k < ops.size(); ++k) {
       if (ops[k].scalar()) {
-        Fail(a.args[k]->column, "the operands of '" + OpAt(a, op, k) + "' have different shapes: " + ShapeText(shape) +
-                           " and scalar (add arrays of one shape; scale with * and /)");
+        Fail(a.args[k]->column, "the operands of '" + OpAt(a, op, k) +
+                                    "' have different shapes: " + ShapeText(shape) +
+                                    " and scalar (add arrays of one shape; scale with * and /)");
       }
     }
   }
@@ -308,8 +331,9 @@ size_t ArrayEvaluator::Subscript(const Ast& name, const Ast& index, int size) {
   if (*v != std::floor(*v) || *v < 1 || *v > size) {
     std::ostringstream s;
     s << *v;
-    Fail(name.column, what + ": subscript " + s.str() + " is out of range 1.." + std::to_string(size) +
-                          " (" + name.path.back().name + " has shape " + ShapeText(*scope_.shape_of(name)) + ")");
+    Fail(name.column, what + ": subscript " + s.str() + " is out of range 1.." +
+                          std::to_string(size) + " (" + name.path.back().name + " has shape " +
+                          ShapeText(*scope_.shape_of(name)) + ")");
   }
   return static_cast<size_t>(*v) - 1;
 }
@@ -320,8 +344,8 @@ ArrayValue ArrayEvaluator::Literal(const Ast& a) {
   const Shape& inner = items[0].shape;
   for (const ArrayValue& v : items) {
     if (v.shape != inner) {
-      Fail(a.column, "the elements of an array literal have different shapes: " + ShapeText(inner) + " and " +
-                         ShapeText(v.shape));
+      Fail(a.column, "the elements of an array literal have different shapes: " + ShapeText(inner) +
+                         " and " + ShapeText(v.shape));
     }
   }
   if (inner.size() > 1) Fail(a.column, "arrays have one or two dimensions (vectors and matrices)");
@@ -357,7 +381,8 @@ ArrayValue ArrayEvaluator::Multiply(const AstPtr& p) {
     const ArrayValue& y = ops[k];
     if (a.op[k] == '/') {
       if (!y.scalar()) {
-        Fail(a.column, "division by an array of shape " + ShapeText(y.shape) + "; only a scalar divides");
+        Fail(a.column,
+             "division by an array of shape " + ShapeText(y.shape) + "; only a scalar divides");
       }
       for (AstPtr& e : acc.elements) e = Product(e, '/', y.elements[0], a.column);
       continue;
@@ -384,7 +409,8 @@ ArrayValue ArrayEvaluator::Times(const ArrayValue& x, const ArrayValue& y, int c
   const int k2 = y.shape[0], m = y_vector ? 1 : y.shape[1];
   if (k != k2) {
     Fail(column, "product of shapes " + ShapeText(x.shape) + " and " + ShapeText(y.shape) +
-                     ": the inner dimensions " + std::to_string(k) + " and " + std::to_string(k2) + " differ");
+                     ": the inner dimensions " + std::to_string(k) + " and " + std::to_string(k2) +
+                     " differ");
   }
   if (!x_vector) out.shape.push_back(n);
   if (!y_vector) out.shape.push_back(m);
@@ -412,7 +438,8 @@ ArrayValue ArrayEvaluator::ArrayFunction(const Ast& a) {
     CheckSize(shape, a.column);
     ArrayValue out{shape, {}};
     for (size_t i = 0; i < ElementCount(shape); ++i) {
-      const bool diagonal = a.op == "identity" && i % static_cast<size_t>(shape[0]) == i / static_cast<size_t>(shape[0]);
+      const bool diagonal = a.op == "identity" &&
+                            i % static_cast<size_t>(shape[0]) == i / static_cast<size_t>(shape[0]);
       out.elements.push_back(Number(diagonal ? 1 : 0, a.column));
     }
     return out;
@@ -460,7 +487,8 @@ int ArrayEvaluator::Size(const Ast& x, const std::string& f) {
   auto v = ConstantValue(x);
   if (!v || *v != std::floor(*v) || *v < 1 || *v > static_cast<double>(kMaxArrayElements)) {
     Fail(x.column, "the size '" + AstToString(x) + "' given to " + f +
-                       " must be a constant whole number from 1 to " + std::to_string(kMaxArrayElements));
+                       " must be a constant whole number from 1 to " +
+                       std::to_string(kMaxArrayElements));
   }
   return static_cast<int>(*v);
 }

@@ -12,8 +12,9 @@ std::string OutputGridProblem(double start, double stop, double interval) {
   const double rows = (stop - start) / interval;
   char buf[160];
   if (!(rows <= kMaxOutputRows)) {
-    std::snprintf(buf, sizeof buf, "from %g to %g s that is %.3g output rows; at most 1e9 can be written",
-                  start, stop, rows);
+    std::snprintf(buf, sizeof buf,
+                  "from %g to %g s that is %.3g output rows; at most 1e9 can be written", start,
+                  stop, rows);
     return buf;
   }
   const double resolution = 1e-13 * std::max(std::fabs(start), std::fabs(stop));

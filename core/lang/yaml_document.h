@@ -14,8 +14,9 @@ namespace momenta {
 
 /// Which parser reads the text (ParseYamlDocument).
 enum class YamlReader {
-  kAuto,     ///< the subset reader (core/lang/yaml_fast.h); what it refuses, libyaml for large ASCII
-             ///< texts (kLargeYamlBytes and up), yaml-cpp otherwise
+  /// The subset reader (core/lang/yaml_fast.h); what it refuses, libyaml for large ASCII texts
+  /// (kLargeYamlBytes and up), yaml-cpp otherwise.
+  kAuto,
   kYamlCpp,  ///< yaml-cpp's event parser, always
   kLibyaml,  ///< libyaml first, whatever the size (yaml-cpp again when libyaml finds an error)
   kSubset,   ///< the subset reader first, yaml-cpp for what it refuses

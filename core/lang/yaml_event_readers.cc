@@ -43,7 +43,9 @@ class TreeBuilder : public YAML::EventHandler {
   void OnNull(const YAML::Mark& mark, YAML::anchor_t anchor) override {
     Anchor(anchor, doc_->AddNull(TreeMark(mark)));
   }
-  void OnAlias(const YAML::Mark&, YAML::anchor_t anchor) override { doc_->AddAlias(anchors_.at(anchor)); }
+  void OnAlias(const YAML::Mark&, YAML::anchor_t anchor) override {
+    doc_->AddAlias(anchors_.at(anchor));
+  }
   void OnScalar(const YAML::Mark& mark, const std::string& tag, YAML::anchor_t anchor,
                 const std::string& value) override {
     Anchor(anchor, doc_->AddScalar(TreeMark(mark), tag, value));
@@ -125,7 +127,8 @@ struct LibyamlEvent {
 
 std::unique_ptr<YamlDoc> ParseWithLibyaml(const std::string& text) {
   LibyamlParser p;
-  yaml_parser_set_input_string(&p.parser, reinterpret_cast<const unsigned char*>(text.data()), text.size());
+  yaml_parser_set_input_string(&p.parser, reinterpret_cast<const unsigned char*>(text.data()),
+                               text.size());
   auto doc = std::make_unique<YamlDoc>();
   doc->Reserve(text.size());
   std::unordered_map<std::string, uint32_t> anchors;

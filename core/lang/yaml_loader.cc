@@ -38,10 +38,12 @@ ModelSpec ParseModel(const std::string& yaml, const std::string& file_name) {
 void LoadUses(ModelSpec* spec, std::set<std::string>* loaded) {
   namespace fs = std::filesystem;
   for (const UsesSpec& u : spec->uses) {
-    fs::path path = fs::path(u.path).is_absolute() ? fs::path(u.path) : fs::path(spec->file).parent_path() / u.path;
+    fs::path path = fs::path(u.path).is_absolute() ? fs::path(u.path)
+                                                   : fs::path(spec->file).parent_path() / u.path;
     std::error_code ec;
     if (!fs::exists(path, ec)) {
-      throw ModelError(u.loc, "uses: no file '" + u.path + "' (looked for " + path.lexically_normal().string() + ")");
+      throw ModelError(u.loc, "uses: no file '" + u.path + "' (looked for " +
+                                  path.lexically_normal().string() + ")");
     }
     std::string key = fs::weakly_canonical(path, ec).string();
     if (!loaded->insert(key).second) continue;
@@ -62,9 +64,11 @@ void LoadUses(ModelSpec* spec, std::set<std::string>* loaded) {
     } else {
       Library scratch;
       try {
-        ReadLibraryEntries(ValueReader(file), root, &scratch, &spec->defines, true, "a library file in uses:");
+        ReadLibraryEntries(ValueReader(file), root, &scratch, &spec->defines, true,
+                           "a library file in uses:");
       } catch (const YAML::Exception& e) {
-        throw ModelError(MarkLoc(file, e.mark.line, e.mark.column), "malformed library file: " + e.msg);
+        throw ModelError(MarkLoc(file, e.mark.line, e.mark.column),
+                         "malformed library file: " + e.msg);
       }
     }
   }

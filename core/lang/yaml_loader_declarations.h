@@ -14,26 +14,27 @@ namespace momenta {
 /// Parameter `name` of `owner` (a type or the model): a value, or a mapping with `value:` and
 /// `unit:`, `doc:`, `min:`, `max:`, `type:`, `shape:`. A value written with a unit is converted
 /// to the declared unit, or gives the parameter its unit when it declares none.
-ParameterDecl ReadParameter(const ValueReader& in, const std::string& name, const YamlNode& n,
+ParameterDecl ReadParameter(const ValueReader& reader, const std::string& name, const YamlNode& n,
                             const std::string& owner);
 
 /// Variable `name` of `owner`: nothing, or a mapping of its attributes.
-VariableDecl ReadVariable(const ValueReader& in, const std::string& name, const YamlNode& n,
+VariableDecl ReadVariable(const ValueReader& reader, const std::string& name, const YamlNode& n,
                           const std::string& owner);
 
 /// A list of equations `lhs = rhs` (`what`: "equations of Mass").
-std::vector<EquationDecl> ReadEquations(const ValueReader& in, const YamlNode& n,
+std::vector<EquationDecl> ReadEquations(const ValueReader& reader, const YamlNode& n,
                                         const std::string& what);
 
 /// `when:`: a list of {when: condition, then: [statements]}, each statement reinit(x, expr) or
 /// an assignment `x = expr`.
-std::vector<WhenDecl> ReadWhens(const ValueReader& in, const YamlNode& n, const std::string& what);
+std::vector<WhenDecl> ReadWhens(const ValueReader& reader, const YamlNode& n,
+                                const std::string& what);
 
 /// `impact:` of type `what`: its gap, velocity, force, restitution, contact, release and v_small.
-ImpactDecl ReadImpact(const ValueReader& in, const YamlNode& n, const std::string& what);
+ImpactDecl ReadImpact(const ValueReader& reader, const YamlNode& n, const std::string& what);
 
 /// `animation:`: a list of shapes, each a mapping with `shape:` and that kind's fields.
-std::vector<ShapeDecl> ReadAnimation(const ValueReader& in, const YamlNode& n,
+std::vector<ShapeDecl> ReadAnimation(const ValueReader& reader, const YamlNode& n,
                                      const std::string& what);
 
 }  // namespace momenta

@@ -139,25 +139,28 @@ std::unique_ptr<YamlDoc> ParseYamlFile(const std::string& text, const std::strin
   try {
     parsed = ParseYamlDocument(text);
   } catch (const YAML::DeepRecursion& e) {
-    throw ModelError(MarkLoc(file, e.mark.line, e.mark.column),
-                     "YAML nested too deeply: lists and mappings nested hundreds of levels deep are "
-                     "not read (a " + what + " needs a few levels)");
+    throw ModelError(
+        MarkLoc(file, e.mark.line, e.mark.column),
+        "YAML nested too deeply: lists and mappings nested hundreds of levels deep are "
+        "not read (a " +
+            what + " needs a few levels)");
   } catch (const YAML::Exception& e) {
     throw ModelError(MarkLoc(file, e.mark.line, e.mark.column), "YAML syntax error: " + e.msg);
   }
   if (parsed.documents == 2) {
     // yaml-cpp's parser does not consume a ',' where a document should start (0.7: the input ",").
     if (parsed.stuck) {
-      throw ModelError(MarkLoc(file, parsed.second_mark),
-                       "YAML syntax error: unexpected '" + text.substr(parsed.second_offset, 1) + "'");
+      throw ModelError(
+          MarkLoc(file, parsed.second_mark),
+          "YAML syntax error: unexpected '" + text.substr(parsed.second_offset, 1) + "'");
     }
     throw ModelError(MarkLoc(file, parsed.second_mark),
                      "a second YAML document starts here; a " + what + " holds one document");
   }
   if (parsed.documents == 0 || !parsed.doc || parsed.doc->empty()) {
     bool blank = text.find_first_not_of(" \t\r\n") == std::string::npos;
-    throw ModelError(SourceLoc(file), "the " + what + " is empty" +
-                                          (blank ? "" : " (it holds only comments)"));
+    throw ModelError(SourceLoc(file),
+                     "the " + what + " is empty" + (blank ? "" : " (it holds only comments)"));
   }
   if (parsed.doc->has_repeated_key()) CheckDuplicateKeys(*parsed.doc, file, what);
   return std::move(parsed.doc);

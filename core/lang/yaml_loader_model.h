@@ -10,6 +10,6 @@ namespace momenta {
 
 /// The model of the document whose root is `root`, as written: the files of `uses:` are named,
 /// not read (LoadModelString reads them), and arrays are not yet scalar.
-ModelSpec ReadModel(const ValueReader& in, const YamlNode& root);
+ModelSpec ReadModel(const ValueReader& reader, const YamlNode& root);
 
 }  // namespace momenta

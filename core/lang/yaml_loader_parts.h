@@ -14,7 +14,7 @@ namespace momenta {
 
 /// `components:` and `connections:` of `n` (a model's root or a component type), appended to
 /// `components` and `connections`.
-void ReadParts(const ValueReader& in, const YamlNode& n, std::vector<ComponentSpec>* components,
+void ReadParts(const ValueReader& reader, const YamlNode& n, std::vector<ComponentSpec>* components,
                std::vector<ConnectionSpec>* connections);
 
 }  // namespace momenta

@@ -30,7 +30,8 @@ double ValueReader::Number(const YamlNode& n, const MessageSubject& what) const 
   }
 }
 
-void ValueReader::CheckFinite(const YamlNode& n, std::string_view s, const MessageSubject& what) const {
+void ValueReader::CheckFinite(const YamlNode& n, std::string_view s,
+                              const MessageSubject& what) const {
   static const std::string_view kNonFinite[] = {".nan", ".NaN",  ".NAN", ".inf", "-.inf",
                                                 ".Inf", "-.Inf", "nan",  "NaN",  "inf",
                                                 "-inf", "Inf",   "-Inf"};
@@ -83,28 +84,34 @@ std::string ValueReader::ValueText(const YamlNode& n, const MessageSubject& what
 
 Shape ValueReader::ReadShape(const YamlNode& n, const MessageSubject& what, bool open) const {
   if (!n.IsSequence() || n.size() < 1 || n.size() > 2) {
-    Fail(n, "the shape of " + what + " is a list of one or two sizes, e.g. shape: [2] or shape: [3, 3]");
+    Fail(n, "the shape of " + what +
+                " is a list of one or two sizes, e.g. shape: [2] or shape: [3, 3]");
   }
   Shape shape;
   double elements = 1;
   for (const auto& d : n) {
     if (d.IsScalar() && d.Scalar() == ":") {
-      if (!open) Fail(d, "the shape of " + what + " has ':', which only a parameter of a component type may have");
+      if (!open)
+        Fail(d, "the shape of " + what +
+                    " has ':', which only a parameter of a component type may have");
       shape.push_back(kOpenSize);
       continue;
     }
     double v = Number(d, "a size in the shape of " + what);
-    if (v != std::floor(v) || v < 1) Fail(d, "a size in the shape of " + what + " must be a whole number of at least 1");
+    if (v != std::floor(v) || v < 1)
+      Fail(d, "a size in the shape of " + what + " must be a whole number of at least 1");
     elements *= v;
     if (elements > static_cast<double>(kMaxArrayElements)) {
-      Fail(n, "the shape of " + what + " has more than " + std::to_string(kMaxArrayElements) + " elements");
+      Fail(n, "the shape of " + what + " has more than " + std::to_string(kMaxArrayElements) +
+                  " elements");
     }
     shape.push_back(static_cast<int>(v));
   }
   return shape;
 }
 
-AstPtr ValueReader::Expression(const YamlNode& n, const std::string& s, const MessageSubject& what) const {
+AstPtr ValueReader::Expression(const YamlNode& n, const std::string& s,
+                               const MessageSubject& what) const {
   CheckFinite(n, s, what);
   if (s.empty()) Fail(n, what + " is empty");
   // (Sharing one tree among the values written the same way, "1e4" in every spring, was tried on
@@ -121,8 +128,8 @@ AstPtr ValueReader::Expression(const YamlNode& n, const std::string& s, const Me
   }
 }
 
-AstPtr ValueReader::ValueExpression(const YamlNode& n, const std::string& text, const MessageSubject& what,
-                                    std::string* unit) const {
+AstPtr ValueReader::ValueExpression(const YamlNode& n, const std::string& text,
+                                    const MessageSubject& what, std::string* unit) const {
   if (n.IsScalar()) {
     std::optional<Quantity> q;
     try {
