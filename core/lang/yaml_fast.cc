@@ -1,3 +1,6 @@
+// The subset reader (core/lang/yaml_fast.h): one pass of recursive descent over the block
+// structure, refusing at the first thing outside the subset.
+
 #include "core/lang/yaml_fast.h"
 
 #include <array>
