@@ -50,4 +50,8 @@ struct AstEquation {
 /// Fully parenthesised text of the tree: chains print left-associated, "((a - b) + c)".
 std::string AstToString(const Ast& a);
 
+/// A node over `args`, one level above the highest of them (no depth check: for trees built from
+/// parsed ones, such as the elements of array expressions in core/lang/array_expression.cc).
+AstPtr MakeAst(Ast::Kind kind, int column, std::string op, std::vector<AstPtr> args);
+
 }  // namespace momenta

@@ -1,3 +1,6 @@
+// Component and connector types (core/lang/component_type.h): a connection end's tree made when
+// it is needed, and the library's lookup by full or short name.
+
 #include "core/lang/component_type.h"
 
 #include <algorithm>

@@ -1,3 +1,6 @@
+// The parser of momenta's equation language (core/lang/parser.h): recursive descent over the
+// tokens of core/lang/lexer.h, chains of one operator collected by loops into one node.
+
 #include "core/lang/parser.h"
 
 #include <algorithm>
@@ -8,6 +11,8 @@
 #include <map>
 #include <sstream>
 #include <string_view>
+
+#include "core/lang/lexer.h"
 
 namespace momenta {
 
@@ -28,144 +33,6 @@ const std::map<std::string, int>& Functions() {
   return kFunctions;
 }
 
-/// The character starting at text[at] for a message: 'c', a whole UTF-8 sequence as 'ü' (U+00FC),
-/// or a byte that starts none as byte 0xC3.
-std::string QuotedCharacter(const std::string& text, size_t at) {
-  const auto lead = static_cast<unsigned char>(text[at]);
-  if (lead < 0x80) return std::string("'") + text[at] + "'";
-  size_t len = lead >= 0xF0 && lead < 0xF5 ? 4 : lead >= 0xE0 ? 3 : lead >= 0xC2 ? 2 : 0;
-  uint32_t code = len == 2 ? lead & 0x1F : len == 3 ? lead & 0x0F : lead & 0x07;
-  bool ok = len > 0 && lead < 0xF5 && at + len <= text.size();
-  for (size_t k = 1; ok && k < len; ++k) {
-    const auto cont = static_cast<unsigned char>(text[at + k]);
-    ok = (cont & 0xC0) == 0x80;
-    code = (code << 6) | (cont & 0x3F);
-  }
-  char hex[16];
-  if (!ok) {
-    std::snprintf(hex, sizeof hex, "0x%02X", lead);
-    return std::string("byte ") + hex + " (not UTF-8 text)";
-  }
-  std::snprintf(hex, sizeof hex, "U+%04X", code);
-  return "'" + text.substr(at, len) + "' (" + hex + ")";
-}
-
-bool IsDigit(char c) { return std::isdigit(static_cast<unsigned char>(c)) != 0; }
-bool IsNameStart(char c) { return std::isalpha(static_cast<unsigned char>(c)) || c == '_'; }
-bool IsNameChar(char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; }
-
-/// Where the decimal number starting at text[i] ends: digits, a point, digits, an exponent
-/// (strtod alone would take 0x10). An 'e' without digits after it is not part of the number.
-size_t DecimalEnd(std::string_view text, size_t i) {
-  size_t j = i;
-  auto digits = [&] {
-    while (j < text.size() && IsDigit(text[j])) ++j;
-  };
-  digits();
-  if (j < text.size() && text[j] == '.') {
-    ++j;
-    digits();
-  }
-  if (j < text.size() && (text[j] == 'e' || text[j] == 'E')) {
-    size_t k = j + 1;
-    if (k < text.size() && (text[k] == '+' || text[k] == '-')) ++k;
-    if (k < text.size() && IsDigit(text[k])) {
-      j = k;
-      digits();
-    }
-  }
-  return j;
-}
-
-enum class Tok { kEnd, kNumber, kIdent, kOp, kLParen, kRParen, kLBracket, kRBracket, kComma, kDot };
-
-struct Token {
-  Tok kind = Tok::kEnd;
-  std::string text;
-  double number = 0;
-  int column = 0;
-};
-
-class Lexer {
- public:
-  Lexer(const std::string& text, const SourceLoc& loc) : text_(text), loc_(loc) {}
-
-  std::vector<Token> Run() {
-    std::vector<Token> out;
-    size_t i = 0;
-    while (true) {
-      while (i < text_.size() && std::isspace(static_cast<unsigned char>(text_[i]))) ++i;
-      Token t;
-      t.column = static_cast<int>(i);
-      if (i >= text_.size()) {
-        out.push_back(t);
-        return out;
-      }
-      char c = text_[i];
-      if (std::isdigit(static_cast<unsigned char>(c)) ||
-          (c == '.' && i + 1 < text_.size() && std::isdigit(static_cast<unsigned char>(text_[i + 1])))) {
-        const size_t j = DecimalEnd(text_, i);
-        t.kind = Tok::kNumber;
-        t.text = text_.substr(i, j - i);
-        t.number = std::strtod(t.text.c_str(), nullptr);
-        if (!std::isfinite(t.number)) {
-          throw ModelError(loc_.Shifted(static_cast<int>(i)), "number out of range '" + t.text + "'");
-        }
-        i = j;
-        if (i < text_.size() && (std::isalpha(static_cast<unsigned char>(text_[i])) || text_[i] == '_')) {
-          throw ModelError(loc_.Shifted(static_cast<int>(i)),
-                           "malformed number '" + t.text + text_[i] + "'");
-        }
-      } else if (std::isalpha(static_cast<unsigned char>(c)) || c == '_') {
-        size_t j = i;
-        while (j < text_.size() &&
-               (std::isalnum(static_cast<unsigned char>(text_[j])) || text_[j] == '_')) {
-          ++j;
-        }
-        t.kind = Tok::kIdent;
-        t.text = text_.substr(i, j - i);
-        i = j;
-      } else {
-        static const char* kTwo[] = {"<=", ">=", "==", "<>", "!="};
-        std::string two = text_.substr(i, 2);
-        bool matched = false;
-        for (const char* op : kTwo) {
-          if (two == op) {
-            t.kind = Tok::kOp;
-            t.text = two == "!=" ? "<>" : two;
-            i += 2;
-            matched = true;
-            break;
-          }
-        }
-        if (!matched) {
-          ++i;
-          t.text = std::string(1, c);
-          switch (c) {
-            case '(': t.kind = Tok::kLParen; break;
-            case ')': t.kind = Tok::kRParen; break;
-            case '[': t.kind = Tok::kLBracket; break;
-            case ']': t.kind = Tok::kRBracket; break;
-            case ',': t.kind = Tok::kComma; break;
-            case '.': t.kind = Tok::kDot; break;
-            case '+': case '-': case '*': case '/': case '^': case '<': case '>': case '=':
-              t.kind = Tok::kOp;
-              break;
-            default:
-              throw ModelError(loc_.Shifted(t.column),
-                               "unexpected character " + QuotedCharacter(text_, i - 1));
-          }
-        }
-      }
-      out.push_back(t);
-    }
-  }
-
- private:
-  const std::string& text_;
-  const SourceLoc& loc_;
-};
-
 }  // namespace
 
 std::string Excerpt(const std::string& text, int column) {
@@ -182,7 +49,7 @@ namespace {
 class Parser {
  public:
   Parser(const std::string& text, const SourceLoc& loc)
-      : text_(text), loc_(loc), tokens_(Lexer(text, loc).Run()) {}
+      : text_(text), loc_(loc), tokens_(Tokenize(text, loc)) {}
 
   /// if-expression or or-chain. The one recursive entry: nested constructs come back here.
   AstPtr Expression() {
@@ -195,7 +62,7 @@ class Parser {
   AstEquation Equation() {
     AstEquation eq;
     eq.lhs = Expression();
-    if (!(Peek().kind == Tok::kOp && Peek().text == "=")) {
+    if (!(Peek().kind == TokenKind::kOp && Peek().text == "=")) {
       Fail("expected '=' between the two sides of the equation");
     }
     Next();
@@ -212,17 +79,17 @@ class Parser {
   }
 
   void ExpectEnd() {
-    if (Peek().kind != Tok::kEnd) Fail("unexpected '" + Peek().text + "'");
+    if (Peek().kind != TokenKind::kEnd) Fail("unexpected '" + Peek().text + "'");
   }
 
  private:
   const Token& Peek() const { return tokens_[pos_]; }
   const Token& Next() { return tokens_[pos_ < tokens_.size() - 1 ? pos_++ : pos_]; }
-  bool IsKeyword(const char* k) const { return Peek().kind == Tok::kIdent && Peek().text == k; }
-  bool IsOp(const char* op) const { return Peek().kind == Tok::kOp && Peek().text == op; }
+  bool IsKeyword(const char* k) const { return Peek().kind == TokenKind::kIdent && Peek().text == k; }
+  bool IsOp(const char* op) const { return Peek().kind == TokenKind::kOp && Peek().text == op; }
 
   [[noreturn]] void Fail(const std::string& what) const {
-    std::string found = Peek().kind == Tok::kEnd ? "end of text" : "'" + Peek().text + "'";
+    std::string found = Peek().kind == TokenKind::kEnd ? "end of text" : "'" + Peek().text + "'";
     std::string msg = what;
     if (what.find("unexpected") == std::string::npos) msg += ", found " + found;
     throw ModelError(loc_.Shifted(Peek().column), msg + " in '" + Excerpt(text_, Peek().column) + "'");
@@ -290,7 +157,7 @@ class Parser {
     std::vector<int> nots;
     while (IsKeyword("not")) nots.push_back(Next().column);
     AstPtr r = Sum();
-    if (Peek().kind == Tok::kOp &&
+    if (Peek().kind == TokenKind::kOp &&
         (Peek().text == "<" || Peek().text == "<=" || Peek().text == ">" || Peek().text == ">=" ||
          Peek().text == "==" || Peek().text == "<>")) {
       const Token& t = Next();
@@ -354,9 +221,11 @@ class Parser {
     return r;
   }
 
+  /// An operand: a number, a parenthesised expression, an array literal, true or false, a call or
+  /// a name.
   AstPtr Primary() {
     const Token& t = Peek();
-    if (t.kind == Tok::kNumber) {
+    if (t.kind == TokenKind::kNumber) {
       Next();
       auto a = std::make_shared<Ast>();
       a->kind = Ast::Kind::kNumber;
@@ -364,15 +233,15 @@ class Parser {
       a->column = t.column;
       return a;
     }
-    if (t.kind == Tok::kLParen) {
+    if (t.kind == TokenKind::kLParen) {
       Next();
       AstPtr inner = Expression();
-      if (Peek().kind != Tok::kRParen) Fail("expected ')'");
+      if (Peek().kind != TokenKind::kRParen) Fail("expected ')'");
       Next();
       return inner;
     }
-    if (t.kind == Tok::kLBracket) return ArrayLiteral();
-    if (t.kind != Tok::kIdent) Fail("expected a number, a name, '(' or '['");
+    if (t.kind == TokenKind::kLBracket) return ArrayLiteral();
+    if (t.kind != TokenKind::kIdent) Fail("expected a number, a name, '(' or '['");
     if (t.text == "true" || t.text == "false") {
       Next();
       auto a = std::make_shared<Ast>();
@@ -385,55 +254,61 @@ class Parser {
     for (const char* r : kReserved) {
       if (t.text == r) Fail("expected an operand");
     }
-    // A function call.
-    if (tokens_[pos_ + 1].kind == Tok::kLParen) {
-      Token name = Next();
-      Next();
-      int arity = 0;
-      if (!IsKnownFunction(name.text, &arity)) {
-        throw ModelError(loc_.Shifted(name.column),
-                         "unknown function '" + name.text + "' in '" + Excerpt(text_, name.column) +
-                             "' (valid functions: " + KnownFunctionList() + ")");
-      }
-      std::vector<AstPtr> args;
-      if (Peek().kind != Tok::kRParen) args = ExpressionList();
-      if (Peek().kind != Tok::kRParen) Fail("expected ')' or ','");
-      Next();
-      const int count = static_cast<int>(args.size());
-      const bool bad_count = arity == -2   ? count < 1 || count > 2
-                             : arity == -3 ? count < 2 || count > 3
-                                           : count != arity;
-      if (bad_count) {
-        throw ModelError(loc_.Shifted(name.column),
-                         name.text + "() takes " +
-                             (arity == -2 ? "1 or 2" : arity == -3 ? "2 or 3" : std::to_string(arity)) +
-                             " argument" + (arity == 1 ? "" : "s") + ", found " +
-                             std::to_string(args.size()) + " in '" + Excerpt(text_, name.column) + "'");
-      }
-      return Make(Ast::Kind::kCall, name.column, name.text, std::move(args));
+    if (tokens_[pos_ + 1].kind == TokenKind::kLParen) return Call();
+    return DottedName();
+  }
+
+  /// A function call `f(a, b)`: a known function with as many arguments as it takes.
+  AstPtr Call() {
+    Token name = Next();
+    Next();
+    int arity = 0;
+    if (!IsKnownFunction(name.text, &arity)) {
+      throw ModelError(loc_.Shifted(name.column),
+                       "unknown function '" + name.text + "' in '" + Excerpt(text_, name.column) +
+                           "' (valid functions: " + KnownFunctionList() + ")");
     }
-    // A dotted name with optional subscripts.
+    std::vector<AstPtr> args;
+    if (Peek().kind != TokenKind::kRParen) args = ExpressionList();
+    if (Peek().kind != TokenKind::kRParen) Fail("expected ')' or ','");
+    Next();
+    const int count = static_cast<int>(args.size());
+    const bool bad_count = arity == -2   ? count < 1 || count > 2
+                           : arity == -3 ? count < 2 || count > 3
+                                         : count != arity;
+    if (bad_count) {
+      throw ModelError(loc_.Shifted(name.column),
+                       name.text + "() takes " +
+                           (arity == -2 ? "1 or 2" : arity == -3 ? "2 or 3" : std::to_string(arity)) +
+                           " argument" + (arity == 1 ? "" : "s") + ", found " +
+                           std::to_string(args.size()) + " in '" + Excerpt(text_, name.column) + "'");
+    }
+    return Make(Ast::Kind::kCall, name.column, name.text, std::move(args));
+  }
+
+  /// A dotted name with optional subscripts: `R[i+1].p.v`, `body.R[1, 2]`.
+  AstPtr DottedName() {
     auto a = std::make_shared<Ast>();
     a->kind = Ast::Kind::kName;
-    a->column = t.column;
+    a->column = Peek().column;
     while (true) {
-      if (Peek().kind != Tok::kIdent) Fail("expected a name after '.'");
+      if (Peek().kind != TokenKind::kIdent) Fail("expected a name after '.'");
       NameSegment seg;
       seg.name = Next().text;
-      if (Peek().kind == Tok::kLBracket) {
+      if (Peek().kind == TokenKind::kLBracket) {
         Next();
         seg.index = Expression();
         a->height = std::max(a->height, seg.index->height + 1);
-        if (Peek().kind == Tok::kComma) {
+        if (Peek().kind == TokenKind::kComma) {
           Next();
           seg.index2 = Expression();
           a->height = std::max(a->height, seg.index2->height + 1);
         }
-        if (Peek().kind != Tok::kRBracket) Fail(seg.index2 ? "expected ']'" : "expected ']' or ','");
+        if (Peek().kind != TokenKind::kRBracket) Fail(seg.index2 ? "expected ']'" : "expected ']' or ','");
         Next();
       }
       a->path.push_back(std::move(seg));
-      if (Peek().kind != Tok::kDot) break;
+      if (Peek().kind != TokenKind::kDot) break;
       Next();
     }
     if (a->height > kMaxExpressionDepth) TooDeep(a->column);
@@ -443,7 +318,7 @@ class Parser {
   /// One or more expressions separated by commas (call arguments, array elements).
   std::vector<AstPtr> ExpressionList() {
     std::vector<AstPtr> list{Expression()};
-    while (Peek().kind == Tok::kComma) {
+    while (Peek().kind == TokenKind::kComma) {
       Next();
       list.push_back(Expression());
     }
@@ -454,9 +329,9 @@ class Parser {
   AstPtr ArrayLiteral() {
     int col = Next().column;
     if (++depth_ > kMaxExpressionDepth) TooDeep(col);
-    if (Peek().kind == Tok::kRBracket) Fail("expected the elements of an array, e.g. [1, 2]");
+    if (Peek().kind == TokenKind::kRBracket) Fail("expected the elements of an array, e.g. [1, 2]");
     std::vector<AstPtr> elements = ExpressionList();
-    if (Peek().kind != Tok::kRBracket) Fail("expected ']' or ','");
+    if (Peek().kind != TokenKind::kRBracket) Fail("expected ']' or ','");
     Next();
     --depth_;
     return Make(Ast::Kind::kArray, col, "[]", std::move(elements));
@@ -470,18 +345,6 @@ class Parser {
 };
 
 }  // namespace
-
-AstPtr MakeAst(Ast::Kind kind, int column, std::string op, std::vector<AstPtr> args) {
-  auto a = std::make_shared<Ast>();
-  a->kind = kind;
-  a->column = column;
-  a->op = std::move(op);
-  a->args = std::move(args);
-  int below = 0;
-  for (const AstPtr& x : a->args) below = std::max(below, x->height);
-  a->height = below + 1;
-  return a;
-}
 
 bool IsKnownFunction(const std::string& name, int* arity) {
   auto it = Functions().find(name);
@@ -574,71 +437,6 @@ AstEquation ParseEquation(const std::string& text, const SourceLoc& loc) {
 AstPtr ParseName(const std::string& text, const SourceLoc& loc) {
   if (AstPtr name = PlainName(text)) return name;
   return Parser(text, loc).Name();
-}
-
-std::string Ast::PathText() const {
-  std::string s;
-  for (size_t i = 0; i < path.size(); ++i) {
-    if (i) s += ".";
-    s += path[i].name;
-    if (path[i].index) {
-      s += '[';
-      s += AstToString(*path[i].index);
-      if (path[i].index2) s += ", " + AstToString(*path[i].index2);
-      s += ']';
-    }
-  }
-  return s;
-}
-
-std::string AstToString(const Ast& a) {
-  switch (a.kind) {
-    case Ast::Kind::kNumber: {
-      std::ostringstream s;
-      s << a.number;
-      return s.str();
-    }
-    case Ast::Kind::kBool: return a.number != 0 ? "true" : "false";
-    case Ast::Kind::kName: return a.PathText();
-    case Ast::Kind::kCall: {
-      std::string s = a.op + "(";
-      for (size_t i = 0; i < a.args.size(); ++i) {
-        if (i) s += ", ";
-        s += AstToString(*a.args[i]);
-      }
-      return s + ")";
-    }
-    case Ast::Kind::kUnary: {
-      std::string s = a.op == "not" ? "not " : "-";
-      s += AstToString(*a.args[0]);
-      return s;
-    }
-    case Ast::Kind::kBinary:
-    case Ast::Kind::kSum:
-    case Ast::Kind::kProduct: {
-      // Left-associated: ((a - b) + c).
-      const bool chain = a.kind != Ast::Kind::kBinary;
-      std::string s = AstToString(*a.args[0]);
-      for (size_t i = 1; i < a.args.size(); ++i) {
-        std::string op = chain ? std::string(1, a.op[i]) : a.op;
-        s = "(" + s + " " + op + " " + AstToString(*a.args[i]) + ")";
-      }
-      return s;
-    }
-    case Ast::Kind::kIf: {
-      std::string s;
-      for (size_t i = 0; i + 1 < a.args.size(); i += 2) {
-        s += "if " + AstToString(*a.args[i]) + " then " + AstToString(*a.args[i + 1]) + " else ";
-      }
-      return s + AstToString(*a.args.back());
-    }
-    case Ast::Kind::kArray: {
-      std::string s = "[";
-      for (size_t i = 0; i < a.args.size(); ++i) s += (i ? ", " : "") + AstToString(*a.args[i]);
-      return s + "]";
-    }
-  }
-  return "";
 }
 
 }  // namespace momenta

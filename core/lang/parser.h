@@ -40,10 +40,6 @@ bool IsPlainName(std::string_view text);
 /// `column` (0-based), elided with "…", so a 100 000-term expression does not flood the message.
 std::string Excerpt(const std::string& text, int column);
 
-/// A node over `args`, one level above the highest of them (no depth check: for trees built from
-/// parsed ones, such as the elements of array expressions in core/lang/arrays.cc).
-AstPtr MakeAst(Ast::Kind kind, int column, std::string op, std::vector<AstPtr> args);
-
 /// The built-in functions and their argument counts (-2: one or two), for messages.
 bool IsKnownFunction(const std::string& name, int* arity);
 std::string KnownFunctionList();

@@ -109,63 +109,14 @@ UnitChecker::Term UnitChecker::Eval(const Ast& a) {
       Term t = Eval(*a.args[0]);
       return a.op == "not" ? Term::Flexible() : t;
     }
-    case K::kSum: {
-      Term t = Eval(*a.args[0]);
-      for (size_t k = 1; k < a.args.size(); ++k) {
-        t = Unify(t, Eval(*a.args[k]), *a.args[k], [&] {
-          return "the terms '" + AstToString(*a.args[k - 1]) + "' and '" + AstToString(*a.args[k]) +
-                 "'";
-        });
-      }
-      return t;
-    }
-    case K::kProduct: {
-      Term t = Term::Flexible();
-      bool unknown = false;
-      for (size_t k = 0; k < a.args.size(); ++k) {
-        Term f = Eval(*a.args[k]);
-        if (f.kind == Term::kUnknown) unknown = true;
-        if (f.kind != Term::kKnown) continue;
-        Dimension d = a.op[k] == '/' ? Dimension() / f.dim : f.dim;
-        t = Term::Known(t.kind == Term::kKnown ? t.dim * d : d);
-      }
-      return unknown ? Term::Unknown() : t;
-    }
-    case K::kBinary: {
-      if (a.op == "and" || a.op == "or") {
-        for (const auto& x : a.args) Eval(*x);
-        return Term::Flexible();
-      }
-      if (a.op == "^") {
-        Term base = Eval(*a.args[0]);
-        Term exponent = Eval(*a.args[1]);
-        if (exponent.kind == Term::kKnown && !exponent.dim.dimensionless()) {
-          Fail(*a.args[1], "the exponent '" + AstToString(*a.args[1]) +
-                               "' must be dimensionless, found " + exponent.text);
-        }
-        if (base.kind != Term::kKnown || base.dim.dimensionless()) return base;
-        std::optional<double> p = LiteralNumber(*a.args[1]);
-        return p ? Term::Known(base.dim.Power(*p)) : Term::Unknown();
-      }
-      // A relation: both sides agree; the value is a Boolean.
-      Unify(Eval(*a.args[0]), Eval(*a.args[1]), a,
-            [&] { return "the two sides of '" + AstToString(a) + "'"; });
-      return Term::Flexible();
-    }
-    case K::kIf: {
-      Term t = Term::Flexible();
-      bool first = true;
-      for (size_t k = 0; k < a.args.size(); ++k) {
-        bool is_value = k % 2 == 1 || k + 1 == a.args.size();
-        Term x = Eval(*a.args[k]);
-        if (!is_value) continue;
-        t = first ? x : Unify(t, x, *a.args[k], [] {
-          return std::string("the branches of the if-expression");
-        });
-        first = false;
-      }
-      return t;
-    }
+    case K::kSum:
+      return SumTerm(a);
+    case K::kProduct:
+      return ProductTerm(a);
+    case K::kBinary:
+      return BinaryTerm(a);
+    case K::kIf:
+      return IfTerm(a);
     case K::kArray: {
       Term t = Term::Flexible();
       for (const auto& x : a.args)
@@ -175,7 +126,71 @@ UnitChecker::Term UnitChecker::Eval(const Ast& a) {
     case K::kCall:
       break;
   }
-  // Calls.
+  return CallTerm(a);
+}
+
+UnitChecker::Term UnitChecker::SumTerm(const Ast& a) {
+  Term t = Eval(*a.args[0]);
+  for (size_t k = 1; k < a.args.size(); ++k) {
+    t = Unify(t, Eval(*a.args[k]), *a.args[k], [&] {
+      return "the terms '" + AstToString(*a.args[k - 1]) + "' and '" + AstToString(*a.args[k]) +
+             "'";
+    });
+  }
+  return t;
+}
+
+UnitChecker::Term UnitChecker::ProductTerm(const Ast& a) {
+  Term t = Term::Flexible();
+  bool unknown = false;
+  for (size_t k = 0; k < a.args.size(); ++k) {
+    Term f = Eval(*a.args[k]);
+    if (f.kind == Term::kUnknown) unknown = true;
+    if (f.kind != Term::kKnown) continue;
+    Dimension d = a.op[k] == '/' ? Dimension() / f.dim : f.dim;
+    t = Term::Known(t.kind == Term::kKnown ? t.dim * d : d);
+  }
+  return unknown ? Term::Unknown() : t;
+}
+
+UnitChecker::Term UnitChecker::BinaryTerm(const Ast& a) {
+  if (a.op == "and" || a.op == "or") {
+    for (const auto& x : a.args) Eval(*x);
+    return Term::Flexible();
+  }
+  if (a.op == "^") {
+    Term base = Eval(*a.args[0]);
+    Term exponent = Eval(*a.args[1]);
+    if (exponent.kind == Term::kKnown && !exponent.dim.dimensionless()) {
+      Fail(*a.args[1], "the exponent '" + AstToString(*a.args[1]) +
+                           "' must be dimensionless, found " + exponent.text);
+    }
+    if (base.kind != Term::kKnown || base.dim.dimensionless()) return base;
+    std::optional<double> p = LiteralNumber(*a.args[1]);
+    return p ? Term::Known(base.dim.Power(*p)) : Term::Unknown();
+  }
+  // A relation: both sides agree; the value is a Boolean.
+  Unify(Eval(*a.args[0]), Eval(*a.args[1]), a,
+        [&] { return "the two sides of '" + AstToString(a) + "'"; });
+  return Term::Flexible();
+}
+
+UnitChecker::Term UnitChecker::IfTerm(const Ast& a) {
+  Term t = Term::Flexible();
+  bool first = true;
+  for (size_t k = 0; k < a.args.size(); ++k) {
+    bool is_value = k % 2 == 1 || k + 1 == a.args.size();
+    Term x = Eval(*a.args[k]);
+    if (!is_value) continue;
+    t = first ? x : Unify(t, x, *a.args[k], [] {
+      return std::string("the branches of the if-expression");
+    });
+    first = false;
+  }
+  return t;
+}
+
+UnitChecker::Term UnitChecker::CallTerm(const Ast& a) {
   const std::string& f = a.op;
   std::vector<Term> args;
   for (const auto& x : a.args) args.push_back(Eval(*x));
@@ -272,34 +287,6 @@ void UnitChecker::Infer(const std::vector<std::pair<const Ast*, const Ast*>>& eq
     }
   }
 }
-
-AstPtr ValueInUnit(double value, const std::string& unit, const std::string& target_unit,
-                   const std::string& who, const SourceLoc& loc) {
-  if (target_unit.empty()) {
-    throw ModelError(loc, who + " declares no unit, so a value in " + unit +
-                              " cannot be converted; give it as a plain number");
-  }
-  auto number = std::make_shared<Ast>();
-  try {
-    number->number = ConvertValue(value, unit, target_unit);
-  } catch (const UnitError& e) {
-    throw ModelError(loc, "the value of " + who + " is in " + unit + ", but " + who + " is in " +
-                              target_unit + ": " + e.what());
-  }
-  return number;
-}
-
-void CheckUnitString(const std::string& unit, const SourceLoc& loc, const std::string& what) {
-  try {
-    ParseUnit(unit);
-  } catch (const UnitError& e) {
-    throw ModelError(loc, std::string(e.what()) + ", in " + what);
-  }
-}
-
-}  // namespace momenta
-
-namespace momenta {
 
 void CheckComponentUnits(const ComponentType& type, const UnitOfName& unit_of) {
   UnitChecker check(type.name, unit_of);

@@ -62,7 +62,13 @@ class UnitChecker {
 
  private:
   struct Term;
+  /// The dimension of a tree, bottom-up; each kind of node has its rule.
   Term Eval(const Ast& a);
+  Term SumTerm(const Ast& a);      ///< every term one dimension
+  Term ProductTerm(const Ast& a);  ///< the product of the known factors' dimensions
+  Term BinaryTerm(const Ast& a);   ///< `and`/`or`, a power, a relation
+  Term IfTerm(const Ast& a);       ///< every branch one dimension
+  Term CallTerm(const Ast& a);     ///< der, pre, the transcendental functions, sqrt, min, max …
   /// The common dimension of x and y; throws naming `what()` (e.g. "the two sides") when both
   /// are known and differ.
   Term Unify(const Term& x, const Term& y, const Ast& at, const std::function<std::string()>& what);
@@ -83,15 +89,5 @@ class UnitChecker {
 /// `unit_of` gives the units of the type's local names (its variables, connector variables,
 /// parameters and its parts' names).
 void CheckComponentUnits(const ComponentType& type, const UnitOfName& unit_of);
-
-/// The number `value` written in `unit` as a number in `target_unit` (docs/FORMAT.md, "Units"),
-/// as an expression tree. Throws ModelError at `loc` naming `who` and both units when the
-/// dimensions differ or the target declares no unit.
-AstPtr ValueInUnit(double value, const std::string& unit, const std::string& target_unit,
-                   const std::string& who, const SourceLoc& loc);
-
-/// Parses `unit` and throws ModelError at `loc` when it does not parse (the loader's check of
-/// every `unit:` string).
-void CheckUnitString(const std::string& unit, const SourceLoc& loc, const std::string& what);
 
 }  // namespace momenta

@@ -14,6 +14,7 @@
 #include <cctype>
 #include <cmath>
 #include <map>
+#include <memory>
 #include <sstream>
 #include <utility>
 #include <vector>
@@ -339,6 +340,30 @@ double ConvertValue(double value, const std::string& from, const std::string& to
                     " (" + DimensionText(t.dimension) + ")");
   }
   return (value * f.factor + f.offset - t.offset) / t.factor;
+}
+
+AstPtr ValueInUnit(double value, const std::string& unit, const std::string& target_unit,
+                   const std::string& who, const SourceLoc& loc) {
+  if (target_unit.empty()) {
+    throw ModelError(loc, who + " declares no unit, so a value in " + unit +
+                              " cannot be converted; give it as a plain number");
+  }
+  auto number = std::make_shared<Ast>();
+  try {
+    number->number = ConvertValue(value, unit, target_unit);
+  } catch (const UnitError& e) {
+    throw ModelError(loc, "the value of " + who + " is in " + unit + ", but " + who + " is in " +
+                              target_unit + ": " + e.what());
+  }
+  return number;
+}
+
+void CheckUnitString(const std::string& unit, const SourceLoc& loc, const std::string& what) {
+  try {
+    ParseUnit(unit);
+  } catch (const UnitError& e) {
+    throw ModelError(loc, std::string(e.what()) + ", in " + what);
+  }
 }
 
 }  // namespace momenta

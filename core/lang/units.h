@@ -7,11 +7,17 @@
 /// A unit is a dimension (exponents of the seven SI base units; the radian and the steradian are
 /// dimensionless, as in SI) with a scale and an offset to the coherent SI unit:
 /// value_SI = value * factor + offset.
+///
+/// The loader checks every `unit:` string here and converts a value written with a unit ("40 kg")
+/// to its parameter's declared unit; the dimension check of equations is core/lang/unit_check.h.
 
 #include <array>
 #include <optional>
 #include <stdexcept>
 #include <string>
+
+#include "core/base/error.h"
+#include "core/lang/ast.h"
 
 namespace momenta {
 
@@ -62,5 +68,15 @@ std::optional<Quantity> SplitQuantity(const std::string& text);
 /// `value` in unit `from` expressed in unit `to`. Throws UnitError when the dimensions differ:
 /// "kN/m (N/m) cannot be converted to kg (kg)".
 double ConvertValue(double value, const std::string& from, const std::string& to);
+
+/// The number `value` written in `unit` as a number in `target_unit` (docs/FORMAT.md, "Units"),
+/// as an expression tree. Throws ModelError at `loc` naming `who` and both units when the
+/// dimensions differ or the target declares no unit.
+AstPtr ValueInUnit(double value, const std::string& unit, const std::string& target_unit,
+                   const std::string& who, const SourceLoc& loc);
+
+/// Parses `unit` and throws ModelError at `loc` when it does not parse (the loader's check of
+/// every `unit:` string).
+void CheckUnitString(const std::string& unit, const SourceLoc& loc, const std::string& what);
 
 }  // namespace momenta

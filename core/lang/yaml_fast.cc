@@ -1,3 +1,6 @@
+// The subset reader (core/lang/yaml_fast.h): one pass of recursive descent over the block
+// structure, refusing at the first thing outside the subset.
+
 #include "core/lang/yaml_fast.h"
 
 #include <array>
@@ -54,7 +57,7 @@ bool IsNullText(std::string_view s) {
 /// buffer for a scalar with escapes or folded lines, valid until the next such scalar) and whether
 /// it was plain.
 struct Scalar {
-  YAML::Mark mark;
+  YamlMark mark;
   std::string_view text;
   bool plain = true;
 };
@@ -82,13 +85,7 @@ class SubsetReader {
  private:
   // ---- position -----------------------------------------------------------------------------
 
-  YAML::Mark Here() const {
-    YAML::Mark m;
-    m.pos = static_cast<int>(p_ - begin_);
-    m.line = line_;
-    m.column = static_cast<int>(p_ - line_start_);
-    return m;
-  }
+  YamlMark Here() const { return {line_, static_cast<int>(p_ - line_start_)}; }
   int Column() const { return static_cast<int>(p_ - line_start_); }
   bool AtLineEnd() const {
     if (*p_ == '\n') return true;

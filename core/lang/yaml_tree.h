@@ -4,12 +4,12 @@
 /// answers and exceptions). yaml-cpp's own node tree costs a heap node, a shared pointer and a
 /// memory holder per value; for a model of 100 000 written-out components that tree took longer
 /// than everything else the loader does. Three readers fill it: yaml-cpp's event parser, which
-/// defines the format; a reader of the subset of YAML that model files use (core/lang/yaml_fast.h,
-/// several times faster than libyaml), which refuses everything else; and, for large ASCII files
-/// the subset reader refuses, libyaml's event parser (about 4× faster than yaml-cpp's). Whatever
-/// the faster readers refuse or cannot read is read again with yaml-cpp, so errors are yaml-cpp's.
-
-#include <yaml-cpp/mark.h>
+/// defines the format, and libyaml's, faster, for large ASCII files (core/lang/yaml_event_readers.h);
+/// and a reader of the subset of YAML that model files use, faster still, which refuses everything
+/// else (core/lang/yaml_fast.h). Whatever the faster readers refuse or cannot read is read again
+/// with yaml-cpp, so errors are yaml-cpp's (core/lang/yaml_document.h picks the reader; the
+/// figures are in bench/RESULTS.md). The tree depends on no reader: yaml-cpp's exceptions are
+/// thrown from yaml_tree.cc, and its headers stay out of this one.
 
 #include <cstdint>
 #include <memory>
@@ -20,6 +20,12 @@
 namespace momenta {
 
 class YamlDoc;
+
+/// Where a node starts in its text, 0-based as yaml-cpp's marks (messages add 1).
+struct YamlMark {
+  int line = 0;
+  int column = 0;
+};
 
 /// A node of a YamlDoc, or a "zombie": the result of looking up a key that is not there, which
 /// converts to false (like YAML::Node's).
@@ -38,7 +44,7 @@ class YamlNode {
   std::string_view Scalar() const;
   /// "!" for a quoted scalar or one tagged '!', the explicit tag otherwise, "?" when untagged.
   const std::string& Tag() const;
-  YAML::Mark Mark() const;
+  YamlMark Mark() const;
   /// Elements of a sequence, pairs of a mapping, 0 otherwise.
   size_t size() const;
   /// The value of `key` in a mapping (the first pair with that scalar key); a zombie when there is
@@ -52,6 +58,9 @@ class YamlNode {
   /// The scalar's text, "null" for a null; throws YAML::TypedBadConversion otherwise.
   template <typename T>
   T as() const;
+  /// What as<std::string>() gives, without a copy: a view into the document for a scalar,
+  /// "null" for a null; throws YAML::TypedBadConversion for a sequence or mapping.
+  std::string_view AsText() const;
 
   /// What iterating yields: for a sequence the element itself, for a mapping a pair (first,
   /// second), as YAML::Node's iterators do.
@@ -116,7 +125,7 @@ class YamlDoc {
     uint32_t first = 0;   ///< scalar: offset into texts_; collection: first index into children_
     uint32_t count = 0;   ///< scalar: length of its text; collection: children (a mapping's are
                           ///< key, value, key, value, ...)
-    YAML::Mark mark;
+    YamlMark mark;
   };
 
   YamlDoc();
@@ -139,9 +148,9 @@ class YamlDoc {
 
   /// Building, in the order of a parser's events. A collection's children are gathered while it
   /// is open and stored together when it closes.
-  uint32_t AddScalar(const YAML::Mark& mark, const std::string& tag, std::string_view value);
+  uint32_t AddScalar(const YamlMark& mark, const std::string& tag, std::string_view value);
   /// The same with the tag as an index (kUntagged, kNonSpecific or a TagIndex).
-  uint32_t AddScalar(const YAML::Mark& mark, uint32_t tag, std::string_view value) {
+  uint32_t AddScalar(const YamlMark& mark, uint32_t tag, std::string_view value) {
     Item it;
     it.kind = Kind::kScalar;
     it.tag = tag;
@@ -151,13 +160,13 @@ class YamlDoc {
     texts_.append(value);
     return Add(it);
   }
-  uint32_t AddNull(const YAML::Mark& mark) {
+  uint32_t AddNull(const YamlMark& mark) {
     Item it;
     it.mark = mark;
     return Add(it);
   }
-  uint32_t Open(Kind kind, const YAML::Mark& mark, const std::string& tag);
-  uint32_t Open(Kind kind, const YAML::Mark& mark, uint32_t tag);
+  uint32_t Open(Kind kind, const YamlMark& mark, const std::string& tag);
+  uint32_t Open(Kind kind, const YamlMark& mark, uint32_t tag);
   /// The index of a tag: kUntagged for "?" (and ""), kNonSpecific for "!".
   uint32_t TagIndex(std::string_view tag);
   static constexpr uint32_t kUntagged = 0, kNonSpecific = 1;
@@ -192,8 +201,8 @@ class YamlDoc {
   bool repeated_key_ = false;
 };
 
-// The accessors the loader calls for every node, inline (a call each cost a tenth of walking the
-// written-out chain).
+// The accessors the loader calls for every node, inline: out of line, the calls alone were a
+// visible part of walking the written-out chain (bench/RESULTS.md).
 inline bool YamlNode::IsNull() const {
   CheckValid();
   return doc_->item(id_).kind == YamlDoc::Kind::kNull;
@@ -218,7 +227,7 @@ inline const std::string& YamlNode::Tag() const {
   CheckValid();
   return doc_->tag(id_);
 }
-inline YAML::Mark YamlNode::Mark() const {
+inline YamlMark YamlNode::Mark() const {
   CheckValid();
   return doc_->item(id_).mark;
 }
@@ -249,31 +258,15 @@ inline YamlNode::Entry YamlNode::Iterator::operator*() const {
 template <>
 std::string YamlNode::as<std::string>() const;
 
-/// Which parser reads the text (ParseYamlDocument).
-enum class YamlReader {
-  kAuto,     ///< the subset reader (core/lang/yaml_fast.h); what it refuses, libyaml for large ASCII
-             ///< texts (kLargeYamlBytes and up), yaml-cpp otherwise
-  kYamlCpp,  ///< yaml-cpp's event parser, always
-  kLibyaml,  ///< libyaml first, whatever the size (yaml-cpp again when libyaml finds an error)
-  kSubset,   ///< the subset reader first, yaml-cpp for what it refuses
-};
-
-/// From this size on, kAuto reads with libyaml what the subset reader refuses.
-constexpr size_t kLargeYamlBytes = size_t{256} << 10;
-
-/// The first document of `text` as a YamlDoc (`documents` receives 0, 1 or 2: how many documents
-/// were seen, stopping at the start of a second, whose mark goes to `second_mark`; `stuck` says
-/// yaml-cpp's parser did not advance there). yaml-cpp's exceptions (YAML::ParserException,
-/// YAML::DeepRecursion) pass through.
+/// The first document of a text as a reader gives it: `documents` is 0, 1 or 2, how many
+/// documents were seen, stopping at the start of a second, which starts at `second_mark`, byte
+/// `second_offset`; `stuck` says yaml-cpp's parser did not advance there.
 struct ParsedYaml {
   std::unique_ptr<YamlDoc> doc;
   int documents = 0;
-  YAML::Mark second_mark;
+  YamlMark second_mark;
+  size_t second_offset = 0;
   bool stuck = false;
 };
-ParsedYaml ParseYamlDocument(const std::string& text, YamlReader reader = YamlReader::kAuto);
-
-/// The reader used by ParseYamlDocument's kAuto (for tests comparing the two parsers).
-void SetDefaultYamlReader(YamlReader reader);
 
 }  // namespace momenta

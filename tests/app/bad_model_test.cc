@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "app/commands.h"
-#include "core/lang/yaml_tree.h"
+#include "core/lang/yaml_document.h"
 #include "tests/support/cli_runner.h"
 #include "tests/support/test_models.h"
 
@@ -403,8 +403,8 @@ TEST_P(BadModelTest, BuildErrorNamesTheProblem) {
   }
 }
 
-// The faster readers (the subset reader and libyaml, core/lang/yaml_tree.h) give the same message, at
-// the same place, as yaml-cpp's.
+// The faster readers (the subset reader and libyaml, core/lang/yaml_document.h) give the same
+// message, at the same place, as yaml-cpp's.
 TEST_P(BadModelTest, FasterReadersGiveTheSameMessage) {
   const BadModel& c = GetParam();
   ParameterOverrides overrides;

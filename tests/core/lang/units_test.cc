@@ -1,6 +1,7 @@
 // Unit strings: every spelling the library uses parses, with the dimension SI gives it; prefixes,
 // exponents, quotients, parentheses; values convert between units (10 kN/m -> 10000 N/m,
-// 2500 g -> 2.5 kg, rpm, deg, degC); what does not parse is reported with the string and why.
+// 2500 g -> 2.5 kg, rpm, deg, degC); what does not parse is reported with the string and why; the
+// loader's checks (CheckUnitString, ValueInUnit) name the place, the value's owner and both units.
 
 #include "core/lang/units.h"
 
@@ -150,6 +151,40 @@ TEST(UnitsTest, WhatDoesNotParseIsNamed) {
   EXPECT_NE(ParseError("m s").find("unexpected ' '"), std::string::npos);
   EXPECT_NE(ParseError("degC.m").find("degC is an offset unit"), std::string::npos);
   EXPECT_NE(ParseError("kkg").find("unknown unit 'kkg'"), std::string::npos);  // kg takes no prefix
+}
+
+/// The message of a ModelError that `f` throws, or "" when it throws none.
+template <typename F>
+std::string ModelErrorOf(F f) {
+  try {
+    f();
+  } catch (const ModelError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(UnitsTest, ValueInUnitConvertsToTheDeclaredUnit) {
+  EXPECT_EQ(ValueInUnit(10, "kN/m", "N/m", "spring.c", SourceLoc("m.yaml", 3, 7))->number, 10000);
+  EXPECT_EQ(ValueInUnit(2500, "g", "kg", "mass.m", SourceLoc("m.yaml", 3, 7))->number, 2.5);
+}
+
+TEST(UnitsTest, ValueInUnitNamesTheOwnerAndBothUnits) {
+  const SourceLoc loc("m.yaml", 3, 7);
+  EXPECT_EQ(ModelErrorOf([&] { ValueInUnit(40, "kg", "", "body.x", loc); }),
+            "m.yaml:3:7: body.x declares no unit, so a value in kg cannot be converted; give it as a "
+            "plain number");
+  const std::string wrong = ModelErrorOf([&] { ValueInUnit(40, "kg", "m", "body.x", loc); });
+  EXPECT_EQ(wrong.rfind("m.yaml:3:7: the value of body.x is in kg, but body.x is in m: ", 0), 0u)
+      << wrong;
+}
+
+TEST(UnitsTest, CheckUnitStringNamesThePlaceAndWhoseUnit) {
+  const SourceLoc loc("m.yaml", 4, 11);
+  EXPECT_EQ(ModelErrorOf([&] { CheckUnitString("N.m/rad", loc, "the unit of Spring.c"); }), "");
+  const std::string message = ModelErrorOf([&] { CheckUnitString("mps", loc, "the unit of Mass.v"); });
+  EXPECT_EQ(message.rfind("m.yaml:4:11: unit 'mps' does not parse: unknown unit 'mps'", 0), 0u) << message;
+  EXPECT_NE(message.find(", in the unit of Mass.v"), std::string::npos) << message;
 }
 
 }  // namespace

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "core/lang/model_spec.h"
-#include "core/lang/yaml_tree.h"
+#include "core/lang/yaml_document.h"
 #include "core/lang/yaml_loader.h"
 
 namespace momenta {
@@ -225,7 +225,7 @@ std::string ChainWithEntry(const std::string& entry) {
   return y + "connections:\n  - [wall.flange, sd1.flange_a]\n";
 }
 
-/// The message of loading `yaml` with each reader (core/lang/yaml_tree.h), or "" when it loads.
+/// The message of loading `yaml` with each reader (core/lang/yaml_document.h), or "" when it loads.
 std::string LoadErrorWith(const std::string& yaml, YamlReader reader) {
   SetDefaultYamlReader(reader);
   std::string message = LoadError(yaml);

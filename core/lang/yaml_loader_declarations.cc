@@ -1,0 +1,222 @@
+// Reading the declarations of a type or a model (core/lang/yaml_loader_declarations.h).
+
+#include "core/lang/yaml_loader_declarations.h"
+
+#include <map>
+#include <utility>
+
+#include "core/lang/parser.h"
+#include "core/lang/units.h"
+
+namespace momenta {
+
+ParameterDecl ReadParameter(const ValueReader& reader, const std::string& name, const YamlNode& n,
+                            const std::string& owner) {
+  ParameterDecl p;
+  p.name = name;
+  p.loc = reader.Loc(n);
+  std::string what = owner + "." + name;
+  std::string value_unit;
+  if (n.IsMap()) {
+    reader.CheckKeys(n, "parameter " + what,
+                     {"value", "unit", "doc", "min", "max", "type", "shape"});
+    if (!n["value"]) reader.Fail(n, "parameter " + what + " needs a value");
+    p.value_text = reader.ValueText(n["value"], "value of " + what);
+    p.value = reader.ValueExpression(n["value"], p.value_text, "value of " + what, &value_unit);
+    if (n["shape"]) p.shape = reader.ReadShape(n["shape"], what, true);
+    p.loc = reader.TextLoc(n["value"]);
+    if (n["unit"]) p.unit = reader.UnitString(n["unit"], what);
+    if (n["doc"]) p.doc = reader.Scalar(n["doc"], what + ".doc");
+    p.min = reader.OptionalNumber(n, "min", what);
+    p.max = reader.OptionalNumber(n, "max", what);
+    if (n["type"]) p.type = reader.Type(n["type"], what);
+  } else {
+    p.value_text = reader.ValueText(n, "value of " + what);
+    p.value = reader.ValueExpression(n, p.value_text, "value of " + what, &value_unit);
+    p.loc = reader.TextLoc(n);
+  }
+  // `m: 40 kg`: a parameter without a declared unit takes the value's; one with a unit gets the
+  // value converted to it.
+  if (!value_unit.empty() && p.unit.empty()) p.unit = value_unit;
+  if (!value_unit.empty()) p.value = ValueInUnit(p.value->number, value_unit, p.unit, what, p.loc);
+  if (p.value->kind == Ast::Kind::kBool && !(n.IsMap() && n["type"])) {
+    p.type = ValueType::kBoolean;
+  }
+  return p;
+}
+
+VariableDecl ReadVariable(const ValueReader& reader, const std::string& name, const YamlNode& n,
+                          const std::string& owner) {
+  VariableDecl v;
+  v.name = name;
+  v.loc = reader.Loc(n);
+  std::string what = owner + "." + name;
+  if (n.IsNull()) return v;
+  reader.ExpectMap(n, "variable " + what);
+  reader.CheckKeys(
+      n, "variable " + what,
+      {"unit", "doc", "start", "fixed", "nominal", "min", "max", "stateSelect", "type", "shape"});
+  if (n["shape"]) v.shape = reader.ReadShape(n["shape"], what);
+  if (n["unit"]) v.unit = reader.UnitString(n["unit"], what);
+  if (n["doc"]) v.doc = reader.Scalar(n["doc"], what + ".doc");
+  if (n["start"]) v.start = reader.Expression(n["start"], "start of " + what);
+  if (n["fixed"]) v.fixed = reader.Bool(n["fixed"], what + ".fixed");
+  if (n["nominal"]) {
+    v.nominal = reader.Number(n["nominal"], what + ".nominal");
+    if (!(v.nominal > 0)) reader.Fail(n["nominal"], what + ".nominal must be positive");
+  }
+  v.min = reader.OptionalNumber(n, "min", what);
+  v.max = reader.OptionalNumber(n, "max", what);
+  if (n["type"]) v.type = reader.Type(n["type"], what);
+  if (n["stateSelect"]) v.state_priority = reader.StateSelect(n["stateSelect"], what);
+  return v;
+}
+
+std::vector<EquationDecl> ReadEquations(const ValueReader& reader, const YamlNode& n,
+                                        const std::string& what) {
+  std::vector<EquationDecl> out;
+  if (n.IsNull()) return out;
+  if (!n.IsSequence()) reader.Fail(n, what + " must be a list of equations such as '- v = der(s)'");
+  for (const auto& e : n) {
+    EquationDecl d;
+    d.text = reader.Scalar(e, "an equation of " + what);
+    d.loc = reader.TextLoc(e);
+    d.ast = ParseEquation(d.text, d.loc);
+    out.push_back(std::move(d));
+  }
+  return out;
+}
+
+namespace {
+
+/// A statement of a when-clause: reinit(x, expr) or an assignment `x = expr`.
+StatementDecl ReadWhenStatement(const ValueReader& reader, const YamlNode& statement) {
+  StatementDecl sd;
+  sd.text = reader.Scalar(statement, "a when statement");
+  sd.loc = reader.TextLoc(statement);
+  if (sd.text.rfind("reinit", 0) == 0) {
+    AstPtr call = ParseExpression(sd.text, sd.loc);
+    if (call->kind != Ast::Kind::kCall || call->op != "reinit" ||
+        call->args[0]->kind != Ast::Kind::kName) {
+      reader.Fail(statement, "expected reinit(variable, expression), found '" + sd.text + "'");
+    }
+    sd.is_reinit = true;
+    sd.target = call->args[0]->PathText();
+    sd.value = call->args[1];
+  } else {
+    AstEquation eq = ParseEquation(sd.text, sd.loc);
+    if (eq.lhs->kind != Ast::Kind::kName) {
+      reader.Fail(statement,
+                  "a when statement is reinit(x, expr) or an assignment 'x = expr'; found '" +
+                      sd.text + "'");
+    }
+    sd.target = eq.lhs->PathText();
+    sd.value = eq.rhs;
+  }
+  return sd;
+}
+
+}  // namespace
+
+std::vector<WhenDecl> ReadWhens(const ValueReader& reader, const YamlNode& n,
+                                const std::string& what) {
+  std::vector<WhenDecl> out;
+  if (n.IsNull()) return out;
+  if (!n.IsSequence())
+    reader.Fail(n, what + " must be a list of {when: condition, then: [statements]}");
+  for (const auto& w : n) {
+    reader.ExpectMap(w, "a when-clause of " + what);
+    reader.CheckKeys(w, "a when-clause of " + what, {"when", "then"});
+    if (!w["when"] || !w["then"])
+      reader.Fail(w, "a when-clause needs 'when: condition' and 'then: [statements]'");
+    WhenDecl d;
+    d.loc = reader.Loc(w);
+    d.text = reader.Scalar(w["when"], "a when condition");
+    d.condition = ParseExpression(d.text, reader.TextLoc(w["when"]));
+    const YamlNode& body = w["then"];
+    if (!body.IsSequence())
+      reader.Fail(body,
+                  "'then' must be a list such as [\"reinit(v, -e*pre(v))\", \"n = pre(n) + 1\"]");
+    for (const auto& statement : body) d.statements.push_back(ReadWhenStatement(reader, statement));
+    out.push_back(std::move(d));
+  }
+  return out;
+}
+
+ImpactDecl ReadImpact(const ValueReader& reader, const YamlNode& n, const std::string& what) {
+  ImpactDecl d;
+  d.loc = reader.Loc(n);
+  reader.ExpectMap(n, "impact of " + what);
+  reader.CheckKeys(n, "impact of " + what,
+                   {"gap", "velocity", "force", "restitution", "contact", "release", "v_small"});
+  for (const char* key :
+       {"gap", "velocity", "force", "restitution", "contact", "release", "v_small"}) {
+    if (!n[key]) reader.Fail(n, "impact of " + what + " needs '" + key + "'");
+  }
+  auto expr = [&](const char* key, AstPtr* ast, std::string* text) {
+    *text = reader.Scalar(n[key], std::string("impact ") + key);
+    *ast = ParseExpression(*text, reader.TextLoc(n[key]));
+  };
+  expr("gap", &d.gap, &d.gap_text);
+  expr("velocity", &d.velocity, &d.velocity_text);
+  expr("restitution", &d.restitution, &d.restitution_text);
+  expr("v_small", &d.v_small, &d.v_small_text);
+  expr("release", &d.release, &d.release_text);
+  d.force = reader.Scalar(n["force"], "impact force");
+  d.contact = reader.Scalar(n["contact"], "impact contact");
+  return d;
+}
+
+std::vector<ShapeDecl> ReadAnimation(const ValueReader& reader, const YamlNode& n,
+                                     const std::string& what) {
+  static const std::map<std::string, std::pair<std::vector<std::string>, std::vector<std::string>>>
+      kKinds = {
+          // kind -> (required fields, optional fields)
+          {"circle", {{"at", "radius"}, {"angle"}}},
+          {"line", {{"from", "to"}, {}}},
+          {"spring", {{"from", "to"}, {}}},
+          {"pin", {{"at"}, {}}},
+          {"ground", {{"at"}, {}}},
+          {"wall", {{"at", "normal"}, {"start", "end"}}},
+      };
+  if (!n.IsSequence())
+    reader.Fail(n, "animation of " + what +
+                       " must be a list of shapes such as {shape: circle, at: [frame_a.x, "
+                       "frame_a.y], radius: r}");
+  std::vector<ShapeDecl> out;
+  for (const auto& item : n) {
+    reader.ExpectMap(item, "a shape in the animation of " + what);
+    if (!item["shape"])
+      reader.Fail(item, "a shape in the animation of " + what +
+                            " needs 'shape' (circle, ground, line, pin, spring or wall)");
+    ShapeDecl d;
+    d.loc = reader.Loc(item);
+    d.kind = reader.Scalar(item["shape"], "shape");
+    auto kind = kKinds.find(d.kind);
+    if (kind == kKinds.end()) {
+      reader.Fail(item["shape"], "unknown shape '" + d.kind + "' in the animation of " + what +
+                                     " (valid shapes: circle, ground, line, pin, spring, wall)");
+    }
+    std::vector<std::string> keys = {"shape"};
+    keys.insert(keys.end(), kind->second.first.begin(), kind->second.first.end());
+    keys.insert(keys.end(), kind->second.second.begin(), kind->second.second.end());
+    reader.CheckKeys(item, d.kind + " in the animation of " + what, keys);
+    for (const auto& key : kind->second.first) {
+      if (!item[key])
+        reader.Fail(item, d.kind + " in the animation of " + what + " needs '" + key + "'");
+    }
+    for (size_t k = 1; k < keys.size(); ++k) {
+      if (!item[keys[k]]) continue;
+      ShapeField f;
+      f.key = keys[k];
+      f.text = reader.ValueText(item[keys[k]], d.kind + " " + f.key);
+      f.loc = reader.TextLoc(item[keys[k]]);
+      f.expr = ParseExpression(f.text, f.loc);
+      d.fields.push_back(std::move(f));
+    }
+    out.push_back(std::move(d));
+  }
+  return out;
+}
+
+}  // namespace momenta
