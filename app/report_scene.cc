@@ -3,35 +3,9 @@
 #include <algorithm>
 #include <set>
 
-#include "core/lang/parser.h"
+#include "core/lang/instance_scope.h"
 
 namespace momenta {
-
-namespace {
-
-/// A copy of `a` with every name read in the scope of the instance whose path segments are
-/// `prefix` (`r` in instance `A` is `A.r`); `time` and `pi` are the model's everywhere.
-AstPtr InScope(const AstPtr& a, const std::vector<NameSegment>& prefix) {
-  if (!a) return a;
-  auto out = std::make_shared<Ast>(*a);
-  if (a->kind == Ast::Kind::kName) {
-    const bool global = a->path.size() == 1 && !a->path[0].index &&
-                        (a->path[0].name == "time" || a->path[0].name == "pi");
-    if (!global) {
-      std::vector<NameSegment> path = prefix;
-      for (NameSegment s : a->path) {
-        s.index = InScope(s.index, prefix);
-        s.index2 = InScope(s.index2, prefix);
-        path.push_back(std::move(s));
-      }
-      out->path = std::move(path);
-    }
-  }
-  for (AstPtr& arg : out->args) arg = InScope(arg, prefix);
-  return out;
-}
-
-}  // namespace
 
 Scene AddSceneOutputs(const FlatSystem& flat, ModelSpec* spec) {
   Scene scene;
@@ -42,13 +16,12 @@ Scene AddSceneOutputs(const FlatSystem& flat, ModelSpec* spec) {
     if (!inst.type || inst.type->animation.empty()) continue;
     // The instance's path as name segments (`R[3].body` -> R[3], body).
     const std::string inst_path = flat.InstancePath(InstanceId(i));
-    const AstPtr path = ParseName(inst_path, inst.loc);
     for (const ShapeDecl& decl : inst.type->animation) {
       SceneShape shape{decl.kind, inst_path, {}};
       for (const ShapeField& f : decl.fields) {
         // A point written as [x, y] is two scalar outputs (columns named after them); anything
         // else is one output, a vector's elements named by the array expansion.
-        const AstPtr expr = InScope(f.expr, path->path);
+        const AstPtr expr = InInstanceScope(f.expr, inst_path, inst.loc);
         std::vector<AstPtr> parts = {expr};
         if (expr->kind == Ast::Kind::kArray && expr->args.size() == 2) parts = expr->args;
         SceneField field{f.key, {}};
