@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numeric>
 #include <sstream>
 #include <tuple>
 #include <unordered_map>
@@ -77,24 +76,19 @@ class LevelChoice {
       }
     }
     // Connected components of rows and columns (union-find over rows, joined through columns).
-    std::vector<uint32_t> parent(rows.size());
-    std::iota(parent.begin(), parent.end(), 0u);
-    auto find = [&](uint32_t x) {
-      while (parent[x] != x) x = parent[x] = parent[parent[x]];
-      return x;
-    };
+    DisjointSets row_sets(rows.size());
     std::vector<int32_t> first_row_of_col(cands.size(), -1);
     for (uint32_t r = 0; r < rows.size(); ++r) {
       for (auto [c, leaf] : row_cols[r]) {
         if (first_row_of_col[c] < 0) {
           first_row_of_col[c] = static_cast<int32_t>(r);
         } else {
-          parent[find(r)] = find(static_cast<uint32_t>(first_row_of_col[c]));
+          row_sets.Join(r, static_cast<uint32_t>(first_row_of_col[c]));
         }
       }
     }
     std::unordered_map<uint32_t, std::vector<uint32_t>> components;
-    for (uint32_t r = 0; r < rows.size(); ++r) components[find(r)].push_back(r);
+    for (uint32_t r = 0; r < rows.size(); ++r) components[row_sets.Find(r)].push_back(r);
     std::vector<uint32_t> roots;
     for (auto& [root, members] : components) roots.push_back(root);
     std::sort(roots.begin(), roots.end());
