@@ -1,5 +1,5 @@
 #pragma once
-/// C code for register programs (issue 12, item 1): each Program becomes a C99 function
+/// C code for register programs: each Program becomes a C99 function
 /// `void f(double* restrict r, const double* restrict y, const double* restrict yp,
 /// double* restrict out)` that does exactly what Program::Run does — the same operations on the
 /// same registers in the same order — so that, compiled without floating-point contraction or

@@ -71,12 +71,11 @@ std::vector<std::string> CompileFlags(bool loop_unit) {
   return flags;
 }
 
-/// Auto's cost model, measured on this project's machine (bench/RESULTS.md, "Native model code";
-/// 2 shared cores, gcc 12): compiling costs about kCompileFixed plus kCompilePerInstruction per
-/// instruction in the C (a rerolled loop's body counts once: the chain at n = 10 000 compiles in
-/// 0.2 s); a cached object costs about half a millisecond (key, dlopen); native code
+/// Auto's cost model, with constants measured as bench/RESULTS.md ("Native model code") records:
+/// compiling costs about kCompileFixed plus kCompilePerInstruction per instruction in the C (a
+/// rerolled loop's body counts once); a cached object costs kCacheHit (key, dlopen); native code
 /// saves about kSavedPerEvaluation per residual instruction and evaluation; a run evaluates the
-/// residual about kEvaluationsPerRun times (the 1 000-mass chain: 3 100).
+/// residual about kEvaluationsPerRun times.
 constexpr double kCompileFixed = 0.3;               // s
 constexpr double kCompilePerInstruction = 2.3e-4;   // s
 constexpr double kCacheHit = 5e-4;                  // s
@@ -84,9 +83,8 @@ constexpr double kSavedPerEvaluation = 1.1e-9;      // s per residual instructio
 constexpr double kEvaluationsPerRun = 3000;
 /// Straight-line code stops paying beyond this many residual instructions in the C (loops count
 /// their body once, so this is the residual rerolling leaves irregular): its machine code no
-/// longer fits the caches and is fetched from memory at every evaluation (the RC ladder at
-/// n = 100 000, 600 000 residual instructions, ran its residual 1.9× slower native than
-/// interpreted; the chain at n = 10 000, 150 000, still 2.3× faster).
+/// longer fits the caches and is fetched from memory at every evaluation (bench/RESULTS.md,
+/// "Native model code", has the RC ladder and chain figures this limit sits between).
 constexpr size_t kMaxStraightLine = 300000;
 
 /// The C compiler: $MOMENTA_CC (a path, or a name looked up on the PATH), else cc on the PATH.

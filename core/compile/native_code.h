@@ -1,5 +1,5 @@
 #pragma once
-/// Native model code (issue 12, item 1): a model's register programs emitted as C (core/compile/codegen.h),
+/// Native model code: a model's register programs emitted as C (core/compile/codegen.h),
 /// compiled by the system's C compiler into a shared object, loaded with dlopen and run in place
 /// of Program::Run.
 ///
