@@ -217,7 +217,8 @@ std::string TooMuchWorkReason(IntegrationState* run) {
   return "IDA stopped (IDA_TOO_MUCH_WORK): " + NumberText(static_cast<double>(run->options.max_steps)) +
          " steps (--max-steps) without reaching the next output time" +
          ExplainStepCost(*ida.callback_data.state, t, std::vector<double>(y, y + run->num_unknowns),
-                         std::vector<double>(yp, yp + run->num_unknowns), run->interval) +
+                         std::vector<double>(yp, yp + run->num_unknowns), run->interval,
+                         static_cast<double>(run->options.max_steps)) +
          ".";
 }
 

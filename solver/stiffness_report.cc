@@ -40,6 +40,10 @@ namespace {
 /// of a second); past it the modes are named by the states they move most.
 constexpr double kSensitivityBudget = 3e8;
 
+/// About what BDF spends on one period of an undamped oscillation at rtol 1e-6 (bench/RESULTS.md,
+/// "Numerical stress suite": 67 steps a period).
+constexpr double kStepsPerPeriod = 60;
+
 /// Elasticities below this are left out of the message.
 constexpr double kShownElasticity = 0.05;
 
@@ -218,9 +222,20 @@ std::string DescribeMode(const SystemMode& mode) {
   return text;
 }
 
-/// What helps against the cost that `fastest` causes.
-std::string Advice(const SystemMode& fastest, double interval) {
+/// What helps against the cost of `steps` steps in one output interval when `fastest` is the
+/// fastest mode.
+std::string Advice(const SystemMode& fastest, double interval, double steps) {
   const double zeta = -fastest.growth / fastest.magnitude();
+  // Following an oscillation takes tens of steps a period: one that needs far fewer steps than
+  // were taken does not explain them.
+  const double periods = interval * fastest.frequency / (2 * M_PI);
+  if (kStepsPerPeriod * std::max(periods, 1.0) < 0.1 * steps) {
+    return ". That mode needs about " + Short(kStepsPerPeriod * std::max(periods, 1.0)) +
+           " steps per output interval, not " + Short(steps) + ", so the steps go elsewhere: look for a "
+           "configuration where the constraints lose rank (a mechanism at a dead centre, links that "
+           "line up), or a discontinuity the model does not declare as an event (a relation under "
+           "noEvent(), abs(), a table); --max-steps raises the limit";
+  }
   // "reduce spring.c or increase mass.m": the way each parameter slows the mode down.
   std::vector<std::string> slower;
   for (const ParameterShare& p : fastest.parameters) {
@@ -228,7 +243,6 @@ std::string Advice(const SystemMode& fastest, double interval) {
   }
   const std::string change = slower.empty() ? "a softer spring or a heavier mass" : JoinNames(slower, 4);
   if (fastest.frequency > 0 && zeta < 0.5) {
-    const double periods = interval * fastest.frequency / (2 * M_PI);
     return ". IDA must follow every period of this oscillation (tens of steps each; " + Short(periods) +
            " periods per output interval), so a tighter tolerance makes the run dearer, not cheaper. "
            "If the oscillation matters, shorten the run (--stop) or allow more steps (--max-steps); if it "
@@ -248,7 +262,7 @@ std::string Advice(const SystemMode& fastest, double interval) {
 }  // namespace
 
 std::string ExplainStepCost(const ModelState& state, double t, const std::vector<double>& y,
-                            const std::vector<double>& yp, double interval) {
+                            const std::vector<double>& yp, double interval, double steps) {
   const CompiledModel& model = state.model();
   const size_t num_states = StateIndices(model).size();
   if (num_states > kModeAnalysisLimit) {
@@ -265,7 +279,7 @@ std::string ExplainStepCost(const ModelState& state, double t, const std::vector
   }
   std::string text = ". The fastest mode at t = " + Short(t) + " s is " + DescribeMode(modes[0]);
   if (modes.size() > 1 && modes[1].magnitude() > 0) text += "; the next: " + DescribeMode(modes[1]);
-  return text + Advice(modes[0], interval);
+  return text + Advice(modes[0], interval, steps);
 }
 
 }  // namespace momenta

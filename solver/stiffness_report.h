@@ -45,9 +45,10 @@ std::vector<SystemMode> FastestModes(const ModelState& state, double t, const st
 /// The sentences that explain an explosion of the step count at time t after `steps` steps since
 /// the last output row (`interval` apart): the fastest modes, their periods per output interval,
 /// and the advice that fits them (a fast undamped oscillation: damp it, soften it or shorten the
-/// run; a fast decay: the steps go elsewhere, look for an undeclared discontinuity). Starts with
-/// ". "; says what it could not analyse.
+/// run; a fast decay, or modes too slow for that many steps: the steps go elsewhere, look for
+/// constraints that lose rank or an undeclared discontinuity). Starts with ". "; says what it
+/// could not analyse.
 std::string ExplainStepCost(const ModelState& state, double t, const std::vector<double>& y,
-                            const std::vector<double>& yp, double interval);
+                            const std::vector<double>& yp, double interval, double steps);
 
 }  // namespace momenta
