@@ -218,7 +218,7 @@ std::string TooMuchWorkReason(IntegrationState* run) {
          " steps (--max-steps) without reaching the next output time" +
          ExplainStepCost(*ida.callback_data.state, t, std::vector<double>(y, y + run->num_unknowns),
                          std::vector<double>(yp, yp + run->num_unknowns), run->interval,
-                         static_cast<double>(run->options.max_steps)) +
+                         static_cast<double>(run->options.max_steps), /*stopped=*/true) +
          ".";
 }
 

@@ -52,6 +52,9 @@ struct SolverStats {
   std::vector<double> impact_times;  ///< when each impact happened (for tests and summaries)
   double init_seconds = 0, integrate_seconds = 0;
   double final_time = 0;
+  /// Set when the run took far more steps per output interval than a smooth solution needs: how
+  /// many, the model's fastest modes and what helps (solver/stiffness_report.h, StepCostNote).
+  std::string cost_note;
   bool interrupted = false;   ///< SimulationOptions::interrupt stopped the run
   double interrupted_at = 0;  ///< how far the integration had come then
 };

@@ -17,6 +17,7 @@
 #include "solver/initializer.h"
 #include "solver/integration_state.h"
 #include "solver/output_rows.h"
+#include "solver/stiffness_report.h"
 
 namespace momenta {
 
@@ -186,6 +187,9 @@ void Simulate(ModelState* state, const SimulationOptions& options, const RowCall
   }
   CollectIdaStats(&run);
   stats->integrate_seconds = SecondsSince(run.integration_started);
+  if (!stats->interrupted) {
+    stats->cost_note = StepCostNote(*state, run.t, run.y, run.yp, run.interval, stats->steps, run.num_intervals);
+  }
 }
 
 }  // namespace momenta

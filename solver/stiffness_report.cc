@@ -223,8 +223,9 @@ std::string DescribeMode(const SystemMode& mode) {
 }
 
 /// What helps against the cost of `steps` steps in one output interval when `fastest` is the
-/// fastest mode.
-std::string Advice(const SystemMode& fastest, double interval, double steps) {
+/// fastest mode; `stopped`: the run stopped at the step limit.
+std::string Advice(const SystemMode& fastest, double interval, double steps, bool stopped) {
+  const std::string more = stopped ? "; --max-steps raises the limit" : "";
   const double zeta = -fastest.growth / fastest.magnitude();
   // Following an oscillation takes tens of steps a period: one that needs far fewer steps than
   // were taken does not explain them.
@@ -234,7 +235,7 @@ std::string Advice(const SystemMode& fastest, double interval, double steps) {
            " steps per output interval, not " + Short(steps) + ", so the steps go elsewhere: look for a "
            "configuration where the constraints lose rank (a mechanism at a dead centre, links that "
            "line up), or a discontinuity the model does not declare as an event (a relation under "
-           "noEvent(), abs(), a table); --max-steps raises the limit";
+           "noEvent(), abs(), a table)" + more;
   }
   // "reduce spring.c or increase mass.m": the way each parameter slows the mode down.
   std::vector<std::string> slower;
@@ -243,11 +244,17 @@ std::string Advice(const SystemMode& fastest, double interval, double steps) {
   }
   const std::string change = slower.empty() ? "a softer spring or a heavier mass" : JoinNames(slower, 4);
   if (fastest.frequency > 0 && zeta < 0.5) {
+    const std::string slow_it = "make it slower (" + change + ") or damp it (BDF steps over a mode that decays, "
+                                "whatever its speed)";
+    if (!stopped) {
+      return ". IDA follows every period of this oscillation (tens of steps each; " + Short(periods) +
+             " periods per output interval" + (periods > 0.5 ? ", more than the rows resolve: a shorter --interval shows it" : "") +
+             "), so a tighter tolerance makes the run dearer, not cheaper. If it does not matter, " + slow_it;
+    }
     return ". IDA must follow every period of this oscillation (tens of steps each; " + Short(periods) +
            " periods per output interval), so a tighter tolerance makes the run dearer, not cheaper. "
            "If the oscillation matters, shorten the run (--stop) or allow more steps (--max-steps); if it "
-           "does not, make it slower (" + change + ") or damp it (BDF steps over a mode that decays, "
-           "whatever its speed)";
+           "does not, " + slow_it;
   }
   if (fastest.growth > 0) {
     return ". The fastest mode grows: the solution diverges; check the signs and values of the parameters "
@@ -255,31 +262,38 @@ std::string Advice(const SystemMode& fastest, double interval, double steps) {
   }
   return ". Fast modes that decay do not hold IDA's steps back (BDF is stable over them), so the steps go "
          "elsewhere: look for a discontinuity the model does not declare as an event (a relation under "
-         "noEvent(), abs(), a table), or a source that switches faster than the output interval; "
-         "--max-steps raises the limit";
+         "noEvent(), abs(), a table), or a source that switches faster than the output interval" + more;
 }
 
 }  // namespace
 
 std::string ExplainStepCost(const ModelState& state, double t, const std::vector<double>& y,
-                            const std::vector<double>& yp, double interval, double steps) {
+                            const std::vector<double>& yp, double interval, double steps, bool stopped) {
   const CompiledModel& model = state.model();
   const size_t num_states = StateIndices(model).size();
+  const std::string more = stopped ? "; --max-steps raises the limit" : "";
   if (num_states > kModeAnalysisLimit) {
     return ". The model has " + Counted(num_states, "state") + ", more than the " +
            std::to_string(kModeAnalysisLimit) +
-           " whose fastest modes momenta computes (a dense eigen-decomposition); look for a stiff "
-           "spring on a light mass, or a discontinuity the model does not declare as an event, "
-           "and allow more steps with --max-steps";
+           " whose fastest modes momenta computes (a dense eigen-decomposition): look for a stiff "
+           "spring on a light mass, or a discontinuity the model does not declare as an event" + more;
   }
   const std::vector<SystemMode> modes = FastestModes(state, t, y, yp, 2);
   if (modes.empty()) {
     return ". Its modes could not be computed here (no states, or a singular system): look for a "
-           "discontinuity the model does not declare as an event; --max-steps raises the limit";
+           "discontinuity the model does not declare as an event" + more;
   }
   std::string text = ". The fastest mode at t = " + Short(t) + " s is " + DescribeMode(modes[0]);
   if (modes.size() > 1 && modes[1].magnitude() > 0) text += "; the next: " + DescribeMode(modes[1]);
-  return text + Advice(modes[0], interval, steps);
+  return text + Advice(modes[0], interval, steps, stopped);
+}
+
+std::string StepCostNote(const ModelState& state, double t, const std::vector<double>& y,
+                         const std::vector<double>& yp, double interval, long steps, long rows) {
+  const double per_row = static_cast<double>(steps) / static_cast<double>(std::max(rows, 1L));
+  if (steps < kCostNoteMinSteps || per_row < kCostNoteStepsPerRow) return "";
+  return Short(static_cast<double>(steps)) + " steps, " + Short(per_row) + " per output interval" +
+         ExplainStepCost(state, t, y, yp, interval, per_row, /*stopped=*/false) + ".";
 }
 
 }  // namespace momenta

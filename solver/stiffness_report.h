@@ -48,7 +48,19 @@ std::vector<SystemMode> FastestModes(const ModelState& state, double t, const st
 /// run; a fast decay, or modes too slow for that many steps: the steps go elsewhere, look for
 /// constraints that lose rank or an undeclared discontinuity). Starts with ". "; says what it
 /// could not analyse.
+/// `stopped`: the run stopped at the step limit (the advice then mentions --max-steps).
 std::string ExplainStepCost(const ModelState& state, double t, const std::vector<double>& y,
-                            const std::vector<double>& yp, double interval, double steps);
+                            const std::vector<double>& yp, double interval, double steps, bool stopped);
+
+/// A finished run is noted as dear from this many steps ...
+constexpr long kCostNoteMinSteps = 100000;
+/// ... when they are this many per output interval on average (a smooth solution needs tens).
+constexpr double kCostNoteStepsPerRow = 1000;
+
+/// "1e6 steps, 1e4 per output interval. The fastest mode …" for a finished run of `steps` steps
+/// over `rows` output intervals that crosses both thresholds above, from its values at the end
+/// (t, y, y'); otherwise "".
+std::string StepCostNote(const ModelState& state, double t, const std::vector<double>& y,
+                         const std::vector<double>& yp, double interval, long steps, long rows);
 
 }  // namespace momenta
