@@ -227,6 +227,45 @@ TEST_F(StressTest, CostExplosionAtASingularConfigurationPointsAtTheConstraints) 
       << r.err;
 }
 
+// The same spring with a time event: the loop that searches every step for crossings counts its
+// steps between rows as well (it had no limit), and stops with the same message.
+TEST_F(StressTest, CostExplosionIsCaughtInRunsWithEvents) {
+  std::string yaml = PushedSpring("1e12", "");
+  yaml.replace(yaml.find("components:"), 11, R"(define:
+  Clock:
+    variables: {ticks: {type: Integer, start: 0}}
+    when:
+      - when: time > 0.05
+        then: ["ticks = pre(ticks) + 1"]
+components:
+  clock: {type: Clock})");
+  CliResult r = Simulate("stiff_events.yaml", yaml, {"--max-steps", "5000"});
+  EXPECT_EQ(r.exit_code, 3) << r.err;
+  EXPECT_NE(r.err.find("IDA stopped (IDA_TOO_MUCH_WORK): 5000 steps (--max-steps)"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("is an oscillation at 1e6 rad/s"), std::string::npos) << r.err;
+}
+
+// A run that finishes with far more steps per output interval than a smooth solution needs (10 ms
+// of the undamped 1e12 N/m spring: 1590 periods, about 1e5 steps, 1e4 per row) gets the analysis
+// as a note in its summary, with the advice for a run that finished (no --max-steps).
+TEST_F(StressTest, DearRunThatFinishesGetsTheFastestModeAsANote) {
+  CliResult r = Simulate("stiff.yaml", PushedSpring("1e12", ""), {"--stop", "0.01"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const size_t note = r.out.find("  note: ");
+  ASSERT_NE(note, std::string::npos) << r.out;
+  const std::string text = r.out.substr(note, r.out.find('\n', note) - note);
+  EXPECT_NE(text.find(" per output interval. The fastest mode at t = 0.01 s is an oscillation at 1e6 rad/s"),
+            std::string::npos)
+      << text;
+  EXPECT_NE(text.find("spring.c = 1e12 N/m"), std::string::npos) << text;
+  EXPECT_NE(text.find("159 periods per output interval, more than the rows resolve"), std::string::npos) << text;
+  EXPECT_EQ(text.find("--max-steps"), std::string::npos) << text;
+  // A cheap run has no note.
+  CliResult cheap = Simulate("soft.yaml", PushedSpring("1e3", ""));
+  ASSERT_EQ(cheap.exit_code, 0) << cheap.err;
+  EXPECT_EQ(cheap.out.find("note:"), std::string::npos) << cheap.out;
+}
+
 TEST_F(StressTest, MaxStepsMustBeAWholeNumberOfAtLeastOne) {
   for (const char* bad : {"0", "2.5", "-3", "1e16"}) {
     CliResult r = Simulate("stiff.yaml", PushedSpring("1e3", ""), {"--max-steps", bad});
