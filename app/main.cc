@@ -26,6 +26,9 @@ void AddRunOptions(CLI::App* command, SimulateOverrides* options, const char* ma
   number("--atol", &options->atol, "absolute tolerance (scaled by each variable's nominal)");
   number("--interval", &options->interval, "output interval [s]");
   number("--max-order", &options->max_order, max_order_help);
+  number("--max-steps", &options->max_steps,
+         "steps allowed between two output rows before the run stops and names the model's fastest modes "
+         "(default 500000)");
 }
 
 void AddSolverChoices(CLI::App* command, SimulateOverrides* options) {

@@ -123,6 +123,7 @@ void PrintSummary(std::ostream& o, const SimulateArgs& args, const LoadedModel& 
     << stats.steps << " steps, " << stats.residual_evals << " residual evaluations, "
     << stats.jacobian_evals << " Jacobians, " << stats.error_test_failures << " error-test failures, "
     << stats.nonlinear_failures << " convergence failures\n";
+  if (!stats.cost_note.empty()) o << "  note: " << stats.cost_note << "\n";
   if (stats.events > 0) {
     o << "  " << stats.events << " events (" << stats.time_events << " time events, " << stats.impacts
       << " impacts), " << stats.restarts << " restarts\n";

@@ -60,6 +60,14 @@ SimulationOptions ResolveSimulationOptions(const ExperimentSpec& experiment, con
     }
     opt.max_order = static_cast<int>(k);
   }
+  if (overrides.max_steps) {
+    const double k = *overrides.max_steps;
+    if (!(k >= 1 && k <= 1e15 && k == std::floor(k))) {
+      Reject("max-steps", k, "the number of steps allowed between two output rows must be a whole number from 1 to "
+                             "1e15 (the default is " + std::to_string(kDefaultMaxSteps) + ")");
+    }
+    opt.max_steps = static_cast<long>(k);
+  }
   if (!overrides.linear_solver.empty()) opt.linear_solver = overrides.linear_solver;
   // The output grid they make together (the experiment's own grid was checked when it was read).
   if (opt.interval > 0) {

@@ -14,6 +14,7 @@ namespace momenta {
 struct SimulateOverrides {
   std::optional<double> stop, rtol, atol, interval;
   std::optional<double> max_order;  ///< IDA's maximum BDF order, a whole number from 1 to 5
+  std::optional<double> max_steps;  ///< steps allowed between two output rows, a whole number >= 1
   std::string linear_solver;  ///< empty: the experiment's
   /// --codegen: auto, native or interp (empty: auto); see core/compile/native_code.h.
   std::string codegen;
@@ -26,7 +27,8 @@ CodegenMode ResolveCodegenMode(const SimulateOverrides& overrides);
 /// naming the option and its value when a value is out of range: a stop time that is not a
 /// finite number after the start, a tolerance that is not finite and positive or below what
 /// double precision resolves, an output interval that is not positive or gives an output grid
-/// that cannot be written, a maximum order that is not a whole number from 1 to 5.
+/// that cannot be written, a maximum order that is not a whole number from 1 to 5, a step limit that
+/// is not a whole number of at least 1.
 SimulationOptions ResolveSimulationOptions(const ExperimentSpec& experiment, const SimulateOverrides& overrides);
 
 }  // namespace momenta

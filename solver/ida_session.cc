@@ -21,6 +21,7 @@
 #include "core/base/messages.h"
 #include "solver/jacobian_fill.h"
 #include "solver/mixed_jacobian.h"
+#include "solver/stiffness_report.h"
 #include "solver/sundials_support.h"
 
 namespace momenta {
@@ -205,6 +206,22 @@ std::string LargestLocalError(const CompiledModel& model, IntegrationState* run)
          ", governed by " + model.residual_origin(worst);
 }
 
+/// Why the steps ran out: how many, and the model's fastest modes where it stands (the values of
+/// IDA's last step) with the advice that fits them.
+std::string TooMuchWorkReason(IntegrationState* run) {
+  IdaSession& ida = *run->ida;
+  const double* y = N_VGetArrayPointer(ida.y.get());
+  const double* yp = N_VGetArrayPointer(ida.yp.get());
+  double t = run->t;
+  IDAGetCurrentTime(ida.mem.get(), &t);
+  return "IDA stopped (IDA_TOO_MUCH_WORK): " + NumberText(static_cast<double>(run->options.max_steps)) +
+         " steps (--max-steps) without reaching the next output time" +
+         ExplainStepCost(*ida.callback_data.state, t, std::vector<double>(y, y + run->num_unknowns),
+                         std::vector<double>(yp, yp + run->num_unknowns), run->interval,
+                         static_cast<double>(run->options.max_steps), /*stopped=*/true) +
+         ".";
+}
+
 /// Throws IDA's failure `flag` as a SolverError at the time IDA had reached, with the counters
 /// and times of the run so far in run->stats.
 [[noreturn]] void Fail(const CompiledModel& model, IntegrationState* run, int flag) {
@@ -219,6 +236,8 @@ std::string LargestLocalError(const CompiledModel& model, IntegrationState* run)
     msg += ida.callback_data.error;
   } else if (flag == IDA_ILL_INPUT) {
     msg += IllInputReason(run->options, ida.callback_data.last_message);
+  } else if (flag == IDA_TOO_MUCH_WORK) {
+    msg += TooMuchWorkReason(run);
   } else {
     msg += "IDA stopped (" + FlagName(flag) + "): " + FlagMeaning(flag) + LargestLocalError(model, run);
     if (flag == IDA_TOO_MUCH_ACC) {
@@ -276,7 +295,7 @@ void StartIda(const CompiledModel& model, ModelState* state, IntegrationState* r
   CheckFlag(IDASetLinearSolver(mem, ida.linear_system.solver.get(), ida.linear_system.matrix.get()),
             "IDASetLinearSolver");
   CheckFlag(IDASetJacFn(mem, Jacobian), "IDASetJacFn");
-  CheckFlag(IDASetMaxNumSteps(mem, kMaxStepsPerRow), "IDASetMaxNumSteps");
+  CheckFlag(IDASetMaxNumSteps(mem, options.max_steps), "IDASetMaxNumSteps");
   CheckFlag(IDASetMaxOrd(mem, options.max_order), "IDASetMaxOrd");
   CheckFlag(IDASetStopTime(mem, options.stop), "IDASetStopTime");
 }

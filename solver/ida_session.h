@@ -8,10 +8,6 @@
 
 namespace momenta {
 
-/// IDASetMaxNumSteps' meaning for runs that step one at a time: at most this many steps between
-/// two output rows.
-constexpr long kMaxStepsPerRow = 500000;
-
 /// Creates IDA at options.start from run->y, run->y' (consistent), with the options' tolerances
 /// and linear solver, and stop time options.stop.
 void StartIda(const CompiledModel& model, ModelState* state, IntegrationState* run);
@@ -58,7 +54,8 @@ void PolishConsistentValues(const CompiledModel& model, ModelState* state, Integ
 /// Copies IDA's counters, added to those of the sessions before the last restart, to run->stats.
 void CollectIdaStats(IntegrationState* run);
 
-/// Throws IDA's "too much work" failure: kMaxStepsPerRow steps without an output row.
+/// Throws IDA's "too much work" failure: SimulationOptions::max_steps steps without an output row.
+/// The message names the model's fastest modes and what helps (stiffness_report.h).
 [[noreturn]] void FailTooMuchWork(const CompiledModel& model, IntegrationState* run);
 
 }  // namespace momenta

@@ -12,6 +12,9 @@
 
 namespace momenta {
 
+/// SimulationOptions::max_steps unless the user sets it (--max-steps).
+constexpr long kDefaultMaxSteps = 500000;
+
 struct SimulationOptions {
   double start = 0, stop = 1;
   double interval = 0;      ///< 0: (stop - start)/500; otherwise positive
@@ -22,6 +25,9 @@ struct SimulationOptions {
   /// damped oscillations IDA's order choice can wander into 4 and 5 and pay for it in steps, where
   /// 3 is as accurate (bench/RESULTS.md, "The chain's extra steps", measures it).
   int max_order = 5;
+  /// At most this many steps between two output rows (IDASetMaxNumSteps' meaning for a run that
+  /// steps one at a time); more stop the run with a message that names the model's fastest modes.
+  long max_steps = kDefaultMaxSteps;
   /// Left- and right-limit rows at every event, also one that changes no output (as Dymola's
   /// events=true output, which the MSL reference results use); otherwise only at events that
   /// change an output.
@@ -46,6 +52,9 @@ struct SolverStats {
   std::vector<double> impact_times;  ///< when each impact happened (for tests and summaries)
   double init_seconds = 0, integrate_seconds = 0;
   double final_time = 0;
+  /// Set when the run took far more steps per output interval than a smooth solution needs: how
+  /// many, the model's fastest modes and what helps (solver/stiffness_report.h, StepCostNote).
+  std::string cost_note;
   bool interrupted = false;   ///< SimulationOptions::interrupt stopped the run
   double interrupted_at = 0;  ///< how far the integration had come then
 };

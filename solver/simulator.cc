@@ -17,6 +17,7 @@
 #include "solver/initializer.h"
 #include "solver/integration_state.h"
 #include "solver/output_rows.h"
+#include "solver/stiffness_report.h"
 
 namespace momenta {
 
@@ -71,7 +72,7 @@ void RunWithoutEvents(const CompiledModel& model, ModelState* state, Integration
     const long before = run->next_grid_row;
     EmitGrid(state, run, step.t, /*inclusive=*/true);
     steps_since_row = run->next_grid_row != before ? 0 : steps_since_row + 1;
-    if (steps_since_row >= kMaxStepsPerRow) FailTooMuchWork(model, run);
+    if (steps_since_row >= run->options.max_steps) FailTooMuchWork(model, run);
     run->t = step.t;
   }
 }
@@ -80,11 +81,15 @@ void RunWithoutEvents(const CompiledModel& model, ModelState* state, Integration
 void RunWithEvents(const CompiledModel& model, ModelState* state, IntegrationState* run) {
   const double stop = run->options.stop;
   if (TimeRelationSwitchesAtStart(model, state, run)) DoEvent(model, state, run, run->t, true);
+  long steps_since_row = 0;
   while (run->t < stop && !Interrupted(run, run->t)) {
     const double t_event = NextTimeEvent(model, state, run);
     const double tstop = std::min(stop, t_event);
     SetStopTime(run, tstop);
     const double t_old = run->t;
+    // The same guard as without events, counted over the steps between rows (events write rows).
+    if (++steps_since_row > run->options.max_steps) FailTooMuchWork(model, run);
+    const long rows_before = run->next_grid_row;
     const IdaStepEnd step = StepIda(model, run, StepTarget(*run, tstop));
     // A state event inside (t_old, step.t]?
     const double t_cross = FirstCrossing(model, state, run, t_old, step.t);
@@ -92,10 +97,12 @@ void RunWithEvents(const CompiledModel& model, ModelState* state, IntegrationSta
       EmitGrid(state, run, t_cross, /*inclusive=*/false);
       Interpolate(run, t_cross);
       DoEvent(model, state, run, t_cross, false);
+      steps_since_row = 0;
       continue;
     }
     const bool at_time_event = step.at_stop_time && step.t == t_event;
     EmitGrid(state, run, step.t, !at_time_event);  // an event's own rows cover its time
+    if (run->next_grid_row != rows_before || at_time_event) steps_since_row = 0;
     run->t = step.t;
     if (at_time_event) {  // (one exactly at the stop time gives the run's last row)
       ReadIdaValues(run);
@@ -180,6 +187,9 @@ void Simulate(ModelState* state, const SimulationOptions& options, const RowCall
   }
   CollectIdaStats(&run);
   stats->integrate_seconds = SecondsSince(run.integration_started);
+  if (!stats->interrupted) {
+    stats->cost_note = StepCostNote(*state, run.t, run.y, run.yp, run.interval, stats->steps, run.num_intervals);
+  }
 }
 
 }  // namespace momenta
