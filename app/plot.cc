@@ -25,24 +25,21 @@ namespace momenta {
 
 namespace {
 
-/// `text` as a gnuplot single-quoted string. Inside one gnuplot expands nothing (no backquotes, no
-/// macros, no backslash escapes): only a quote, doubled here, or a line end can leave it, and a
-/// control character is written as visible text (`\x0a`), so every character stays in the string.
-std::string Quoted(const std::string& text) {
-  std::string q = "'";
+/// `text` as one line of the script's text block (see GnuplotScript): a control character is
+/// written as visible text (`\x0a`), so the line cannot end early.
+std::string TextLine(const std::string& text) {
+  std::string line = ":";
   for (char c : text) {
     const auto u = static_cast<unsigned char>(c);
-    if (c == '\'') {
-      q += "''";
-    } else if (u < 0x20 || u == 0x7f) {
+    if (u < 0x20 || u == 0x7f) {
       char hex[8];
       std::snprintf(hex, sizeof hex, "\\x%02x", u);
-      q += hex;
+      line += hex;
     } else {
-      q += c;
+      line += c;
     }
   }
-  return q + "'";
+  return line;
 }
 
 /// The first control character in `text` as `\xNN` ("" when there is none).
@@ -130,20 +127,27 @@ std::string RunGnuplot(const std::string& script, const std::string& out) {
   const char* env = std::getenv("MOMENTA_GNUPLOT");
   std::string program = env && *env ? env : "gnuplot";
   MessageFile messages;
+  const int image = ::open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (image < 0) return "cannot write " + out + ": " + std::strerror(errno);
   int to_gnuplot[2];
-  if (messages.fd() < 0 || ::pipe2(to_gnuplot, O_CLOEXEC) != 0) return "cannot start gnuplot: " + std::string(std::strerror(errno));
+  if (messages.fd() < 0 || ::pipe2(to_gnuplot, O_CLOEXEC) != 0) {
+    ::close(image);
+    return "cannot start gnuplot: " + std::string(std::strerror(errno));
+  }
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
   posix_spawn_file_actions_adddup2(&actions, to_gnuplot[0], STDIN_FILENO);
-  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_adddup2(&actions, image, STDOUT_FILENO);
   posix_spawn_file_actions_adddup2(&actions, messages.fd(), STDERR_FILENO);
   char* argv[] = {program.data(), nullptr};
   pid_t pid = -1;
   const int spawned = ::posix_spawnp(&pid, program.c_str(), &actions, nullptr, argv, environ);
   posix_spawn_file_actions_destroy(&actions);
   ::close(to_gnuplot[0]);
+  ::close(image);
   if (spawned != 0) {
     ::close(to_gnuplot[1]);
+    ::unlink(out.c_str());
     return spawned == ENOENT ? program + " was not found (install Debian's gnuplot-nox; scripts/setup.sh does)"
                              : "cannot start " + program + ": " + std::strerror(spawned);
   }
@@ -186,7 +190,13 @@ std::string GnuplotScript(const PlotArgs& args, const std::string& out_path) {
   g << "set terminal " << (png ? "pngcairo" : "svg dynamic") << " noenhanced size " << args.width
     << "," << args.width * 5 / 9 << " font 'sans,11'\n";
   // No `set output`: gnuplot writes to its standard output, which momenta opened on the file.
-  g << "set title " << Quoted(args.title.empty() ? args.result : args.title) << "\n";
+  // The user's text (the title, the series' names) never stands in a command: it is a line of a
+  // text block, which gnuplot keeps verbatim (no quotes to close, no backquotes or macros
+  // expanded), each line after a ':' so that none is the block's end, and a command reads it
+  // back as $momenta_text[k][2:].
+  g << "$momenta_text << EOD\n" << TextLine(args.title.empty() ? args.result : args.title) << "\n";
+  for (const std::string& name : names) g << TextLine(name) << "\n";
+  g << "EOD\nset title $momenta_text[1][2:]\n";
   g << "set xlabel 'time [s]'\nset grid\nset key outside right top\n";
   // Events: two rows at one time.
   for (size_t i = 1; i < r.time.size(); ++i) {
@@ -204,8 +214,8 @@ std::string GnuplotScript(const PlotArgs& args, const std::string& out_path) {
   }
   g << "EOD\nplot ";
   for (size_t k = 0; k < cols.size(); ++k) {
-    g << (k ? ", " : "") << "$momenta using 1:" << k + 2 << " with lines linewidth 1.5 title "
-      << Quoted(names[k]);
+    g << (k ? ", " : "") << "$momenta using 1:" << k + 2 << " with lines linewidth 1.5 title $momenta_text["
+      << k + 2 << "][2:]";
   }
   g << "\n";
   return g.str();

@@ -27,8 +27,8 @@ class Sha256 {
 
   std::array<uint32_t, 8> state_;
   std::array<uint8_t, 64> block_{};
-  size_t used_ = 0;        ///< bytes waiting in block_
-  uint64_t length_ = 0;    ///< bytes added so far
+  size_t used_ = 0;      ///< bytes waiting in block_
+  uint64_t length_ = 0;  ///< bytes added so far
 };
 
 /// The SHA-256 of `text` in hex.

@@ -28,7 +28,8 @@ std::string Octal(mode_t mode) {
 
 /// Why a file or directory with status `st` is not the user's alone ("" when it is).
 std::string Exposure(const struct stat& st) {
-  if (st.st_uid != ::geteuid()) return "belongs to another user (uid " + std::to_string(st.st_uid) + ")";
+  if (st.st_uid != ::geteuid())
+    return "belongs to another user (uid " + std::to_string(st.st_uid) + ")";
   if (st.st_mode & S_IWOTH) return "is writable by others (mode " + Octal(st.st_mode) + ")";
   if (st.st_mode & S_IWGRP) return "is writable by its group (mode " + Octal(st.st_mode) + ")";
   return "";
@@ -49,7 +50,8 @@ bool ReadAll(int fd, off_t size, std::vector<char>* bytes) {
   bytes->resize(static_cast<size_t>(size));
   size_t done = 0;
   while (done < bytes->size()) {
-    const ssize_t n = ::pread(fd, bytes->data() + done, bytes->size() - done, static_cast<off_t>(done));
+    const ssize_t n =
+        ::pread(fd, bytes->data() + done, bytes->size() - done, static_cast<off_t>(done));
     if (n < 0 && errno == EINTR) continue;
     if (n <= 0) return false;
     done += static_cast<size_t>(n);
@@ -66,12 +68,13 @@ std::string Digest(const std::vector<char>& bytes) {
 /// Opens `name` in directory `dir_fd` without following a symbolic link and checks it is a
 /// regular file of the user's that nobody else may write; an invalid fd and why otherwise.
 /// `what` names the file in `why` ("it", "its digest").
-UniqueFd OpenOwnFile(int dir_fd, const std::string& name, const std::string& what, struct stat* st, std::string* why,
-                     bool* refused) {
+UniqueFd OpenOwnFile(int dir_fd, const std::string& name, const std::string& what, struct stat* st,
+                     std::string* why, bool* refused) {
   UniqueFd fd(::openat(dir_fd, name.c_str(), O_RDONLY | O_NOFOLLOW | O_CLOEXEC | O_NONBLOCK));
   if (!fd.valid()) {
     *refused = errno == ELOOP;
-    *why = errno == ELOOP ? what + " is a symbolic link" : what + " cannot be opened: " + std::strerror(errno);
+    *why = errno == ELOOP ? what + " is a symbolic link"
+                          : what + " cannot be opened: " + std::strerror(errno);
     return UniqueFd();
   }
   if (::fstat(fd.get(), st) != 0 || !S_ISREG(st->st_mode)) {
@@ -112,7 +115,8 @@ NativeCache::NativeCache(const std::string& path, bool create) : path_(path) {
   }
   fd_ = UniqueFd(::open(path.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC));
   if (!fd_.valid()) {
-    if (errno != ENOENT) refusal_ = "the cache directory " + path + " cannot be opened: " + std::strerror(errno);
+    if (errno != ENOENT)
+      refusal_ = "the cache directory " + path + " cannot be opened: " + std::strerror(errno);
     return;
   }
   struct stat st {};
@@ -141,7 +145,8 @@ CheckedObject NativeCache::Read(const std::string& key, std::string* why, bool* 
   }
   // The digest momenta recorded when it wrote the object.
   struct stat dst {};
-  UniqueFd digest_fd = OpenOwnFile(fd_.get(), key + ".sha256", "its digest " + key + ".sha256", &dst, why, refused);
+  UniqueFd digest_fd =
+      OpenOwnFile(fd_.get(), key + ".sha256", "its digest " + key + ".sha256", &dst, why, refused);
   if (!digest_fd.valid()) {
     if (!*refused) *why = "no digest of it was recorded";
     return object;
@@ -160,14 +165,16 @@ CheckedObject NativeCache::Read(const std::string& key, std::string* why, bool* 
   return object;
 }
 
-CheckedObject NativeCache::Store(const std::string& key, const std::string& object_path, std::string* why) const {
+CheckedObject NativeCache::Store(const std::string& key, const std::string& object_path,
+                                 std::string* why) const {
   CheckedObject object;
   // The compiler's output, read through the descriptor that will be loaded.
   const std::string build_dir = object_path.substr(0, object_path.find_last_of('/'));
   UniqueFd dir(::open(build_dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC));
   struct stat st {};
   bool refused = false;
-  UniqueFd fd = dir.valid() ? OpenOwnFile(dir.get(), object_path.substr(build_dir.size() + 1), "the compiled code", &st, why, &refused)
+  UniqueFd fd = dir.valid() ? OpenOwnFile(dir.get(), object_path.substr(build_dir.size() + 1),
+                                          "the compiled code", &st, why, &refused)
                             : UniqueFd();
   if (!fd.valid()) {
     if (!dir.valid()) *why = "cannot open " + build_dir;
@@ -181,8 +188,10 @@ CheckedObject NativeCache::Store(const std::string& key, const std::string& obje
   // Its digest beside it, then both into place (each rename is atomic).
   const std::string digest_path = object_path + ".sha256";
   const std::string digest = Digest(object.bytes) + "\n";
-  UniqueFd out(::open(digest_path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0600));
-  if (!out.valid() || ::write(out.get(), digest.data(), digest.size()) != static_cast<ssize_t>(digest.size())) {
+  UniqueFd out(
+      ::open(digest_path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0600));
+  if (!out.valid() ||
+      ::write(out.get(), digest.data(), digest.size()) != static_cast<ssize_t>(digest.size())) {
     *why = "cannot write " + digest_path;
     return object;
   }
@@ -209,12 +218,15 @@ PrivateBuildDir::~PrivateBuildDir() {
 bool IsWholeElf(const std::vector<char>& bytes, std::string* why) {
   Elf64_Ehdr eh{};
   const uint64_t size = bytes.size();
-  if (size < sizeof eh || (std::memcpy(&eh, bytes.data(), sizeof eh), std::memcmp(eh.e_ident, ELFMAG, SELFMAG) != 0) ||
+  if (size < sizeof eh ||
+      (std::memcpy(&eh, bytes.data(), sizeof eh), std::memcmp(eh.e_ident, ELFMAG, SELFMAG) != 0) ||
       eh.e_ident[EI_CLASS] != ELFCLASS64 || eh.e_phentsize != sizeof(Elf64_Phdr)) {
     *why = "it is not a 64-bit ELF object";
     return false;
   }
-  auto inside = [&](uint64_t offset, uint64_t length) { return offset <= size && length <= size - offset; };
+  auto inside = [&](uint64_t offset, uint64_t length) {
+    return offset <= size && length <= size - offset;
+  };
   bool whole = inside(eh.e_phoff, uint64_t{eh.e_phnum} * eh.e_phentsize) &&
                inside(eh.e_shoff, uint64_t{eh.e_shnum} * eh.e_shentsize);
   for (uint16_t k = 0; whole && k < eh.e_phnum; ++k) {

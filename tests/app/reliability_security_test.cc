@@ -6,11 +6,10 @@
 
 #include <dirent.h>
 #include <dlfcn.h>
+#include <gtest/gtest.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
-
-#include <gtest/gtest.h>
 
 #include <chrono>
 #include <cstdlib>
@@ -38,7 +37,9 @@ std::string Reproducer(const std::string& name) {
   return testing::SourcePath("tests/data/reliability/2026-11-27/" + name);
 }
 
-bool Contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+bool Contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
 
 bool Exists(const std::string& path) {
   struct stat st {};
@@ -61,7 +62,8 @@ std::vector<std::string> Entries(const std::string& dir, const std::string& pref
   return names;
 }
 
-/// Sets environment variables for the test's lifetime (the CLI inherits them), restoring them after.
+/// Sets environment variables for the test's lifetime (the CLI inherits them), restoring them
+/// after.
 class ScopedEnv {
  public:
   void Set(const std::string& name, const std::string* value) {
@@ -101,7 +103,9 @@ class PlantedCacheTest : public ::testing::Test {
     // The object an attacker plants: its constructor writes momenta-01-PWNED into the current
     // directory. It does run when loaded (so a test that finds no mark means it was not loaded).
     planted_ = work_.File("planted.so");
-    ASSERT_EQ(std::system(("cc -shared -fPIC -o " + planted_ + " " + Reproducer("01-planted-cache-object.c")).c_str()),
+    ASSERT_EQ(std::system(("cc -shared -fPIC -o " + planted_ + " " +
+                           Reproducer("01-planted-cache-object.c"))
+                              .c_str()),
               0);
     const pid_t child = ::fork();
     if (child == 0) {
@@ -110,7 +114,8 @@ class PlantedCacheTest : public ::testing::Test {
     }
     int status = 0;
     ::waitpid(child, &status, 0);
-    ASSERT_TRUE(Exists(work_.File("momenta-01-PWNED"))) << "the planted object's constructor does not run";
+    ASSERT_TRUE(Exists(work_.File("momenta-01-PWNED")))
+        << "the planted object's constructor does not run";
     std::filesystem::remove(work_.File("momenta-01-PWNED"));
     // The key: the name momenta gives the model's object, learnt from a private cache.
     env_.Set("TMPDIR", &tmp_.path());
@@ -119,7 +124,8 @@ class PlantedCacheTest : public ::testing::Test {
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const std::vector<std::string> objects = Entries(cache_.path(), "");
     for (const std::string& name : objects) {
-      if (name.size() > 3 && name.substr(name.size() - 3) == ".so") key_ = name.substr(0, name.size() - 3);
+      if (name.size() > 3 && name.substr(name.size() - 3) == ".so")
+        key_ = name.substr(0, name.size() - 3);
     }
     ASSERT_FALSE(key_.empty());
     EXPECT_TRUE(Exists(cache_.File(key_ + ".sha256")));
@@ -127,8 +133,10 @@ class PlantedCacheTest : public ::testing::Test {
   }
 
   CliResult Simulate(const std::vector<std::string>& extra = {}) {
-    std::vector<std::string> args = {"simulate", Reproducer("01-planted-cache-object.yaml"), "--codegen", "native",
-                                     "--stop", "0.01", "-o", work_.File("o.csv")};
+    std::vector<std::string> args = {"simulate",  Reproducer("01-planted-cache-object.yaml"),
+                                     "--codegen", "native",
+                                     "--stop",    "0.01",
+                                     "-o",        work_.File("o.csv")};
     args.insert(args.end(), extra.begin(), extra.end());
     return RunMomenta(args, work_.path());
   }
@@ -143,7 +151,8 @@ class PlantedCacheTest : public ::testing::Test {
   }
 
   void Plant(const std::string& dir) {
-    std::filesystem::copy_file(planted_, dir + "/" + key_ + ".so", std::filesystem::copy_options::overwrite_existing);
+    std::filesystem::copy_file(planted_, dir + "/" + key_ + ".so",
+                               std::filesystem::copy_options::overwrite_existing);
   }
 
   TempDir work_, cache_, tmp_;
@@ -159,9 +168,10 @@ TEST_F(PlantedCacheTest, WorldWritableDirectoryIsNotUsed) {
   env_.Set("MOMENTA_CACHE_DIR", &shared.path());
   CliResult r = Simulate();
   ExpectNotRun(r, "1777 directory");
-  EXPECT_TRUE(Contains(r.err, "note: the cache directory " + shared.path() +
-                                  " is writable by others (mode 1777): not used; the model's code is compiled in a "
-                                  "private temporary directory and not kept"))
+  EXPECT_TRUE(Contains(
+      r.err, "note: the cache directory " + shared.path() +
+                 " is writable by others (mode 1777): not used; the model's code is compiled in a "
+                 "private temporary directory and not kept"))
       << r.err;
   // Nothing was written into the shared directory.
   EXPECT_EQ(Entries(shared.path(), "").size(), 1u);
@@ -179,8 +189,10 @@ TEST_F(PlantedCacheTest, ReplacedEntryFailsItsDigestBeforeLoading) {
   ASSERT_EQ(::chmod(cache_.File(key_ + ".so").c_str(), 0600), 0);
   CliResult r = Simulate();
   ExpectNotRun(r, "replaced entry");
-  EXPECT_TRUE(Contains(r.out, "was rebuilt: its content is not what momenta wrote (the SHA-256 differs from the "
-                              "one recorded)"))
+  EXPECT_TRUE(
+      Contains(r.out,
+               "was rebuilt: its content is not what momenta wrote (the SHA-256 differs from the "
+               "one recorded)"))
       << r.out;
   // Rebuilt: the next run loads it from the cache.
   r = Simulate();
@@ -192,8 +204,10 @@ TEST_F(PlantedCacheTest, EntryWritableByOthersOrALinkIsRefusedWithANote) {
   ASSERT_EQ(::chmod(cache_.File(key_ + ".so").c_str(), 0666), 0);
   CliResult r = Simulate();
   ExpectNotRun(r, "0666 entry");
-  EXPECT_TRUE(Contains(r.err, "note: the cached " + cache_.File(key_ + ".so") +
-                                  " was not loaded: it is writable by others (mode 0666); the model is compiled again"))
+  EXPECT_TRUE(Contains(
+      r.err,
+      "note: the cached " + cache_.File(key_ + ".so") +
+          " was not loaded: it is writable by others (mode 0666); the model is compiled again"))
       << r.err;
   // A symbolic link to the planted object.
   std::filesystem::remove(cache_.File(key_ + ".so"));
@@ -218,7 +232,8 @@ TEST_F(PlantedCacheTest, EntryOfAnotherUserIsRefusedWithANote) {
   env_.Set("MOMENTA_CACHE_DIR", &theirs.path());
   r = Simulate();
   ExpectNotRun(r, "foreign directory");
-  EXPECT_TRUE(Contains(r.err, "the cache directory " + theirs.path() + " belongs to another user (uid 65534): not used"))
+  EXPECT_TRUE(Contains(r.err, "the cache directory " + theirs.path() +
+                                  " belongs to another user (uid 65534): not used"))
       << r.err;
 }
 
@@ -246,7 +261,8 @@ TEST_F(PlantedCacheTest, CacheDirectoriesAreMadePrivate) {
   ASSERT_EQ(::chmod((xdg + "/momenta").c_str(), 0777), 0);
   r = Simulate({"-q"});
   EXPECT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_TRUE(Contains(r.err, "the cache directory " + xdg + "/momenta is writable by others (mode 0777): not used"))
+  EXPECT_TRUE(Contains(
+      r.err, "the cache directory " + xdg + "/momenta is writable by others (mode 0777): not used"))
       << r.err;
 }
 
@@ -256,7 +272,8 @@ TEST_F(PlantedCacheTest, CacheDirectoriesAreMadePrivate) {
 class PlotInjectionTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    if (std::system("command -v gnuplot >/dev/null 2>&1") != 0) GTEST_SKIP() << "gnuplot is not installed";
+    if (std::system("command -v gnuplot >/dev/null 2>&1") != 0)
+      GTEST_SKIP() << "gnuplot is not installed";
   }
   /// Whether gnuplot ran the injected command (it would create `marker` in the work folder).
   bool Pwned() const { return Exists(dir_.File("momenta-02-PWNED")); }
@@ -273,8 +290,10 @@ TEST_F(PlotInjectionTest, ResultFileNameStaysInItsString) {
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_FALSE(Pwned());
   // The title shows the name with its line ends as visible text.
-  EXPECT_TRUE(Contains(testing::ReadText(dir_.File("p.svg")), "r\\x0asystem(&quot;touch momenta-02-PWNED&quot;)\\x0a.csv") ||
-              Contains(testing::ReadText(dir_.File("p.svg")), "r\\x0asystem(\"touch momenta-02-PWNED\")\\x0a.csv"))
+  EXPECT_TRUE(Contains(testing::ReadText(dir_.File("p.svg")),
+                       "r\\x0asystem(&quot;touch momenta-02-PWNED&quot;)\\x0a.csv") ||
+              Contains(testing::ReadText(dir_.File("p.svg")),
+                       "r\\x0asystem(\"touch momenta-02-PWNED\")\\x0a.csv"))
       << testing::ReadText(dir_.File("p.svg")).substr(0, 2000);
   // The default output name: momenta opens it, gnuplot never sees it.
   r = RunMomenta({"plot", name, "-y", "mass1.s"}, dir_.path());
@@ -292,11 +311,15 @@ TEST_F(PlotInjectionTest, OutputTitleAndColumnNamesStayInTheirStrings) {
   EXPECT_FALSE(Pwned());
   EXPECT_TRUE(Contains(testing::ReadText(out), "</svg>"));
   // --title: a control character is refused; quotes, backquotes and macros stay text.
-  r = RunMomenta({"plot", csv, "-y", "mass1.s", "-o", dir_.File("t.svg"), "--title", kInjected}, dir_.path());
+  r = RunMomenta({"plot", csv, "-y", "mass1.s", "-o", dir_.File("t.svg"), "--title", kInjected},
+                 dir_.path());
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_TRUE(Contains(r.err, "momenta: --title holds a control character (\\x0a): a title is one line of text")) << r.err;
+  EXPECT_TRUE(Contains(
+      r.err, "momenta: --title holds a control character (\\x0a): a title is one line of text"))
+      << r.err;
   const std::string title = "it's `touch momenta-02-PWNED` @x ''";
-  r = RunMomenta({"plot", csv, "-y", "mass1.s", "-o", dir_.File("t.svg"), "--title", title}, dir_.path());
+  r = RunMomenta({"plot", csv, "-y", "mass1.s", "-o", dir_.File("t.svg"), "--title", title},
+                 dir_.path());
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_FALSE(Pwned());
   EXPECT_TRUE(Contains(testing::ReadText(dir_.File("t.svg")), "<text>" + title + "</text>"));
@@ -311,7 +334,8 @@ TEST_F(PlotInjectionTest, OutputTitleAndColumnNamesStayInTheirStrings) {
   r = RunMomenta({"plot", mat, "-y", column, "-o", dir_.File("m.svg")}, dir_.path());
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_FALSE(Pwned());
-  EXPECT_TRUE(Contains(testing::ReadText(dir_.File("m.svg")), "\\x0a'x</text>")) << testing::ReadText(dir_.File("m.svg"));
+  EXPECT_TRUE(Contains(testing::ReadText(dir_.File("m.svg")), "\\x0a'x</text>"))
+      << testing::ReadText(dir_.File("m.svg"));
 }
 
 TEST_F(PlotInjectionTest, ResultsGnuplotCannotDrawEndWithMomentasMessage) {
@@ -328,12 +352,16 @@ TEST_F(PlotInjectionTest, ResultsGnuplotCannotDrawEndWithMomentasMessage) {
   EXPECT_EQ(r.err, "momenta: " + inf + ": time is inf in row 2: a plot needs finite times\n");
   // gnuplot failing: its own first line, after momenta's, and no image left.
   ScopedEnv env;
-  const std::string fake = dir_.Write("fake-gnuplot", "#!/bin/sh\necho 'line 3: something broke' >&2\nexit 1\n");
+  const std::string fake =
+      dir_.Write("fake-gnuplot", "#!/bin/sh\necho 'line 3: something broke' >&2\nexit 1\n");
   ASSERT_EQ(::chmod(fake.c_str(), 0755), 0);
   env.Set("MOMENTA_GNUPLOT", &fake);
-  r = RunMomenta({"plot", Reproducer("02-plot-result.csv"), "-y", "mass1.s", "-o", dir_.File("f.svg")}, dir_.path());
+  r = RunMomenta(
+      {"plot", Reproducer("02-plot-result.csv"), "-y", "mass1.s", "-o", dir_.File("f.svg")},
+      dir_.path());
   EXPECT_EQ(r.exit_code, 3);
-  EXPECT_TRUE(Contains(r.err, "momenta: gnuplot failed writing " + dir_.File("f.svg") + " (line 3: something broke)"))
+  EXPECT_TRUE(Contains(r.err, "momenta: gnuplot failed writing " + dir_.File("f.svg") +
+                                  " (line 3: something broke)"))
       << r.err;
   EXPECT_FALSE(Exists(dir_.File("f.svg")));
 }
@@ -357,7 +385,9 @@ TEST(TerminalEscapesTest, ModelTextReachesTheTerminalEscaped) {
 TEST(TerminalEscapesTest, FileNameAndModelNameAreEscapedInEveryMessage) {
   TempDir dir;
   // A file name holding an escape sequence and a bell, in an error message.
-  const std::string name = "m\x1b]0;T\a\xc2\x9b" "2J.yaml";
+  const std::string name =
+      "m\x1b]0;T\a\xc2\x9b"
+      "2J.yaml";
   const std::string model = dir.Write(name, "model: x\ncomponents:\n  a: {type: Nope}\n");
   CliResult r = RunMomenta({"check", model}, dir.path());
   EXPECT_EQ(r.exit_code, 1);
@@ -365,9 +395,10 @@ TEST(TerminalEscapesTest, FileNameAndModelNameAreEscapedInEveryMessage) {
   EXPECT_EQ(r.err.find('\x1b'), std::string::npos);
   EXPECT_EQ(r.err.find("\xc2\x9b"), std::string::npos);
   // The model's name in a summary; momenta's own line ends stay.
-  const std::string ok = dir.Write("ok.yaml",
-                                   "model: \"Esc\\e[31mRED\\e]0;TITLE\\a\"\ncomponents:\n  m: {type: Mass, m: 1}\n"
-                                   "outputs: [m.s]\nexperiment: {stop: 0.1}\n");
+  const std::string ok =
+      dir.Write("ok.yaml",
+                "model: \"Esc\\e[31mRED\\e]0;TITLE\\a\"\ncomponents:\n  m: {type: Mass, m: 1}\n"
+                "outputs: [m.s]\nexperiment: {stop: 0.1}\n");
   r = RunMomenta({"simulate", ok, "-o", dir.File("o.csv")}, dir.path());
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_TRUE(Contains(r.out, "Esc\\x1b[31mRED\\x1b]0;TITLE\\x07 (")) << r.out;
@@ -388,15 +419,19 @@ TEST(GeneratedCodeTest, ModelTextCannotLeaveItsComment) {
   // The model's name and doc carry comment ends, quotes, backslashes, line ends and a directive
   // that would fail the compilation if any reached the code.
   const std::string hostile = R"(x */ #include \"/nonexistent.h\" \\ \n#error planted\n/* y)";
-  const std::string model = dir.Write(
-      "c.yaml", "model: \"" + hostile + "\"\ndoc: \"" + hostile +
-                    "\"\ncomponents:\n  m: {type: Mass, m: 1, s: {start: 1, fixed: true}}\n  k: {type: Spring, c: 4}\n"
-                    "  f: {type: Fixed}\nconnections:\n  - [m.flange_a, k.flange_b]\n  - [k.flange_a, f.flange]\n"
-                    "outputs: [m.s]\nexperiment: {stop: 1}\n");
-  CliResult native = RunMomenta({"simulate", model, "--codegen", "native", "-o", dir.File("n.csv")}, dir.path());
+  const std::string model =
+      dir.Write("c.yaml", "model: \"" + hostile + "\"\ndoc: \"" + hostile +
+                              "\"\ncomponents:\n  m: {type: Mass, m: 1, s: {start: 1, fixed: "
+                              "true}}\n  k: {type: Spring, c: 4}\n"
+                              "  f: {type: Fixed}\nconnections:\n  - [m.flange_a, k.flange_b]\n  - "
+                              "[k.flange_a, f.flange]\n"
+                              "outputs: [m.s]\nexperiment: {stop: 1}\n");
+  CliResult native =
+      RunMomenta({"simulate", model, "--codegen", "native", "-o", dir.File("n.csv")}, dir.path());
   ASSERT_EQ(native.exit_code, 0) << native.err;
   EXPECT_TRUE(Contains(native.out, "code: native code")) << native.out << native.err;
-  CliResult interp = RunMomenta({"simulate", model, "--codegen", "interp", "-o", dir.File("i.csv"), "-q"}, dir.path());
+  CliResult interp = RunMomenta(
+      {"simulate", model, "--codegen", "interp", "-o", dir.File("i.csv"), "-q"}, dir.path());
   ASSERT_EQ(interp.exit_code, 0) << interp.err;
   EXPECT_EQ(testing::ReadText(dir.File("n.csv")), testing::ReadText(dir.File("i.csv")));
   // The C: one comment line holds the name, with no comment end, line end or quote from it.
@@ -406,12 +441,22 @@ TEST(GeneratedCodeTest, ModelTextCannotLeaveItsComment) {
     if (s.size() > 2 && s.substr(s.size() - 2) == ".c") c += testing::ReadText(cache.File(s));
   }
   ASSERT_FALSE(c.empty());
-  EXPECT_FALSE(Contains(c, "#include \"/nonexistent.h\""));
-  EXPECT_FALSE(Contains(c, "#error"));
-  EXPECT_FALSE(Contains(c, "nonexistent.h\""));
-  const std::string first = testing::Lines(c).front();
-  EXPECT_EQ(first.find("*/"), first.size() - 2) << first;
-  EXPECT_EQ(first.find('"'), std::string::npos) << first;
+  // Each unit's first line is one comment: it opens at its start and closes at its end only.
+  size_t units = 0;
+  for (const std::string& line : testing::Lines(c)) {
+    if (line.rfind("/* momenta model code: ", 0) != 0) {
+      EXPECT_FALSE(Contains(line, "nonexistent") || Contains(line, "#error") ||
+                   Contains(line, "planted"))
+          << line;
+      continue;
+    }
+    ++units;
+    EXPECT_EQ(line.find("*/"), line.size() - 2) << line;
+    EXPECT_EQ(line.find("/*", 2), std::string::npos) << line;
+    EXPECT_TRUE(Contains(line, "x *| #include \"|nonexistent.h\" \\ ?#error planted?|* y, part 1"))
+        << line;
+  }
+  EXPECT_GE(units, 1u);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -456,9 +501,10 @@ void InterruptCompilation(int signal_number, int expected_exit, const char* sign
   TempDir dir, cache;
   ScopedEnv env;
   env.Set("MOMENTA_CACHE_DIR", &cache.path());
-  testing::MomentaProcess p({"simulate", Reproducer("10-sigint-during-compile.yaml"), "-p", "n=1000", "--stop", "0.01",
-                             "--codegen", "native", "-o", "out.csv", "-q"},
-                            dir.path());
+  testing::MomentaProcess p(
+      {"simulate", Reproducer("10-sigint-during-compile.yaml"), "-p", "n=1000", "--stop", "0.01",
+       "--codegen", "native", "-o", "out.csv", "-q"},
+      dir.path());
   ASSERT_TRUE(p.started());
   // Wait (at most 60 s) for the build directory and a compiler under way.
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
@@ -475,18 +521,25 @@ void InterruptCompilation(int signal_number, int expected_exit, const char* sign
   const int status = p.Wait(60);
   const std::string err = p.err();
   EXPECT_EQ(status, expected_exit) << err;
-  EXPECT_EQ(err, "momenta: " + Reproducer("10-sigint-during-compile.yaml") + ": interrupted by " + signal_name +
-                     " while compiling the model's native code: the compiler was stopped and its temporary files "
+  EXPECT_EQ(err, "momenta: " + Reproducer("10-sigint-during-compile.yaml") + ": interrupted by " +
+                     signal_name +
+                     " while compiling the model's native code: the compiler was stopped and its "
+                     "temporary files "
                      "removed\n");
   EXPECT_TRUE(Entries(cache.path(), "tmp-").empty()) << "the build directory is left";
   EXPECT_TRUE(Entries(cache.path(), "").empty());
-  for (pid_t pid : compilers) EXPECT_FALSE(Running(pid)) << "compiler process " << pid << " still runs";
+  for (pid_t pid : compilers)
+    EXPECT_FALSE(Running(pid)) << "compiler process " << pid << " still runs";
   EXPECT_FALSE(Exists(dir.File("out.csv")));
 }
 
-TEST(InterruptCompilationTest, SigtermStopsTheCompilersAndExits143) { InterruptCompilation(SIGTERM, 143, "SIGTERM"); }
+TEST(InterruptCompilationTest, SigtermStopsTheCompilersAndExits143) {
+  InterruptCompilation(SIGTERM, 143, "SIGTERM");
+}
 
-TEST(InterruptCompilationTest, SigintStopsTheCompilersAndExits130) { InterruptCompilation(SIGINT, 130, "SIGINT"); }
+TEST(InterruptCompilationTest, SigintStopsTheCompilersAndExits130) {
+  InterruptCompilation(SIGINT, 130, "SIGINT");
+}
 
 }  // namespace
 }  // namespace momenta
