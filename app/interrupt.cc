@@ -1,6 +1,5 @@
 #include "app/interrupt.h"
 
-
 namespace momenta {
 
 namespace {
