@@ -11,6 +11,7 @@
 
 #include "app/csv_writer.h"
 #include "app/huge_pages.h"
+#include "app/interrupt.h"
 #include "core/build.h"
 #include "core/base/memory_budget.h"
 #include "core/compile/model_state.h"
@@ -159,8 +160,21 @@ int LoadAndBuild(const std::string& path, const ParameterOverrides& overrides, L
     out->model = BuildModel(std::move(spec), BuiltinLibrary(), options, &out->report);
     out->overrides = out->report.overrides;
     out->build_s = Since(t1);
-    // Native code for the programs (from the cache, or compiled now) where it pays.
-    out->model = AttachNativeCode(std::move(out->model), out->codegen, &out->codegen_report);
+    // Native code for the programs (from the cache, or compiled now) where it pays; SIGINT or
+    // SIGTERM meanwhile stops the compilers and the command.
+    {
+      ScopedInterruptHandler handler;
+      out->codegen.interrupt = &InterruptRequested();
+      out->model = AttachNativeCode(std::move(out->model), out->codegen, &out->codegen_report);
+      out->codegen.interrupt = nullptr;
+      if (InterruptRequested().load()) {
+        std::cerr << "momenta: " << path << ": interrupted by " << InterruptSignalName(InterruptSignal())
+                  << (out->codegen_report.interrupted ? " while compiling the model's native code: the compiler was "
+                                                        "stopped and its temporary files removed\n"
+                                                      : " while preparing the model's native code\n");
+        return 128 + InterruptSignal();
+      }
+    }
     if (!out->codegen_report.note.empty()) std::cerr << path << ": note: " << out->codegen_report.note << "\n";
     out->state = std::make_unique<ModelState>(out->model);
     out->state->SetParameters(out->overrides);

@@ -1,7 +1,5 @@
 #include "app/interrupt.h"
 
-#include <signal.h>
-
 namespace momenta {
 
 namespace {
@@ -29,6 +27,26 @@ void InstallInterruptHandler() {
 }
 
 const std::atomic<bool>& InterruptRequested() { return g_requested; }
+
+const char* InterruptSignalName(int signal_number) {
+  switch (signal_number) {
+    case SIGINT: return "SIGINT";
+    case SIGTERM: return "SIGTERM";
+    default: return "a signal";
+  }
+}
+
+ScopedInterruptHandler::ScopedInterruptHandler() {
+  sigaction(SIGINT, nullptr, &previous_int_);
+  sigaction(SIGTERM, nullptr, &previous_term_);
+  InstallInterruptHandler();
+}
+
+ScopedInterruptHandler::~ScopedInterruptHandler() {
+  if (g_requested.load()) return;
+  sigaction(SIGINT, &previous_int_, nullptr);
+  sigaction(SIGTERM, &previous_term_, nullptr);
+}
 
 int InterruptSignal() { return g_signal.load(std::memory_order_relaxed); }
 

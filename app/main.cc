@@ -10,6 +10,7 @@
 #include "app/plot.h"
 #include "app/report_command.h"
 #include "app/sweep.h"
+#include "app/terminal_output.h"
 #include "solver/simulator.h"
 
 namespace momenta {
@@ -118,6 +119,9 @@ bool KnownCommand(int argc, char** argv) {
 int main(int argc, char** argv) {
   using namespace momenta;
   MaybeRestartWithHugePages(argc, argv);
+  // Every message and summary from here on reaches the terminal with its control characters
+  // escaped (app/terminal_output.h).
+  TerminalOutput terminal;
   CLI::App app{"momenta: acausal component-model simulation (YAML models, SUNDIALS IDA)"};
   app.require_subcommand(1);
   const SolverBuild solver_build = SolverBuildInfo();

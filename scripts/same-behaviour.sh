@@ -77,8 +77,9 @@ record() {  # BINARY OUTDIR
     MOMENTA_CACHE_DIR="$out/$name/cache" "$bin" simulate "$ROOT/$model" --codegen native -q \
       -o "$out/$name/native.csv" >/dev/null 2>"$out/$name/native.err" || code=$?
     echo "$code" >"$out/$name/native.code"
-    # The key of each compiled object (its file name in the cache), then the objects go.
-    (cd "$out/$name/cache" 2>/dev/null && find . -type f | sed 's|^\./||' | sort) \
+    # The key of each compiled object (its file name in the cache; not the digest beside it), then
+    # the objects go.
+    (cd "$out/$name/cache" 2>/dev/null && find . -type f -name '*.so' | sed 's|^\./||' | sort) \
       >"$out/$name/native.keys" || true
     rm -rf "$out/$name/cache"
     code=0

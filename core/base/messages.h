@@ -22,6 +22,12 @@ std::string ByteText(double bytes);
 /// Names as a readable list: "a, b, c" (at most `limit`, then "…").
 std::string JoinNames(const std::vector<std::string>& names, size_t limit = 40);
 
+/// `text` made safe to write to a terminal: a control character (C0 but newline and tab, DEL, and
+/// C1 as UTF-8, U+0080 to U+009F) becomes visible text, `\x1b` or `\u009b`, so that text from a
+/// model or a file name cannot recolour, retitle or erase the user's terminal. The CLI applies it
+/// to everything it writes to standard output and standard error (app/terminal_output.h).
+std::string TerminalText(const std::string& text);
+
 /// The closest names to `wanted` (edit distance), for "did you mean" hints.
 std::vector<std::string> ClosestNames(const std::string& wanted,
                                       const std::vector<std::string>& candidates);

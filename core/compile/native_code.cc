@@ -1,8 +1,8 @@
 #include "core/compile/native_code.h"
 
 #include <dlfcn.h>
-#include <elf.h>
 #include <fcntl.h>
+#include <signal.h>
 #include <spawn.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
@@ -16,12 +16,16 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <mutex>
+#include <optional>
 #include <random>
 #include <sstream>
 #include <thread>
 #include <vector>
 
 #include "core/compile/codegen.h"
+#include "core/compile/native_cache.h"
 #include "core/base/error.h"
 
 extern char** environ;
@@ -189,55 +193,58 @@ std::string KeyOf(const CompiledModel& model, const NativeCodeOptions& options, 
 
 std::string Symbol(size_t k) { return "momenta_p" + std::to_string(k); }
 
-/// mkdir -p; false when some part cannot be made.
-bool MakeDirs(const std::string& dir) {
-  for (size_t pos = 1; pos <= dir.size(); ++pos) {
-    if (pos != dir.size() && dir[pos] != '/') continue;
-    const std::string part = dir.substr(0, pos);
-    if (::mkdir(part.c_str(), 0755) != 0 && errno != EEXIST) return false;
-  }
-  struct stat st {};
-  return ::stat(dir.c_str(), &st) == 0 && S_ISDIR(st.st_mode);
+/// The objects this process loaded, by handle: the descriptor each was loaded through and how
+/// many NativeCode hold it. glibc's dlopen returns an object already loaded under the same name
+/// without opening the file, so the descriptor N behind the name /proc/self/fd/N stays open (and
+/// its number unused by another load) until the last holder closes the object.
+struct LoadedObjects {
+  std::mutex mutex;
+  std::map<void*, std::pair<int, int>> by_handle;  ///< handle -> (descriptor, holders)
+};
+
+LoadedObjects& Loaded() {
+  static LoadedObjects* loaded = new LoadedObjects();  // never destroyed: objects may outlive statics
+  return *loaded;
 }
 
-/// Whether `path` is a whole 64-bit ELF file: every part its headers locate lies inside the file.
-/// dlopen maps a truncated object without complaint and the process dies of SIGBUS on first touch,
-/// so a cache entry is checked before it is loaded.
-bool IsWholeElf(const std::string& path, std::string* why) {
-  std::ifstream f(path, std::ios::binary);
-  Elf64_Ehdr eh{};
-  if (!f.read(reinterpret_cast<char*>(&eh), sizeof eh) || std::memcmp(eh.e_ident, ELFMAG, SELFMAG) != 0 ||
-      eh.e_ident[EI_CLASS] != ELFCLASS64 || eh.e_phentsize != sizeof(Elf64_Phdr)) {
-    *why = "it is not a 64-bit ELF object";
-    return false;
-  }
-  f.seekg(0, std::ios::end);
-  const uint64_t size = static_cast<uint64_t>(f.tellg());
-  auto inside = [&](uint64_t offset, uint64_t length) { return offset <= size && length <= size - offset; };
-  bool whole = inside(eh.e_phoff, uint64_t{eh.e_phnum} * eh.e_phentsize) &&
-               inside(eh.e_shoff, uint64_t{eh.e_shnum} * eh.e_shentsize);
-  for (uint16_t k = 0; whole && k < eh.e_phnum; ++k) {
-    Elf64_Phdr ph{};
-    f.seekg(static_cast<std::streamoff>(eh.e_phoff + uint64_t{k} * sizeof ph));
-    whole = f.read(reinterpret_cast<char*>(&ph), sizeof ph) && inside(ph.p_offset, ph.p_filesz);
-  }
-  if (!whole) *why = "it is truncated";
-  return whole;
-}
-
-/// Loads `path` and checks it is the object for `key`; nullptr (and why) otherwise.
-std::shared_ptr<const NativeCode> Open(const std::string& path, const std::string& key, std::string* why) {
-  if (!IsWholeElf(path, why)) return nullptr;
+/// dlopen of the checked object through its descriptor (/proc/self/fd/N is the very file whose
+/// content was checked); the descriptor then belongs to Loaded(). nullptr and why on failure.
+void* OpenChecked(CheckedObject* object, std::string* why) {
+  LoadedObjects& loaded = Loaded();
+  std::lock_guard<std::mutex> lock(loaded.mutex);
+  const std::string path = "/proc/self/fd/" + std::to_string(object->fd.get());
   void* handle = ::dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
   if (!handle) {
     const char* e = ::dlerror();
     *why = e ? e : "dlopen failed";
     return nullptr;
   }
+  auto [at, added] = loaded.by_handle.try_emplace(handle, object->fd.get(), 0);
+  if (added) object->fd.release();  // else the object was loaded already (the same file): ours closes
+  ++at->second.second;
+  return handle;
+}
+
+void CloseLoaded(void* handle) {
+  LoadedObjects& loaded = Loaded();
+  std::lock_guard<std::mutex> lock(loaded.mutex);
+  ::dlclose(handle);
+  auto at = loaded.by_handle.find(handle);
+  if (at != loaded.by_handle.end() && --at->second.second == 0) {
+    ::close(at->second.first);
+    loaded.by_handle.erase(at);
+  }
+}
+
+/// Loads the checked object `object` and checks it is the object for `key`; nullptr (and why)
+/// otherwise.
+std::shared_ptr<const NativeCode> Load(CheckedObject* object, const std::string& key, std::string* why) {
+  void* handle = OpenChecked(object, why);
+  if (!handle) return nullptr;
   const char* stored = static_cast<const char*>(::dlsym(handle, "momenta_key"));
   if (!stored || key != stored) {
     *why = "it holds another model's code";
-    ::dlclose(handle);
+    CloseLoaded(handle);
     return nullptr;
   }
   std::array<NativeCode::Function, kNumModelPrograms> functions{};
@@ -246,7 +253,7 @@ std::shared_ptr<const NativeCode> Open(const std::string& path, const std::strin
     functions[k] = reinterpret_cast<NativeCode::Function>(::dlsym(handle, Symbol(k).c_str()));
     if (!functions[k]) {
       *why = "it lacks " + Symbol(k);
-      ::dlclose(handle);
+      CloseLoaded(handle);
       return nullptr;
     }
   }
@@ -257,11 +264,18 @@ std::shared_ptr<const NativeCode> Open(const std::string& path, const std::strin
 struct CompilerJob {
   pid_t pid = -1;
   std::string log;
+  int status = 0;
+  bool done = false;
 };
 
+/// What Build returns when a signal stopped it.
+const char kInterrupted[] = "interrupted";
+
 /// Starts the compiler with `args` (after its path), its output into `log`; pid -1 when it cannot
-/// be started.
-CompilerJob StartCompiler(const Compiler& compiler, const std::vector<std::string>& args, const std::string& log) {
+/// be started. With `own_group` the job leads a process group of its own, so that stopping it
+/// stops the driver and the cc1 and as it runs (and a terminal's ^C reaches momenta only).
+CompilerJob StartCompiler(const Compiler& compiler, const std::vector<std::string>& args, const std::string& log,
+                          bool own_group) {
   std::vector<std::string> words = {compiler.path};
   words.insert(words.end(), args.begin(), args.end());
   std::vector<char*> argv;
@@ -271,26 +285,73 @@ CompilerJob StartCompiler(const Compiler& compiler, const std::vector<std::strin
   posix_spawn_file_actions_init(&actions);
   posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
   posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
+  posix_spawnattr_t attributes;
+  posix_spawnattr_init(&attributes);
+  if (own_group) {
+    posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETPGROUP);
+    posix_spawnattr_setpgroup(&attributes, 0);
+  }
   CompilerJob job{-1, log};
-  if (::posix_spawn(&job.pid, compiler.path.c_str(), &actions, nullptr, argv.data(), environ) != 0) job.pid = -1;
+  if (::posix_spawn(&job.pid, compiler.path.c_str(), &actions, &attributes, argv.data(), environ) != 0) job.pid = -1;
+  posix_spawnattr_destroy(&attributes);
   posix_spawn_file_actions_destroy(&actions);
   return job;
 }
 
-/// Waits for `job`: "" when it succeeded, else the first line it printed.
-std::string FinishCompiler(const Compiler& compiler, const CompilerJob& job) {
-  if (job.pid < 0) return compiler.path + " could not be started";
-  int status = 0;
-  while (::waitpid(job.pid, &status, 0) < 0 && errno == EINTR) {
+/// Whether every job has ended (reaping those that have); `block` waits for them.
+bool Reap(std::vector<CompilerJob>* jobs, bool block) {
+  bool all = true;
+  for (CompilerJob& job : *jobs) {
+    if (job.done || job.pid < 0) continue;
+    pid_t got;
+    while ((got = ::waitpid(job.pid, &job.status, block ? 0 : WNOHANG)) < 0 && errno == EINTR) {
+    }
+    job.done = got == job.pid || got < 0;
+    all = all && job.done;
+  }
+  return all;
+}
+
+/// Stops every running job's process group: SIGTERM (gcc then removes its own temporary files),
+/// SIGKILL for what still runs a second later; then reaps them.
+void StopCompilers(std::vector<CompilerJob>* jobs) {
+  for (const CompilerJob& job : *jobs) {
+    if (!job.done && job.pid > 0) ::kill(-job.pid, SIGTERM);
+  }
+  for (int k = 0; k < 100 && !Reap(jobs, false); ++k) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  for (const CompilerJob& job : *jobs) {
+    if (!job.done && job.pid > 0) ::kill(-job.pid, SIGKILL);
+  }
+  Reap(jobs, true);
+}
+
+/// Waits for `jobs`: "" when they all succeeded, else the first failure (the first line its
+/// compiler printed), or kInterrupted when `*interrupt` was raised meanwhile (the jobs are then
+/// stopped). The logs are removed.
+std::string FinishCompilers(const Compiler& compiler, std::vector<CompilerJob> jobs,
+                            const std::atomic<bool>* interrupt) {
+  // Poll every 5 ms while a signal can stop the build; otherwise block.
+  while (!Reap(&jobs, interrupt == nullptr)) {
+    if (interrupt->load()) {
+      StopCompilers(&jobs);
+      break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
   std::string failure;
-  if (!(WIFEXITED(status) && WEXITSTATUS(status) == 0)) {
-    std::ifstream in(job.log);
-    std::string line;
-    std::getline(in, line);
-    failure = compiler.path + " failed" + (line.empty() ? "" : ": " + line);
+  for (const CompilerJob& job : jobs) {
+    if (interrupt && interrupt->load()) {
+      failure = kInterrupted;
+    } else if (job.pid < 0) {
+      failure = compiler.path + " could not be started";
+    } else if (failure.empty() && !(WIFEXITED(job.status) && WEXITSTATUS(job.status) == 0)) {
+      std::ifstream in(job.log);
+      std::string line;
+      std::getline(in, line);
+      failure = compiler.path + " failed" + (line.empty() ? "" : ": " + line);
+    }
+    std::remove(job.log.c_str());
   }
-  std::remove(job.log.c_str());
   return failure;
 }
 
@@ -379,24 +440,57 @@ class BuildDirectory {
   bool made_;
 };
 
-/// Emits, compiles and renames into `object`; "" on success, else why not. A large model's
-/// programs are split over several translation units compiled at once (one per core, each of at
-/// least kInstructionsPerUnit), then linked.
+/// Compiles the units' `sources` into `object`: one unit directly, several at once (then linked);
+/// "" on success, else why not (kInterrupted when a signal stopped it). `stem` names the logs
+/// and the units' objects.
+std::string Compile(const Compiler& compiler, const std::vector<std::vector<CodegenProgram>>& units,
+                    const std::vector<std::string>& sources, const std::string& stem, const std::string& object,
+                    const std::atomic<bool>* interrupt) {
+  const bool own_group = interrupt != nullptr;
+  g_compilations.fetch_add(1);
+  if (sources.size() == 1) {
+    std::vector<std::string> args = CompileFlags(IsLoopUnit(units[0]));
+    args.insert(args.end(), {"-o", object, sources[0], "-lm"});
+    return FinishCompilers(compiler, {StartCompiler(compiler, args, stem + ".log", own_group)}, interrupt);
+  }
+  std::vector<CompilerJob> jobs;
+  std::vector<std::string> objects;
+  for (size_t u = 0; u < sources.size(); ++u) {
+    objects.push_back(stem + "-" + std::to_string(u) + ".o");
+    std::vector<std::string> args = CompileFlags(IsLoopUnit(units[u]));
+    args.insert(args.end(), {"-c", "-o", objects.back(), sources[u]});
+    jobs.push_back(StartCompiler(compiler, args, stem + "-" + std::to_string(u) + ".log", own_group));
+  }
+  std::string failure = FinishCompilers(compiler, std::move(jobs), interrupt);
+  if (failure.empty()) {
+    std::vector<std::string> args = CompileFlags(false);
+    args.insert(args.end(), {"-o", object});
+    args.insert(args.end(), objects.begin(), objects.end());
+    args.push_back("-lm");
+    failure = FinishCompilers(compiler, {StartCompiler(compiler, args, stem + ".log", own_group)}, interrupt);
+  }
+  for (const std::string& o : objects) std::remove(o.c_str());
+  return failure;
+}
+
+/// Emits, compiles and stores the object as `cache`'s entry `key` (into `*object`, checked and
+/// open for loading); "" on success, else why not. A large model's programs are split over
+/// several translation units compiled at once (one per core, each of at least
+/// kInstructionsPerUnit), then linked.
 constexpr size_t kInstructionsPerUnit = 10000;
 
 std::string Build(const CompiledModel& model, std::vector<CodegenProgram> programs, const NativeCodeOptions& options,
-                  const Compiler& compiler, const std::string& key, const std::string& object,
-                  NativeCodeReport* report) {
-  // The C files.
+                  const Compiler& compiler, const std::string& key, const NativeCache& cache, NativeCodeReport* report,
+                  CheckedObject* object) {
+  // The C files, in a private directory of this build.
   auto t0 = Clock::now();
   size_t instructions = 0;
   for (const CodegenProgram& p : programs) instructions += EmittedSize(p);
   const size_t cores = std::max(1u, std::thread::hardware_concurrency());
   const auto units = Partition(std::move(programs), std::min(cores, 1 + instructions / kInstructionsPerUnit));
-  const BuildDirectory dir(object.substr(0, object.find_last_of('/')), key);
+  const BuildDirectory dir(cache.path(), key);
   if (!dir.made()) return "cannot make a directory for the compiler's files: " + dir.path();
   const std::string stem = dir.path() + "/" + key;
-  const std::string temp_object = stem + ".so";
   std::vector<std::string> sources;
   std::string failure;
   for (size_t u = 0; u < units.size() && failure.empty(); ++u) {
@@ -411,48 +505,20 @@ std::string Build(const CompiledModel& model, std::vector<CodegenProgram> progra
     if (!f) failure = "cannot write " + sources.back();
   }
   report->codegen_seconds += Since(t0);
-  // Compile (the units at once, then link them), then move the object into place in one step.
+  // Compile, unless a signal came meanwhile.
   auto t1 = Clock::now();
-  std::vector<std::string> objects;
-  if (failure.empty() && sources.size() == 1) {
-    std::vector<std::string> args = CompileFlags(IsLoopUnit(units[0]));
-    args.insert(args.end(), {"-o", temp_object, sources[0], "-lm"});
-    g_compilations.fetch_add(1);
-    failure = FinishCompiler(compiler, StartCompiler(compiler, args, stem + ".log"));
-  } else if (failure.empty()) {
-    g_compilations.fetch_add(1);
-    std::vector<CompilerJob> jobs;
-    for (size_t u = 0; u < sources.size(); ++u) {
-      objects.push_back(stem + "-" + std::to_string(u) + ".o");
-      std::vector<std::string> args = CompileFlags(IsLoopUnit(units[u]));
-      args.insert(args.end(), {"-c", "-o", objects.back(), sources[u]});
-      jobs.push_back(StartCompiler(compiler, args, stem + "-" + std::to_string(u) + ".log"));
-    }
-    for (const CompilerJob& job : jobs) {
-      std::string f = FinishCompiler(compiler, job);
-      if (failure.empty()) failure = f;
-    }
-    if (failure.empty()) {
-      std::vector<std::string> args = CompileFlags(false);
-      args.insert(args.end(), {"-o", temp_object});
-      args.insert(args.end(), objects.begin(), objects.end());
-      args.push_back("-lm");
-      failure = FinishCompiler(compiler, StartCompiler(compiler, args, stem + ".log"));
-    }
-  }
+  if (failure.empty() && options.interrupt && options.interrupt->load()) failure = kInterrupted;
+  if (failure.empty()) failure = Compile(compiler, units, sources, stem, stem + ".so", options.interrupt);
   report->compile_seconds = Since(t1);
   // MOMENTA_KEEP_C=1 keeps the C next to the object (to read it, or to time compilers on it).
   for (size_t u = 0; u < sources.size(); ++u) {
     if (Env("MOMENTA_KEEP_C") == "1") {
-      std::rename(sources[u].c_str(), (object.substr(0, object.size() - 3) + "-" + std::to_string(u) + ".c").c_str());
+      std::rename(sources[u].c_str(), (cache.path() + "/" + key + "-" + std::to_string(u) + ".c").c_str());
     }
     std::remove(sources[u].c_str());
   }
-  for (const std::string& o : objects) std::remove(o.c_str());
-  if (failure.empty() && std::rename(temp_object.c_str(), object.c_str()) != 0) {
-    failure = "cannot move the compiled code to " + object;
-  }
-  std::remove(temp_object.c_str());
+  // The object and its digest into the cache in one step each.
+  if (failure.empty()) *object = cache.Store(key, stem + ".so", &failure);
   return failure;
 }
 
@@ -480,10 +546,57 @@ bool NativePays(const CompiledModel& model, size_t residual_emitted, size_t emit
   return saved > cost;
 }
 
+void AddNote(NativeCodeReport* r, const std::string& note) {
+  r->note += (r->note.empty() ? "" : "; ") + note;
+}
+
+/// Compiles the model's code into `dir` (created 0700 when missing), or into a private temporary
+/// directory when `dir` may not be used (core/compile/native_cache.h), and loads it. `why`: why a
+/// cached object was not used ("" when there was none).
+std::shared_ptr<const NativeCode> CompileAndLoad(const CompiledModel& model, std::vector<CodegenProgram> programs,
+                                                 const NativeCodeOptions& options, const Compiler& compiler,
+                                                 const std::string& key, const std::string& dir, std::string why,
+                                                 NativeCodeReport* r) {
+  if (dir.empty()) {
+    AddNote(r, "no cache directory for native code (set MOMENTA_CACHE_DIR): the model runs interpreted");
+    return nullptr;
+  }
+  std::optional<PrivateBuildDir> private_dir;  // outlives the cache that may point into it
+  std::optional<NativeCache> cache;
+  cache.emplace(dir, true);
+  if (!cache->usable()) {
+    AddNote(r, cache->refusal() + ": not used; the model's code is compiled in a private temporary directory " +
+                   "and not kept");
+    private_dir.emplace();
+    if (private_dir->path().empty()) {
+      AddNote(r, "no temporary directory could be made: the model runs interpreted");
+      return nullptr;
+    }
+    cache.emplace(private_dir->path(), false);
+    r->library = private_dir->path() + "/" + key + ".so";
+  }
+  CheckedObject object;
+  if (std::string failure = Build(model, std::move(programs), options, compiler, key, *cache, r, &object);
+      !failure.empty()) {
+    if (failure == kInterrupted) {
+      r->interrupted = true;
+    } else {
+      AddNote(r, "native code failed (" + failure + "): the model runs interpreted");
+    }
+    return nullptr;
+  }
+  auto t2 = Clock::now();
+  auto code = Load(&object, key, &why);
+  r->load_seconds = Since(t2);
+  if (!code) AddNote(r, "native code failed to load (" + why + "): the model runs interpreted");
+  if (!why.empty() && code) r->reason += "; " + why;
+  return code;
+}
+
 }  // namespace
 
 NativeCode::~NativeCode() {
-  if (handle_) ::dlclose(handle_);
+  if (handle_) CloseLoaded(handle_);
 }
 
 bool ParseCodegenMode(const std::string& text, CodegenMode* mode) {
@@ -592,9 +705,9 @@ std::shared_ptr<const NativeCode> LoadNativeCode(const CompiledModel& model, con
   const Compiler compiler = FindCompiler();
   const std::string key = KeyOf(model, options, compiler);
   const std::string dir = NativeCacheDir();
+  const NativeCache cache(dir, false);
   r.library = dir.empty() ? "" : dir + "/" + key + ".so";
-  struct stat st {};
-  const bool cached = !r.library.empty() && ::stat(r.library.c_str(), &st) == 0;
+  const bool cached = cache.Has(key);
   r.codegen_seconds = Since(t0);
   // Auto: native only where it pays.
   // The segments (rerolling: linear, 0.1 s per million instructions), needed to compile and to
@@ -615,39 +728,29 @@ std::shared_ptr<const NativeCode> LoadNativeCode(const CompiledModel& model, con
   } else {
     r.reason = "--codegen native";
   }
-  // A cached object, when it is sound.
+  // A cached object, when it passes the checks (core/compile/native_cache.h).
   std::string why;
   if (cached) {
     auto t1 = Clock::now();
-    if (auto code = Open(r.library, key, &why)) {
-      r.load_seconds = Since(t1);
-      r.cache_hit = true;
-      return done(code);
+    bool refused = false;
+    CheckedObject object = cache.Read(key, &why, &refused);
+    if (object.fd.valid()) {
+      if (auto code = Load(&object, key, &why)) {
+        r.load_seconds = Since(t1);
+        r.cache_hit = true;
+        return done(code);
+      }
     }
+    if (refused) r.note = "the cached " + r.library + " was not loaded: " + why + "; the model is compiled again";
     why = "the cached " + r.library + " was rebuilt: " + why;
   }
   // Compile it.
   if (compiler.path.empty()) {
-    r.note = "no C compiler (" + compiler.identity + ") found: the model runs interpreted";
-    return done(nullptr);
-  }
-  if (dir.empty() || !MakeDirs(dir)) {
-    r.note = "no cache directory for native code (" + (dir.empty() ? std::string("set MOMENTA_CACHE_DIR") : dir) +
-             "): the model runs interpreted";
+    AddNote(&r, "no C compiler (" + compiler.identity + ") found: the model runs interpreted");
     return done(nullptr);
   }
   if (programs.empty()) segment();
-  if (std::string failure = Build(model, std::move(programs), options, compiler, key, r.library, &r);
-      !failure.empty()) {
-    r.note = "native code failed (" + failure + "): the model runs interpreted";
-    return done(nullptr);
-  }
-  auto t2 = Clock::now();
-  auto code = Open(r.library, key, &why);
-  r.load_seconds = Since(t2);
-  if (!code) r.note = "native code failed to load (" + why + "): the model runs interpreted";
-  if (!why.empty() && code && r.note.empty()) r.reason += "; " + why;
-  return done(code);
+  return done(CompileAndLoad(model, std::move(programs), options, compiler, key, dir, why, &r));
 }
 
 std::shared_ptr<const CompiledModel> AttachNativeCode(std::shared_ptr<const CompiledModel> model,

@@ -7,13 +7,17 @@
 /// program's instructions and table shapes, the register layout, the compiler (path, size, mtime)
 /// and flags, and kCodeFormatVersion. Parameter values are registers filled at run time, so `-p`
 /// never recompiles. The cache directory is $MOMENTA_CACHE_DIR, else $XDG_CACHE_HOME/momenta, else
-/// ~/.cache/momenta. An object is written under a temporary name and renamed into place, so
+/// ~/.cache/momenta, made 0700; core/compile/native_cache.h says when a directory and an entry are
+/// trusted (the user's own, writable by nobody else, the content's SHA-256 what momenta recorded,
+/// all checked before dlopen), and a directory that is not is replaced by a private temporary one
+/// with a note. An object is written under a temporary name and renamed into place, so
 /// processes building the same model at once (a threaded or MPI sweep) never see half a file; each
 /// object holds its key (`momenta_key`), and one that does not load, lacks a function or holds
 /// another key is rebuilt. The compiler is $MOMENTA_CC, else `cc` on the PATH; without one the
 /// interpreter runs and a one-line note says so.
 
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -82,6 +86,10 @@ struct NativeCodeOptions {
   /// How many runs the code will serve (a sweep's runs): auto compiles when the expected saving
   /// outweighs the compilation.
   double expected_runs = 1;
+  /// Raised by a signal handler (SIGINT, SIGTERM): a compilation under way stops its compilers
+  /// (each runs in a process group of its own, which is then stopped), removes its temporary
+  /// files and reports `interrupted`. Null: compilation is not interruptible.
+  const std::atomic<bool>* interrupt = nullptr;
 };
 
 /// What was chosen and what it cost, for `check` and `simulate -v`-style summaries.
@@ -96,6 +104,7 @@ struct NativeCodeReport {
   std::string reason;             ///< why this choice (one phrase)
   std::string note;               ///< a fallback to the interpreter worth telling the user (one line)
   std::string library;            ///< the shared object's path
+  bool interrupted = false;       ///< NativeCodeOptions::interrupt stopped the compilation
   /// One line: "native code (cache hit, 0.4 ms)", "interpreter (auto: 120 instructions …)".
   std::string Summary() const;
 };

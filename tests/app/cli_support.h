@@ -84,6 +84,7 @@ class MomentaProcess {
   MomentaProcess& operator=(const MomentaProcess&) = delete;
 
   bool started() const { return pid_ > 0; }
+  pid_t pid() const { return pid_; }
   void Signal(int signal_number) { kill(pid_, signal_number); }
 
   /// Waits at most `seconds` for the process to end. Returns its exit status, -1 when it was

@@ -172,6 +172,29 @@ TEST(ReportPageTest, UserTextCannotEndTheDataScript) {
       << html.substr(html.find("\"doc\""), 120);
 }
 
+TEST(ReportPageTest, UserTextInEveryFieldStaysText) {
+  // Every text field a model, a file name or the solver fills, holding a script end and an element
+  // with an event handler: the page's own three scripts end, no element is made from the text, and
+  // every "onerror" is inside an escaped string (JSON's \u003c or HTML's &lt;).
+  const std::string evil = "</script><img src=x onerror=alert(1)>";
+  ReportData d;
+  d.model_name = d.model_file = d.doc = d.result_file = evil;
+  d.parameters = {{evil, evil, evil, 1}};
+  d.build = {{evil, evil}};
+  d.solver = {{evil, evil}};
+  d.columns = {evil};
+  d.units = {evil};
+  d.notes = {evil};
+  d.num_plotted = 1;
+  d.Row(0, {1});
+  const std::string html = ReportHtml(d);
+  EXPECT_EQ(Count(html, "</script>"), 3u);
+  EXPECT_EQ(Count(html, "<img"), 0u);
+  const size_t escaped = Count(html, "\\u003cimg src=x onerror") + Count(html, "&lt;img src=x onerror");
+  EXPECT_EQ(Count(html, "onerror"), escaped);
+  EXPECT_GE(escaped, 14u);  // each of the 14 strings above appears at least once
+}
+
 TEST(ReportPageTest, LongRunsAreThinnedKeepingEveryEventRow) {
   // 50 001 rows with an event at t = 30001 (two rows): at most kMaxReportRows rows plus the
   // event rows and the last reach the page, and the event's two rows are among them.

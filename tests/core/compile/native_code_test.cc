@@ -81,8 +81,10 @@ TEST_F(NativeCodeTest, ForeignCacheEntryIsRebuilt) {
   NativeCodeReport ra, rb;
   ASSERT_TRUE(LoadNativeCode(*a.model, native_, &ra)) << ra.note;
   ASSERT_TRUE(LoadNativeCode(*b.model, native_, &rb)) << rb.note;
-  // b's code under a's name: loads, but holds b's key.
+  // b's code and its digest under a's name: passes the digest, loads, but holds b's key.
   std::filesystem::copy_file(rb.library, ra.library, std::filesystem::copy_options::overwrite_existing);
+  const auto digest = [](const std::string& library) { return library.substr(0, library.size() - 3) + ".sha256"; };
+  std::filesystem::copy_file(digest(rb.library), digest(ra.library), std::filesystem::copy_options::overwrite_existing);
   NativeCodeReport again;
   std::shared_ptr<const CompiledModel> na = AttachNativeCode(a.model, native_, &again);
   ASSERT_TRUE(na->native) << again.note;
