@@ -4,6 +4,11 @@
 
 #include "solver/output_rows.h"
 
+#include <cmath>
+#include <string>
+
+#include "core/base/error.h"
+#include "core/base/messages.h"
 #include "solver/ida_session.h"
 
 namespace momenta {
@@ -28,8 +33,27 @@ void Row(IntegrationState* run, double t, const std::vector<double>& values) {
   run->stats->final_time = t;
 }
 
+void CheckFinite(const ModelState& state, const IntegrationState& run, double t, const double* y) {
+  const CompiledModel& model = state.model();
+  auto fail = [&](const std::string& what, double v) {
+    throw SolverError("at t = " + NumberText(t) + ": " + what + " is " + NumberText(v) +
+                      " (a division by zero, an overflow or a function outside its domain in what computes it)");
+  };
+  for (size_t k = 0; k < run.outputs.size(); ++k) {
+    if (!std::isfinite(run.outputs[k])) fail("the output " + model.output_names[k], run.outputs[k]);
+  }
+  for (size_t i = 0; y && i < model.num_unknowns(); ++i) {
+    if (!std::isfinite(y[i])) fail(model.flat->VariableName(model.unknowns[i]), y[i]);
+  }
+  for (size_t d = 0; d < model.discrete_vars.size(); ++d) {
+    const double v = state.discrete()[d];
+    if (!std::isfinite(v)) fail(model.flat->VariableName(model.discrete_vars[d]), v);
+  }
+}
+
 void Emit(ModelState* state, IntegrationState* run, double t, const double* y, const double* yp) {
   state->Outputs(t, y, yp, run->outputs.data());
+  CheckFinite(*state, *run, t, y);
   Row(run, t, run->outputs);
 }
 

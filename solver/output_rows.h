@@ -19,6 +19,12 @@ bool Interrupted(IntegrationState* run, double t);
 /// Gives out a row, unless the run has been interrupted (then no row follows a gap).
 void Row(IntegrationState* run, double t, const std::vector<double>& values);
 
+/// Stops the run (SolverError naming the value and t) when run->outputs, the unknowns y (may be
+/// null) or the discrete values hold a value that is not finite: looked at once a row, before the
+/// row is written, so that the rows before it are kept (a pass over numbers the row has just
+/// computed, small against the residual evaluations of a step).
+void CheckFinite(const ModelState& state, const IntegrationState& run, double t, const double* y);
+
 /// The outputs at (t, y, y') as a row (y and y' null for a model without unknowns).
 void Emit(ModelState* state, IntegrationState* run, double t, const double* y, const double* yp);
 
