@@ -103,7 +103,7 @@ void RunWhen(const CompiledModel& model, ModelState* state, IntegrationState* ru
   auto check = [&](double v, VarId target, const char* what) {
     if (std::isfinite(v)) return;
     throw SolverError("at t = " + NumberText(t) + ": " + what + model.flat->VariableName(target) + " = " +
-                      NumberText(v) + " in when-clause '" + when.text + "': a value must be a finite number");
+                      NonFiniteText(v) + " in when-clause '" + when.text + "': a value must be a finite number");
   };
   double* discrete = state->mutable_discrete();
   for (const auto& [variable, slot] : when.assigns) {
@@ -154,6 +154,7 @@ void SettleMixedSystem(const CompiledModel& model, ModelState* state, Integratio
 /// any more), in words; "" when no row or column is zero.
 std::string SingularCause(const CompiledModel& model, ModelState* state, const IntegrationState& run, double t) {
   const SparsePattern& pattern = model.jacobian_pattern;
+  if (model.num_unknowns() == 0) return "";
   std::vector<double> dfdy(pattern.nnz()), dfdyp(pattern.nnz());
   state->JacobianParts(t, run.y.data(), run.yp.data(), dfdy.data(), dfdyp.data());
   std::vector<bool> row_used(pattern.rows, false), column_used(pattern.cols, false);
@@ -208,7 +209,7 @@ void DoEvent(const CompiledModel& model, ModelState* state, IntegrationState* ru
   }
   run->t = t;
   state->Outputs(t, run->y.data(), run->yp.data(), run->outputs.data());
-  CheckFinite(*state, *run, t, run->y.data());
+  CheckRowValues(*state, *run, t, run->y.data());
   if (run->outputs != left || run->stats->impacts != impacts_before || run->options.rows_at_every_event) {
     Row(run, t, left);
     Row(run, t, run->outputs);

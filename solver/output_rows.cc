@@ -33,10 +33,12 @@ void Row(IntegrationState* run, double t, const std::vector<double>& values) {
   run->stats->final_time = t;
 }
 
-void CheckFinite(const ModelState& state, const IntegrationState& run, double t, const double* y) {
+std::string NonFiniteText(double v) { return std::isnan(v) ? "NaN" : NumberText(v); }
+
+void CheckRowValues(const ModelState& state, const IntegrationState& run, double t, const double* y) {
   const CompiledModel& model = state.model();
   auto fail = [&](const std::string& what, double v) {
-    throw SolverError("at t = " + NumberText(t) + ": " + what + " is " + NumberText(v) +
+    throw SolverError("at t = " + NumberText(t) + ": " + what + " is " + NonFiniteText(v) +
                       " (a division by zero, an overflow or a function outside its domain in what computes it)");
   };
   for (size_t k = 0; k < run.outputs.size(); ++k) {
@@ -47,13 +49,18 @@ void CheckFinite(const ModelState& state, const IntegrationState& run, double t,
   }
   for (size_t d = 0; d < model.discrete_vars.size(); ++d) {
     const double v = state.discrete()[d];
-    if (!std::isfinite(v)) fail(model.flat->VariableName(model.discrete_vars[d]), v);
+    const VarId var = model.discrete_vars[d];
+    if (!std::isfinite(v)) fail(model.flat->VariableName(var), v);
+    if (model.flat->variables[var.value()].type == ValueType::kInteger && v != std::floor(v)) {
+      throw SolverError("at t = " + NumberText(t) + ": the Integer " + model.flat->VariableName(var) + " is " +
+                        NumberText(v) + ": an Integer takes whole numbers only");
+    }
   }
 }
 
 void Emit(ModelState* state, IntegrationState* run, double t, const double* y, const double* yp) {
   state->Outputs(t, y, yp, run->outputs.data());
-  CheckFinite(*state, *run, t, y);
+  CheckRowValues(*state, *run, t, y);
   Row(run, t, run->outputs);
 }
 

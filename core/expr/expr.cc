@@ -200,6 +200,8 @@ uint8_t ExprPool::Traits(const Node& n) const {
   // An operation on constants only is here unfolded because its value is not finite.
   const bool on_constants = (arity == 1 && nodes_[n.a].op == Op::kConst) ||
                             (arity == 2 && nodes_[n.a].op == Op::kConst && nodes_[n.b].op == Op::kConst);
+  // A division by the constant zero: x/0 of anything.
+  if (n.op == Op::kDiv && nodes_[n.b].op == Op::kConst && nodes_[n.b].value() == 0.0) traits |= kSingular;
   if (on_constants) {
     const double v = arity == 1 ? ApplyUnary(n.op, nodes_[n.a].value())
                                 : ApplyBinary(n.op, nodes_[n.a].value(), nodes_[n.b].value());

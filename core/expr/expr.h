@@ -37,8 +37,8 @@ enum LeafMask : uint8_t {
 
 /// Bits of Node::traits, derived like the mask from the subtree.
 enum NodeTrait : uint8_t {
-  /// The subtree holds an operation on constants only whose value is not finite (0/0, 1/0,
-  /// 1e308*10, sqrt(-1)): the pool keeps it unfolded, and folds no identity (x*0, 0/x, x-x, x^0)
+  /// The subtree holds a division by the constant zero (x/0) or an operation on constants only
+  /// whose value is not finite (0/0, 1e308*10, sqrt(-1)): the pool keeps it unfolded, and folds no identity (x*0, 0/x, x-x, x^0)
   /// that would drop it, so that the build can name it (CheckBuildTimeValues).
   kSingular = 1,
 };

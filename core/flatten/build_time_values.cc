@@ -2,6 +2,7 @@
 
 #include "core/flatten/build_time_values.h"
 
+#include <cmath>
 #include <string>
 
 #include "core/base/error.h"
@@ -38,7 +39,7 @@ std::string Describe(const FlatSystem& flat, ExprId e) {
   if (n.op == Op::kDiv && pool.IsConst(ExprId(n.b), 0.0)) return "division by zero in " + text;
   const double v = Arity(n.op) == 1 ? ApplyUnary(n.op, pool.ConstValue(ExprId(n.a)))
                                     : ApplyBinary(n.op, pool.ConstValue(ExprId(n.a)), pool.ConstValue(ExprId(n.b)));
-  return text + " is " + NumberText(v);
+  return text + " is " + (std::isnan(v) ? std::string("NaN") : NumberText(v));
 }
 
 void CheckEquations(const FlatSystem& flat, const std::vector<FlatEquation>& equations) {
@@ -51,7 +52,30 @@ void CheckEquations(const FlatSystem& flat, const std::vector<FlatEquation>& equ
   }
 }
 
+/// Whether `e` is a truth value: a relation, and/or/not, true or false, initial(), or a Boolean
+/// variable, pre-value or parameter; an if-expression is taken as one.
+bool IsTruth(const FlatSystem& flat, ExprId e) {
+  const ExprPool& pool = *flat.pool;
+  const Node& n = pool.node(e);
+  switch (n.op) {
+    case Op::kInitial: return true;
+    case Op::kVar:
+    case Op::kPre: return flat.variables[n.a].type == ValueType::kBoolean;
+    case Op::kParam: return flat.parameters[n.a].type == ValueType::kBoolean;
+    case Op::kIf: return true;  // (its branches are not followed: an elseif chain may be deep)
+    default: return pool.IsTruthValued(e);
+  }
+}
+
 }  // namespace
+
+void CheckWhenConditions(const FlatSystem& flat) {
+  for (const FlatWhen& w : flat.whens) {
+    if (IsTruth(flat, w.condition)) continue;
+    throw ModelError(w.loc, "the when-condition '" + flat.WhenText(w) +
+                                "' is a Real expression, not a truth value; write a relation (x > 0), a Boolean or initial()");
+  }
+}
 
 void CheckBuildTimeValues(const FlatSystem& flat) {
   const ExprPool& pool = *flat.pool;

@@ -13,4 +13,9 @@ namespace momenta {
 /// look at each root (the trait is kept by every node for its subtree).
 void CheckBuildTimeValues(const FlatSystem& flat);
 
+/// Throws ModelError at the file:line of the first when-clause whose condition is not a truth
+/// value (a relation, and/or/not, a Boolean variable or parameter, initial()): `when: x` of a
+/// Real x.
+void CheckWhenConditions(const FlatSystem& flat);
+
 }  // namespace momenta

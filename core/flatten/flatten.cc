@@ -53,6 +53,7 @@ class Flattener {
     OrderParameters();
     CheckOverrides();
     CheckBuildTimeValues(context_.flat);
+    CheckWhenConditions(context_.flat);
     FlatSystem& flat = context_.flat;
     flat.defines = context_.defines;  // instances point into these types
     flat.structural = context_.structural;

@@ -133,6 +133,39 @@ TEST_F(ExprTest, ZeroToANegativePowerStaysSymbolic) {
   EXPECT_FALSE(pool.IsConst(e)) << "0^-1 was folded to " << pool.ConstValue(e);
 }
 
+TEST_F(ExprTest, NonFiniteOperationsOnConstantsAreKeptAndMarked) {
+  // Each stays a node marked singular, for the build to name; none folds to 0 (or to inf).
+  const ExprId inf = pool.Div(pool.Const(1), pool.Const(0));
+  const ExprId nan = pool.Div(pool.Const(0), pool.Const(0));
+  EXPECT_TRUE(pool.IsSingular(inf));
+  EXPECT_TRUE(pool.IsSingular(nan));
+  EXPECT_TRUE(std::isnan(Eval(nan, {})));
+  EXPECT_TRUE(pool.IsSingular(pool.Mul(pool.Const(1e308), pool.Const(10))));
+  EXPECT_TRUE(pool.IsSingular(pool.Unary(Op::kSqrt, pool.Const(-1))));
+  EXPECT_TRUE(pool.IsSingular(pool.Unary(Op::kLog, pool.Const(0))));
+  // The identities that would drop such an operand do not apply to it: 0*(1/0), (1/0)*0,
+  // 0/(0/0), (1/0)-(1/0), (0/0)^0.
+  for (ExprId e : {pool.Mul(pool.Zero(), inf), pool.Mul(inf, pool.Zero()), pool.Div(pool.Zero(), nan),
+                   pool.Sub(inf, inf), pool.Pow(nan, pool.Zero())}) {
+    EXPECT_FALSE(pool.IsConst(e));
+    EXPECT_TRUE(pool.IsSingular(e));
+    EXPECT_FALSE(std::isfinite(Eval(e, {})));
+  }
+  // (x-x)/(x-x): x - x is 0 for a finite x, and 0/0 is not folded.
+  const ExprId d = pool.Div(pool.Sub(x, x), pool.Sub(x, x));
+  EXPECT_TRUE(pool.IsSingular(d));
+  EXPECT_TRUE(std::isnan(Eval(d, {2.0})));
+  // Finite operands keep every identity, and finite folds are unmarked.
+  EXPECT_EQ(pool.Mul(x, pool.Zero()), pool.Zero());
+  EXPECT_EQ(pool.Div(pool.Zero(), x), pool.Zero());
+  EXPECT_EQ(pool.Sub(x, x), pool.Zero());
+  EXPECT_EQ(pool.Pow(x, pool.Zero()), pool.One());
+  EXPECT_FALSE(pool.IsSingular(pool.Mul(pool.Const(1e300), pool.Const(10))));
+  // A division by the constant zero is one whatever the numerator.
+  EXPECT_TRUE(pool.IsSingular(pool.Div(x, pool.Sub(y, y))));
+  EXPECT_FALSE(pool.IsSingular(pool.Div(x, y)));
+}
+
 TEST_F(ExprTest, Identities) {
   ExprId zero = pool.Zero(), one = pool.One();
   EXPECT_EQ(pool.Add(x, zero), x);
