@@ -98,9 +98,22 @@ void RunWhen(const CompiledModel& model, ModelState* state, IntegrationState* ru
     values->resize(count);
     state->WhenValues(t, run->y.data(), run->yp.data(), values->data());
   }
+  // A value that is not finite stops the run here, before it is stored (and lost at a restart).
+  const CompiledModel::When& when = model.whens[k];
+  auto check = [&](double v, VarId target, const char* what) {
+    if (std::isfinite(v)) return;
+    throw SolverError("at t = " + NumberText(t) + ": " + what + model.flat->VariableName(target) + " = " +
+                      NonFiniteText(v) + " in when-clause '" + when.text + "': a value must be a finite number");
+  };
   double* discrete = state->mutable_discrete();
-  for (const auto& [variable, slot] : model.whens[k].assigns) discrete[variable] = (*values)[slot];
-  for (const auto& [unknown, slot] : model.whens[k].reinits) run->y[unknown] = (*values)[slot];
+  for (const auto& [variable, slot] : when.assigns) {
+    check((*values)[slot], model.discrete_vars[variable], "");
+    discrete[variable] = (*values)[slot];
+  }
+  for (const auto& [unknown, slot] : when.reinits) {
+    check((*values)[slot], model.unknowns[unknown], "reinit sets ");
+    run->y[unknown] = (*values)[slot];
+  }
 }
 
 /// When-clauses whose condition has become true run; true when one did.
@@ -135,6 +148,40 @@ void SettleMixedSystem(const CompiledModel& model, ModelState* state, Integratio
   }
 }
 
+/// What made the restart's matrix M = [dF/dy' over the states | dF/dy over the algebraic
+/// unknowns] singular at (t, y, y'), when it is structural at this point: an equation whose row of
+/// M is all zero (it lost its unknowns) and an unknown whose column is (no equation determines it
+/// any more), in words; "" when no row or column is zero.
+std::string SingularCause(const CompiledModel& model, ModelState* state, const IntegrationState& run, double t) {
+  const SparsePattern& pattern = model.jacobian_pattern;
+  if (model.num_unknowns() == 0) return "";
+  std::vector<double> dfdy(pattern.nnz()), dfdyp(pattern.nnz());
+  state->JacobianParts(t, run.y.data(), run.yp.data(), dfdy.data(), dfdyp.data());
+  std::vector<bool> row_used(pattern.rows, false), column_used(pattern.cols, false);
+  for (int32_t j = 0; j < pattern.cols; ++j) {
+    for (int32_t k = pattern.col_start[j]; k < pattern.col_start[j + 1]; ++k) {
+      if ((model.is_state[j] ? dfdyp[k] : dfdy[k]) == 0.0) continue;
+      row_used[pattern.row_index[k]] = true;
+      column_used[j] = true;
+    }
+  }
+  std::string cause;
+  for (int32_t i = 0; i < pattern.rows; ++i) {
+    if (!row_used[i]) {
+      cause += "; the equation " + model.residual_origin(i) + " no longer depends on any unknown";
+      break;
+    }
+  }
+  for (int32_t j = 0; j < pattern.cols; ++j) {
+    if (!column_used[j]) {
+      cause += std::string("; ") + (model.is_state[j] ? "der(" : "") + model.flat->VariableName(model.unknowns[j]) +
+               (model.is_state[j] ? ")" : "") + " is determined by no equation any more";
+      break;
+    }
+  }
+  return cause;
+}
+
 }  // namespace
 
 void DoEvent(const CompiledModel& model, ModelState* state, IntegrationState* run, double t,
@@ -150,11 +197,19 @@ void DoEvent(const CompiledModel& model, ModelState* state, IntegrationState* ru
   state->Outputs(t, run->y.data(), run->yp.data(), left.data());
   state->SavePre(run->y.data());
   const long impacts_before = run->stats->impacts;
-  ResolveImpacts(model, state, run, t);
-  Iterate(model, state, run, t, /*restart=*/true);
-  Restart(model, state, run, t);
+  try {
+    ResolveImpacts(model, state, run, t);
+    Iterate(model, state, run, t, /*restart=*/true);
+    Restart(model, state, run, t);
+  } catch (const SolverError& e) {
+    // The left limit was computed before the event went wrong: it is kept, with the cause when
+    // the system lost an unknown.
+    if (t > run->stats->final_time) Row(run, t, left);
+    throw SolverError(e.what() + SingularCause(model, state, *run, t));
+  }
   run->t = t;
   state->Outputs(t, run->y.data(), run->yp.data(), run->outputs.data());
+  CheckRowValues(*state, *run, t, run->y.data());
   if (run->outputs != left || run->stats->impacts != impacts_before || run->options.rows_at_every_event) {
     Row(run, t, left);
     Row(run, t, run->outputs);

@@ -2,6 +2,7 @@
 /// The output rows of a run: the grid start, start + interval, …, stop, interpolated within IDA's
 /// steps, the rows of events, and the interrupt that stops the rows between two of them.
 
+#include <string>
 #include <vector>
 
 #include "core/compile/model_state.h"
@@ -18,6 +19,16 @@ bool Interrupted(IntegrationState* run, double t);
 
 /// Gives out a row, unless the run has been interrupted (then no row follows a gap).
 void Row(IntegrationState* run, double t, const std::vector<double>& values);
+
+/// A value that is not finite in a message: "inf", "-inf" or "NaN".
+std::string NonFiniteText(double v);
+
+/// Stops the run (SolverError naming the value and t) when run->outputs, the unknowns y (may be
+/// null) or the discrete values hold a value that is not finite, or an Integer one that is not a
+/// whole number: looked at once a row, before the
+/// row is written, so that the rows before it are kept (a pass over numbers the row has just
+/// computed, small against the residual evaluations of a step).
+void CheckRowValues(const ModelState& state, const IntegrationState& run, double t, const double* y);
 
 /// The outputs at (t, y, y') as a row (y and y' null for a model without unknowns).
 void Emit(ModelState* state, IntegrationState* run, double t, const double* y, const double* yp);

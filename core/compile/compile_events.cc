@@ -116,12 +116,25 @@ ExprId CrossingRate(ExprPool* pool, const VariableSlots& slots, ExprId z) {
   return rate;
 }
 
+/// By flat variable: whether der() of it appears in an equation of the flat system.
+std::vector<bool> Differentiated(const FlatSystem& flat) {
+  std::vector<bool> differentiated(flat.variables.size(), false);
+  for (const FlatEquation& eq : flat.equations) {
+    if (!eq.residual.valid() || !(flat.pool->mask(eq.residual) & kHasDer)) continue;
+    for (ExprId leaf : CollectLeaves(*flat.pool, eq.residual, kHasDer)) {
+      if (flat.pool->op(leaf) == Op::kDer) differentiated[flat.pool->node(leaf).a] = true;
+    }
+  }
+  return differentiated;
+}
+
 /// The value slot of `reinit(target, value)` in a when-clause (`text`): the y index of the state
 /// that `target` is, or that replaced it as an alias (x = c*u + o gives u := (value - o)/c), and
 /// the value for that state. Throws ModelError when the target is not a state.
 std::pair<uint32_t, ExprId> ReinitOfState(const EquationSystem& sys, const VariableSlots& slots,
                                           const CompiledModel& m, VarId target, ExprId value,
-                                          const FlatWhen& when, const std::string& text) {
+                                          const FlatWhen& when, const std::string& text,
+                                          const std::vector<bool>& differentiated) {
   ExprPool& p = *sys.pool;
   const FlatSystem& flat = *sys.flat;
   ExprId rep = sys.eliminated->Apply(p.Var(target));
@@ -131,6 +144,12 @@ std::pair<uint32_t, ExprId> ReinitOfState(const EquationSystem& sys, const Varia
                                    "': the variable is not a state");
   }
   uint32_t u = p.node(form.terms[0].first).a;
+  if (u != target.value() && !differentiated[target.value()]) {
+    // An alias of a state (y = 2*x) is not one itself: Modelica reinit()s only what der() is of.
+    throw ModelError(when.loc, "reinit(" + flat.VariableName(target) + ", …) in '" + text + "': " +
+                                   flat.VariableName(target) + " is not a state (der() of it appears in no equation; it is computed from " +
+                                   flat.VariableName(VarId(u)) + ")");
+  }
   int32_t y = slots.y_of_var[u];
   if (y < 0 || !m.is_state[y]) {
     throw ModelError(when.loc, "reinit(" + flat.VariableName(target) + ", …) in '" + text +
@@ -186,6 +205,7 @@ void CompileWhens(const EquationSystem& sys, const CompileContext& ctx, ProgramC
   const FlatSystem& flat = *sys.flat;
   // Per clause its condition; its statements' values in one list, which the slots index.
   std::vector<ExprId> cond_values, statement_values;
+  std::vector<bool> differentiated;  // made at the first reinit
   for (const auto& w : sys.whens) {
     const FlatWhen& when = flat.whens[w.origin];
     CompiledModel::When cw;
@@ -201,7 +221,8 @@ void CompileWhens(const EquationSystem& sys, const CompileContext& ctx, ProgramC
       statement_values.push_back(value);
     }
     for (const auto& [target, value] : w.reinits) {
-      const auto [y, state_value] = ReinitOfState(sys, ctx.slots, *m, target, value, when, cw.text);
+      if (differentiated.empty()) differentiated = Differentiated(flat);
+      const auto [y, state_value] = ReinitOfState(sys, ctx.slots, *m, target, value, when, cw.text, differentiated);
       cw.reinits.emplace_back(y, static_cast<uint32_t>(statement_values.size()));
       statement_values.push_back(state_value);
     }

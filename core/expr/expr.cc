@@ -177,6 +177,7 @@ ExprId ExprPool::Intern(const Node& n) {
       if (arity >= 3) m |= nodes_[n.c].mask;
       if (IsRelation(n.op)) m |= kHasRelation;
       stored.mask = m;
+      stored.traits = Traits(n);
     }
   }
   uint32_t id = static_cast<uint32_t>(nodes_.size());
@@ -188,6 +189,25 @@ ExprId ExprPool::Intern(const Node& n) {
   young_[young_slot] = (static_cast<uint64_t>(tag) << 32) | id;
   if (++young_used_ * 2 >= young_.size()) Mature();
   return ExprId(id);
+}
+
+uint8_t ExprPool::Traits(const Node& n) const {
+  const int arity = Arity(n.op);
+  uint8_t traits = 0;
+  if (arity >= 1) traits |= nodes_[n.a].traits;
+  if (arity >= 2) traits |= nodes_[n.b].traits;
+  if (arity >= 3) traits |= nodes_[n.c].traits;
+  // An operation on constants only is here unfolded because its value is not finite.
+  const bool on_constants = (arity == 1 && nodes_[n.a].op == Op::kConst) ||
+                            (arity == 2 && nodes_[n.a].op == Op::kConst && nodes_[n.b].op == Op::kConst);
+  // A division by the constant zero: x/0 of anything.
+  if (n.op == Op::kDiv && nodes_[n.b].op == Op::kConst && nodes_[n.b].value() == 0.0) traits |= kSingular;
+  if (on_constants) {
+    const double v = arity == 1 ? ApplyUnary(n.op, nodes_[n.a].value())
+                                : ApplyBinary(n.op, nodes_[n.a].value(), nodes_[n.b].value());
+    if (!std::isfinite(v)) traits |= kSingular;
+  }
+  return traits;
 }
 
 ExprId ExprPool::FindLeaf(Op op, uint32_t payload) const {
@@ -273,7 +293,7 @@ ExprId ExprPool::Neg(ExprId a) {
 
 ExprId ExprPool::Unary(Op op, ExprId a) {
   if (op == Op::kNeg) return Neg(a);
-  if (IsConst(a)) return Const(ApplyUnary(op, ConstValue(a)));
+  if (IsConst(a) && std::isfinite(ApplyUnary(op, ConstValue(a)))) return Const(ApplyUnary(op, ConstValue(a)));
   if (op == Op::kNot && node(a).op == Op::kNot && IsTruthValued(ExprId(node(a).a))) return ExprId(node(a).a);
   Node m;
   m.op = op;
@@ -284,11 +304,13 @@ ExprId ExprPool::Unary(Op op, ExprId a) {
 ExprId ExprPool::Binary(Op op, ExprId a, ExprId b, uint8_t flags) {
   const bool ca = IsConst(a), cb = IsConst(b);
   if (ca && cb) {
-    double va = ConstValue(a), vb = ConstValue(b);
-    // x/0 and 0^-1 stay symbolic so the error surfaces at run time with the equation's name.
-    bool singular = (op == Op::kDiv && vb == 0.0) || (op == Op::kPow && va == 0.0 && vb < 0.0);
-    if (!singular) return Const(ApplyBinary(op, va, vb));
+    // 0/0, 1/0, 0^-1, 1e308*10 stay a node (kSingular) so that the build names them.
+    const double v = ApplyBinary(op, ConstValue(a), ConstValue(b));
+    if (std::isfinite(v)) return Const(v);
   }
+  // The identities below drop an operand or fold to a number: never one that is not finite.
+  // (Two constants here are such an operation: their value is not finite.)
+  const bool singular = (ca && cb) || IsSingular(a) || IsSingular(b);
   switch (op) {
     case Op::kAdd:
       if (IsConst(a, 0)) return b;
@@ -299,11 +321,11 @@ ExprId ExprPool::Binary(Op op, ExprId a, ExprId b, uint8_t flags) {
     case Op::kSub:
       if (IsConst(b, 0)) return a;
       if (IsConst(a, 0)) return Neg(b);
-      if (a == b) return zero_;
+      if (a == b && !singular) return zero_;
       if (node(b).op == Op::kNeg) return Add(a, ExprId(node(b).a));
       break;
     case Op::kMul:
-      if (IsConst(a, 0) || IsConst(b, 0)) return zero_;
+      if ((IsConst(a, 0) || IsConst(b, 0)) && !singular) return zero_;
       if (IsConst(a, 1)) return b;
       if (IsConst(b, 1)) return a;
       if (IsConst(a, -1)) return Neg(b);
@@ -315,14 +337,14 @@ ExprId ExprPool::Binary(Op op, ExprId a, ExprId b, uint8_t flags) {
       if (node(b).op == Op::kNeg) return Neg(Mul(a, ExprId(node(b).a)));
       break;
     case Op::kDiv:
-      if (IsConst(a, 0)) return zero_;
+      if (IsConst(a, 0) && !singular) return zero_;
       if (IsConst(b, 1)) return a;
       if (IsConst(b, -1)) return Neg(a);
       if (node(a).op == Op::kNeg) return Neg(Div(ExprId(node(a).a), b));
       break;
     case Op::kPow:
       if (IsConst(b, 1)) return a;
-      if (IsConst(b, 0)) return one_;
+      if (IsConst(b, 0) && !singular) return one_;
       break;
     case Op::kAnd:
       // The shortcuts keep an operand as the result only when it is already 0 or 1.

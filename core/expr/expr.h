@@ -3,7 +3,9 @@
 /// one hash-consed DAG. Identical subexpressions are one node, so common subexpressions are shared
 /// by construction and equality of ids is structural equality. Constructors fold constants and
 /// apply the identities x+0, x*1, x*0, -(-x), x-x, so derived expressions (symbolic Jacobians,
-/// substitutions) stay small.
+/// substitutions) stay small. The identities assume finite operands: variables and parameters are
+/// checked to be finite at run time, and an operation on constants whose value is not finite stays
+/// a node of its own, marked kSingular, that no identity drops.
 
 #include <cstdint>
 #include <cstring>
@@ -33,6 +35,14 @@ enum LeafMask : uint8_t {
   kHasCond = 128,
 };
 
+/// Bits of Node::traits, derived like the mask from the subtree.
+enum NodeTrait : uint8_t {
+  /// The subtree holds a division by the constant zero (x/0) or an operation on constants only
+  /// whose value is not finite (0/0, 1e308*10, sqrt(-1)): the pool keeps it unfolded, and folds no identity (x*0, 0/x, x-x, x^0)
+  /// that would drop it, so that the build can name it (CheckBuildTimeValues).
+  kSingular = 1,
+};
+
 /// One node of the pool: 16 bytes, so that four share a cache line. The operands (a, b, c) are
 /// node ids or payloads as Op says; a constant's value is held in b and c, and a table leaf's
 /// column count and column in c (TableColumns, TableColumn).
@@ -40,7 +50,7 @@ struct Node {
   Op op = Op::kConst;
   uint8_t flags = 0;
   uint8_t mask = 0;  ///< LeafMask bits of the subtree
-  uint8_t unused = 0;
+  uint8_t traits = 0;  ///< NodeTrait bits of the subtree (not part of the node's identity)
   uint32_t a = 0, b = 0, c = 0;
 
   /// kConst: the number.
@@ -125,11 +135,15 @@ class ExprPool {
     return (node(id).mask & (kHasVar | kHasDer | kHasTime | kHasPre | kHasInitial | kHasCond)) == 0;
   }
   uint8_t mask(ExprId id) const { return node(id).mask; }
+  /// The subtree holds an operation on constants whose value is not finite (NodeTrait kSingular).
+  bool IsSingular(ExprId id) const { return node(id).traits & kSingular; }
   /// The order of a kDer leaf (1 for der(x), 2 for der(der(x)), …).
   uint32_t DerOrder(ExprId id) const { return node(id).b + 1; }
 
  private:
   ExprId Leaf(Op op, uint32_t payload);
+  /// The NodeTrait bits of a node about to be interned.
+  uint8_t Traits(const Node& n) const;
   ExprId Intern(const Node& n);
   void Rehash(size_t slots);
   /// Looks for a node equal to `n` (hash tag `tag`) in an open-addressing table of `size` slots;

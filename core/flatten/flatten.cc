@@ -14,6 +14,7 @@
 #include "core/base/error.h"
 #include "core/base/messages.h"
 #include "core/expr/expr_eval.h"
+#include "core/flatten/build_time_values.h"
 #include "core/flatten/deferred_aliases.h"
 #include "core/flatten/flatten_context.h"
 #include "core/flatten/instances.h"
@@ -51,6 +52,8 @@ class Flattener {
     Outputs();
     OrderParameters();
     CheckOverrides();
+    CheckBuildTimeValues(context_.flat);
+    CheckWhenConditions(context_.flat);
     FlatSystem& flat = context_.flat;
     flat.defines = context_.defines;  // instances point into these types
     flat.structural = context_.structural;
@@ -278,6 +281,12 @@ std::vector<double> EvaluateParameters(const FlatSystem& flat, const ParameterOv
       s << x;
       return s.str();
     };
+    // Integer and Boolean parameters take whole numbers and truth values only (-p: exit 2).
+    const char* kind = p.type == ValueType::kInteger && v != std::floor(v)             ? "an Integer parameter takes whole numbers only"
+                       : p.type == ValueType::kBoolean && v != 0.0 && v != 1.0 ? "a Boolean parameter takes true, false, 1 or 0 only"
+                                                                                : nullptr;
+    if (kind && override_of[id.value()]) throw UsageError(where() + "=" + num(v) + ": " + kind);
+    if (kind) fail(what() + " = " + num(v) + ": " + kind);
     if (v < p.min) fail(what() + " = " + num(v) + " is below its minimum " + num(p.min));
     if (v > p.max) fail(what() + " = " + num(v) + " is above its maximum " + num(p.max));
     values[id.value()] = v;

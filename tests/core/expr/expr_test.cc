@@ -119,7 +119,7 @@ TEST_F(ExprTest, ConstantsFold) {
 }
 
 TEST_F(ExprTest, DivisionByZeroStaysSymbolic) {
-  // The error must surface at run time with the equation's name, not as a folded inf.
+  // Not a folded inf: the node stays, marked singular, for the build to name it at its line.
   ExprId e = pool.Div(pool.Const(1), pool.Const(0));
   EXPECT_FALSE(pool.IsConst(e));
   EXPECT_EQ(pool.op(e), Op::kDiv);
@@ -127,10 +127,43 @@ TEST_F(ExprTest, DivisionByZeroStaysSymbolic) {
 }
 
 TEST_F(ExprTest, ZeroToANegativePowerStaysSymbolic) {
-  // expr.cc: "x/0 and 0^-1 stay symbolic so the error surfaces at run time with the equation's
-  // name".
+  // 0^-1 is inf: kept as a node, like x/0, for the build to name.
   ExprId e = pool.Pow(pool.Const(0), pool.Const(-1));
   EXPECT_FALSE(pool.IsConst(e)) << "0^-1 was folded to " << pool.ConstValue(e);
+}
+
+TEST_F(ExprTest, NonFiniteOperationsOnConstantsAreKeptAndMarked) {
+  // Each stays a node marked singular, for the build to name; none folds to 0 (or to inf).
+  const ExprId inf = pool.Div(pool.Const(1), pool.Const(0));
+  const ExprId nan = pool.Div(pool.Const(0), pool.Const(0));
+  EXPECT_TRUE(pool.IsSingular(inf));
+  EXPECT_TRUE(pool.IsSingular(nan));
+  EXPECT_TRUE(std::isnan(Eval(nan, {})));
+  EXPECT_TRUE(pool.IsSingular(pool.Mul(pool.Const(1e308), pool.Const(10))));
+  EXPECT_TRUE(pool.IsSingular(pool.Unary(Op::kSqrt, pool.Const(-1))));
+  EXPECT_TRUE(pool.IsSingular(pool.Unary(Op::kLog, pool.Const(0))));
+  // The identities that would drop such an operand do not apply to it: 0*(1/0), (1/0)*0,
+  // 0/(0/0), (1/0)-(1/0) are NaN, not 0; (0/0)^0 is kept too, for the build to name.
+  for (ExprId e : {pool.Mul(pool.Zero(), inf), pool.Mul(inf, pool.Zero()), pool.Div(pool.Zero(), nan),
+                   pool.Sub(inf, inf)}) {
+    EXPECT_FALSE(pool.IsConst(e));
+    EXPECT_TRUE(pool.IsSingular(e));
+    EXPECT_TRUE(std::isnan(Eval(e, {})));
+  }
+  EXPECT_TRUE(pool.IsSingular(pool.Pow(nan, pool.Zero())));
+  // (x-x)/(x-x): x - x is 0 for a finite x, and 0/0 is not folded.
+  const ExprId d = pool.Div(pool.Sub(x, x), pool.Sub(x, x));
+  EXPECT_TRUE(pool.IsSingular(d));
+  EXPECT_TRUE(std::isnan(Eval(d, {2.0})));
+  // Finite operands keep every identity, and finite folds are unmarked.
+  EXPECT_EQ(pool.Mul(x, pool.Zero()), pool.Zero());
+  EXPECT_EQ(pool.Div(pool.Zero(), x), pool.Zero());
+  EXPECT_EQ(pool.Sub(x, x), pool.Zero());
+  EXPECT_EQ(pool.Pow(x, pool.Zero()), pool.One());
+  EXPECT_FALSE(pool.IsSingular(pool.Mul(pool.Const(1e300), pool.Const(10))));
+  // A division by the constant zero is one whatever the numerator.
+  EXPECT_TRUE(pool.IsSingular(pool.Div(x, pool.Sub(y, y))));
+  EXPECT_FALSE(pool.IsSingular(pool.Div(x, y)));
 }
 
 TEST_F(ExprTest, Identities) {
