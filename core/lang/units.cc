@@ -354,7 +354,10 @@ double ConvertValue(double value, const std::string& from, const std::string& to
                     " (" + DimensionText(t.dimension) + ")");
   }
   const double converted = (value * f.factor + f.offset - t.offset) / t.factor;
-  if (!std::isfinite(converted) || (value != 0 && !std::isnormal(converted))) {
+  // Beyond the range, or below it: a subnormal, or zero from a nonzero value (not -273.15 degC).
+  const bool underflow =
+      converted != 0 ? !std::isnormal(converted) : value != 0 && f.offset == t.offset;
+  if (!std::isfinite(converted) || underflow) {
     throw UnitError(NumberText(value) + " " + from + " is " + NumberText(converted) + " " + to +
                     ", outside double's range (" + kDoubleRangeText + ")");
   }
