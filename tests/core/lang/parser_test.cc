@@ -361,7 +361,8 @@ namespace {
 TEST(ParserTest, PlainNumbersAndNamesGiveTheParsersTrees) {
   const SourceLoc loc{"m.yaml", 3, 7};
   for (const std::string text :
-       {"0", "1e4", "2.5", ".5", "1.", "1E-3", "7e+2", "12345678901234567890", "4.9e-324"}) {
+       {"0", "1e4", "2.5", ".5", "1.", "1E-3", "7e+2", "12345678901234567890", "2.2250738585072014e-308",
+        "0e-400"}) {
     const AstPtr plain = ParseExpression(text, loc);
     const AstPtr parsed = ParseExpression("(" + text + ")", loc);
     EXPECT_EQ(plain->kind, Ast::Kind::kNumber) << text;
@@ -379,6 +380,9 @@ TEST(ParserTest, PlainNumbersAndNamesGiveTheParsersTrees) {
     EXPECT_EQ(plain->column, 0) << text;
   }
   EXPECT_EQ(ParseError("1e400"), "m.yaml:3:7: number out of range '1e400' (double's range: magnitudes from 2.2e-308 to 1.8e308)");
+  // A subnormal, alone or not, as a value with a unit is (core/lang/units.h, ParseDecimal).
+  EXPECT_EQ(ParseError("4.9e-324"), "m.yaml:3:7: number out of range '4.9e-324' (double's range: magnitudes from 2.2e-308 to 1.8e308)");
+  EXPECT_EQ(ParseError("(4.9e-324)"), "m.yaml:3:8: number out of range '4.9e-324' (double's range: magnitudes from 2.2e-308 to 1.8e308)");
   EXPECT_EQ(ParseError("1e"), "m.yaml:3:8: malformed number '1e'");
   EXPECT_EQ(P("true"), "true");
   EXPECT_THROW(ParseName("true", loc), ModelError);
