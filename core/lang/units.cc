@@ -133,7 +133,8 @@ class UnitParser {
  private:
   [[noreturn]] void Fail(const std::string& why) const {
     std::string at = pos_ < text_.size() ? " at character " + std::to_string(pos_ + 1) : "";
-    throw UnitError("unit '" + Excerpt(text_, static_cast<int>(pos_)) + "' does not parse: " + why + at +
+    const std::string unit = Excerpt(text_, static_cast<int>(pos_));
+    throw UnitError("unit '" + unit + "' does not parse: " + why + at +
                     " (write units as Modelica does: m/s2, N.m, kg.m2, 1/s, rad/s, degC)");
   }
 

@@ -14,7 +14,6 @@
 #include <vector>
 
 #include "core/base/limits.h"
-
 #include "core/lang/arrays.h"
 #include "core/lang/yaml_loader_document.h"
 #include "core/lang/yaml_loader_model.h"
@@ -35,7 +34,7 @@ ModelSpec ParseModel(const std::string& yaml, const std::string& file_name) {
   }
 }
 
-/// The file a `uses:` entry of `spec` names (relative to the directory of spec.file).
+/// The file a `uses:` entry of `spec` names (relative to the directory of spec.file), as joined.
 std::filesystem::path UsedPath(const ModelSpec& spec, const UsesSpec& u) {
   namespace fs = std::filesystem;
   fs::path path = fs::path(u.path).is_absolute() ? fs::path(u.path)
@@ -45,7 +44,7 @@ std::filesystem::path UsedPath(const ModelSpec& spec, const UsesSpec& u) {
     throw ModelError(u.loc, "uses: no file '" + u.path + "' (looked for " +
                                 path.lexically_normal().string() + ")");
   }
-  return path.lexically_normal();
+  return path;
 }
 
 /// Appends to top->defines the types of every file top->uses names, and of the files those use,
@@ -73,9 +72,10 @@ void LoadUses(ModelSpec* top, std::set<std::string>* loaded) {
       continue;
     }
     const UsesSpec& u = at.spec.uses[at.next++];
-    const std::string file = UsedPath(at.spec, u).string();
+    const std::filesystem::path path = UsedPath(at.spec, u);
     std::error_code ec;
-    if (!loaded->insert(std::filesystem::weakly_canonical(file, ec).string()).second) continue;
+    if (!loaded->insert(std::filesystem::weakly_canonical(path, ec).string()).second) continue;
+    const std::string file = path.lexically_normal().string();
     std::string text;
     try {
       text = ReadModelText(file, "file in uses:");
