@@ -11,6 +11,7 @@
 #include "app/report_command.h"
 #include "app/sweep.h"
 #include "app/terminal_output.h"
+#include "app/sweep_plan.h"
 #include "solver/simulator.h"
 
 namespace momenta {
@@ -93,8 +94,10 @@ CLI::App* AddSweep(CLI::App* app, SweepArgs* swp) {
   AddSolverChoices(sweep, &swp->options);
   sweep->add_option("-j,--jobs", swp->jobs, "threads per process (default: one per core, shared by the MPI ranks on the machine)")->check(CLI::Range(1u, 4096u));
   sweep->add_option("-o,--out", swp->out, "summary CSV, one row per run ('-' for standard output)");
-  sweep->add_option("--trajectories", swp->trajectories, "directory for each run's CSV (DIR/run-<k>.csv)");
-  sweep->add_option("--seed", swp->seed, "seed of the Monte Carlo draws (std::mt19937_64; default 0)");
+  sweep->add_option("--trajectories", swp->trajectories, "directory for each run's CSV (DIR/run-<k>.csv)")
+      ->check(CLI::Validator([](std::string& s) { return TrajectoriesProblem(s); }, "DIR", "directory"));
+  sweep->add_option("--seed", swp->seed, "seed of the Monte Carlo draws (std::mt19937_64; default 0)")
+      ->check(CLI::Validator([](std::string& s) { return SeedProblem(s); }, "UINT64", "seed"));
   sweep->add_option("--samples", swp->samples, "Monte Carlo draws of the distributions")
       ->check(CLI::Range(size_t{1}, kMaxSweepRuns));
   sweep->add_flag("-q,--quiet", swp->quiet, "print nothing on success");

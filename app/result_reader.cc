@@ -6,11 +6,14 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
-#include <fstream>
 #include <memory>
+#include <sstream>
 
+#include "app/mat_header_check.h"
 #include "app/mat_writer.h"
+#include "core/base/memory_budget.h"
 #include "core/base/messages.h"
+#include "core/base/regular_file.h"
 
 namespace momenta {
 
@@ -42,9 +45,8 @@ std::vector<std::string> CsvFields(const std::string& line) {
   return out;
 }
 
-ResultTable ReadCsv(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error("cannot read the result " + path + ": " + std::strerror(errno));
+ResultTable ReadCsv(const std::string& path, const RegularFile& file) {
+  std::istringstream in(file.ReadAll());
   ResultTable r;
   std::string line;
   if (!std::getline(in, line))
@@ -100,7 +102,9 @@ std::vector<std::string> MatNames(const matvar_t* v) {
 }
 
 /// The variables stored in data_2 (dataInfo row 1 is 2, or time), in the file's order.
-ResultTable ReadMat(const std::string& path) {
+ResultTable ReadMat(const std::string& path, const RegularFile& file) {
+  // libmatio allocates what a header claims: every header is checked against the file first.
+  CheckMatHeaders(file.fd(), file.size(), path);
   std::unique_ptr<mat_t, MatCloser> mat(Mat_Open(path.c_str(), MAT_ACC_RDONLY));
   if (!mat)
     throw std::runtime_error("cannot read the result " + path +
@@ -171,7 +175,18 @@ size_t ResultTable::Column(const std::string& name) const {
 }
 
 ResultTable ReadResult(const std::string& path) {
-  return IsMatPath(path) ? ReadMat(path) : ReadCsv(path);
+  // A result is read whole, into about as much memory again as its file: larger than half the
+  // memory budget, it could not be read (and a FIFO or a device could not be read at all).
+  const MemoryBudget budget = BuildMemoryBudget();
+  std::unique_ptr<RegularFile> file;
+  try {
+    file = std::make_unique<RegularFile>(
+        path, "result file", static_cast<uint64_t>(budget.bytes / 2),
+        ", half the memory budget (" + budget.source + "); report and plot read a result whole");
+  } catch (const FileRefused& e) {
+    throw std::runtime_error(std::string("cannot read the result ") + e.what());
+  }
+  return IsMatPath(path) ? ReadMat(path, *file) : ReadCsv(path, *file);
 }
 
 }  // namespace momenta

@@ -18,7 +18,9 @@ struct ResultTable {
 };
 
 /// Reads `path` (MAT when it ends in .mat, else CSV). Throws std::runtime_error naming the file
-/// (and for a CSV the line) when it cannot be read or is not a result file.
+/// (and for a CSV the line) when it cannot be read or is not a result file: also at once when it
+/// is not a regular file (a FIFO, a device), is larger than half the memory budget, or is a MAT
+/// file whose matrix headers claim more values than the file holds (app/mat_header_check.h).
 ResultTable ReadResult(const std::string& path);
 
 }  // namespace momenta

@@ -1,6 +1,9 @@
 #include "app/sweep_plan.h"
 
+#include <cctype>
+#include <cerrno>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <optional>
 #include <random>
@@ -8,23 +11,18 @@
 
 #include "app/csv_writer.h"
 #include "core/base/error.h"
+#include "core/lang/units.h"
 
 namespace momenta {
 
 namespace {
 
+/// A decimal number (as in expressions: no hex, inf or nan), true or false; nullopt otherwise.
+/// Throws UnitError naming a number outside double's range.
 std::optional<double> Number(const std::string& text) {
   if (text == "true") return 1.0;
   if (text == "false") return 0.0;
-  if (text.empty() || std::isspace(static_cast<unsigned char>(text[0]))) return std::nullopt;
-  try {
-    size_t used = 0;
-    double v = std::stod(text, &used);
-    if (used != text.size() || !std::isfinite(v)) return std::nullopt;
-    return v;
-  } catch (const std::exception&) {
-    return std::nullopt;
-  }
+  return ParseDecimal(text);
 }
 
 std::vector<std::string> Split(const std::string& text, char sep) {
@@ -49,7 +47,12 @@ double Unit(std::mt19937_64& engine) { return static_cast<double>(engine() >> 11
 
 /// One draw of `axis` (a distribution).
 double Draw(const SweepAxis& axis, std::mt19937_64& engine) {
-  if (axis.kind == SweepAxis::Kind::kUniform) return axis.a + (axis.b - axis.a) * Unit(engine);
+  if (axis.kind == SweepAxis::Kind::kUniform) {
+    const double u = Unit(engine);
+    // b - a overflows only when a and b have opposite signs; then the weighted sum cannot.
+    if (std::isfinite(axis.b - axis.a)) return axis.a + (axis.b - axis.a) * u;
+    return axis.a * (1 - u) + axis.b * u;
+  }
   // Box-Muller, cosine branch; u1 in (0, 1] so its logarithm is finite.
   const double u1 = 1.0 - Unit(engine), u2 = Unit(engine);
   return axis.a + axis.b * std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * M_PI * u2);
@@ -69,8 +72,13 @@ SweepAxis ParseSweepAxis(const std::string& text) {
   const std::string& spec = axis.spec;
   auto fail = [&](const std::string& why) -> UsageError { return UsageError("-p " + text + ": " + why); };
   auto number = [&](const std::string& part, const std::string& what) {
-    std::optional<double> v = Number(Trim(part));
-    if (!v) throw fail(what + " '" + part + "' is not a finite number");
+    std::optional<double> v;
+    try {
+      v = Number(Trim(part));
+    } catch (const UnitError& e) {
+      throw fail(std::string(e.what()) + ", in " + what);
+    }
+    if (!v) throw fail(what + " '" + part + "' is not a decimal number");
     return *v;
   };
   // Distributions.
@@ -94,7 +102,12 @@ SweepAxis ParseSweepAxis(const std::string& text) {
     if (!(parts.size() == 3 || log)) throw fail("a grid is a:b:n (linear) or a:b:log:n (logarithmic)");
     const double a = number(parts[0], "the grid's start"), b = number(parts[1], "the grid's end");
     const std::string count_text = Trim(parts.back());
-    std::optional<double> count = Number(count_text);
+    std::optional<double> count;
+    try {
+      count = Number(count_text);
+    } catch (const UnitError&) {
+      // out of range: refused below as not a count
+    }
     if (!count || *count != std::floor(*count) || *count < 1 || *count > static_cast<double>(kMaxSweepRuns)) {
       throw fail("the number of grid points '" + count_text + "' is not a whole number from 1 to " +
                  std::to_string(kMaxSweepRuns));
@@ -118,6 +131,21 @@ SweepAxis ParseSweepAxis(const std::string& text) {
   // A value or a list.
   for (const std::string& part : Split(spec, ',')) axis.values.push_back(number(part, "the value"));
   return axis;
+}
+
+std::string SeedProblem(const std::string& text) {
+  // CLI11 would saturate 2^64 to 2^64 - 1 and read -1 as 2^64 - 1.
+  bool digits = !text.empty() && text.size() <= 20;
+  for (char c : text) digits = digits && std::isdigit(static_cast<unsigned char>(c));
+  errno = 0;
+  if (digits) std::strtoull(text.c_str(), nullptr, 10);
+  if (digits && errno != ERANGE) return "";
+  return "the seed '" + text + "' is not a whole number from 0 to 18446744073709551615 (2^64 - 1)";
+}
+
+std::string TrajectoriesProblem(const std::string& text) {
+  if (!text.empty()) return "";
+  return "the directory name is empty; give the directory for run-<k>.csv, or leave the option out";
 }
 
 SweepPlan MakeSweepPlan(const std::vector<SweepAxis>& axes, size_t samples, uint64_t seed) {
@@ -154,7 +182,15 @@ SweepPlan MakeSweepPlan(const std::vector<SweepAxis>& axes, size_t samples, uint
   std::vector<std::vector<double>> drawn(draws, std::vector<double>(random.size()));
   if (!random.empty()) {
     for (size_t s = 0; s < draws; ++s) {
-      for (size_t r = 0; r < random.size(); ++r) drawn[s][r] = Draw(axes[random[r]], engine);
+      for (size_t r = 0; r < random.size(); ++r) {
+        const SweepAxis& axis = axes[random[r]];
+        drawn[s][r] = Draw(axis, engine);
+        if (!std::isfinite(drawn[s][r])) {
+          throw UsageError("-p " + axis.name + "=" + axis.spec + ": draw " + std::to_string(s + 1) +
+                           " is " + FormatDouble(drawn[s][r]) +
+                           ", outside double's range; give a smaller standard deviation");
+        }
+      }
     }
   }
   plan.values.reserve(grid_points * draws);

@@ -118,8 +118,12 @@ class Lexer {
     t->kind = TokenKind::kNumber;
     t->text = text_.substr(i, j - i);
     t->number = std::strtod(t->text.c_str(), nullptr);
-    if (!std::isfinite(t->number)) {
-      throw ModelError(loc_.Shifted(static_cast<int>(i)), "number out of range '" + t->text + "'");
+    // Beyond double's range, or a subnormal (a nonzero number below 2.2e-308 that keeps only a
+    // few digits): the same range as a value with a unit (core/lang/units.h, ParseDecimal).
+    if (!std::isfinite(t->number) || (t->number != 0 && !std::isnormal(t->number))) {
+      throw ModelError(loc_.Shifted(static_cast<int>(i)), "number out of range '" + t->text +
+                                                              "' (double's range: magnitudes from "
+                                                              "2.2e-308 to 1.8e308)");
     }
     i = j;
     if (i < text_.size() &&

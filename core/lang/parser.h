@@ -10,17 +10,18 @@
 
 #include "core/lang/ast.h"
 #include "core/base/error.h"
+#include "core/base/limits.h"
 
 namespace momenta {
 
-/// The deepest nesting an expression may have: parentheses, function calls, subscripts,
-/// if-expressions, unary minus, `not` and the exponents of a power chain each add one level; the
-/// operands of one chain (`a + b - c`, `a * b`, `a and b`, `elseif` branches) do not. Deeper input
-/// is a ModelError "expression nested deeper than 256 levels" at the offending column, instead of
-/// a stack overflow in the parser or in a pass that walks the tree. 256 is clang's default bracket
-/// depth (-fbracket-depth): far beyond what models need, and well inside the stack of the
-/// sanitizer build, whose parser frames take about 10 KB per level (it overflows 8 MB near 800).
-constexpr int kMaxExpressionDepth = 256;
+/// The deepest nesting an expression may have (kMaxNestingDepth): parentheses, function calls,
+/// subscripts, if-expressions, unary minus, `not` and the exponents of a power chain each add one
+/// level; the operands of one chain (`a + b - c`, `a * b`, `a and b`, `elseif` branches) do not.
+/// Deeper input is a ModelError "expression nested deeper than 256 levels" at the offending
+/// column, instead of a stack overflow in the parser or in a pass that walks the tree. der()
+/// around anything but a variable may nest kMaxDifferentiations deep (a ModelError at the
+/// innermost der() beyond), so that no derivative is built that index reduction would refuse.
+constexpr int kMaxExpressionDepth = kMaxNestingDepth;
 
 /// Parses one expression. `loc` is where the text starts in the user's file; errors are
 /// ModelErrors at the offending column.

@@ -12,6 +12,8 @@
 #include "core/lang/units.h"
 
 #include <cctype>
+#include <cerrno>
+#include <cstdlib>
 #include <cmath>
 #include <map>
 #include <memory>
@@ -19,12 +21,19 @@
 #include <utility>
 #include <vector>
 
+#include "core/base/limits.h"
+#include "core/base/messages.h"
+#include "core/lang/parser.h"
+
 namespace momenta {
 
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kExponentTolerance = 1e-9;
+constexpr const char* kDoubleRangeText =
+    "magnitudes from 2.2e-308, the smallest normal double, to 1.8e308; a subnormal keeps only a "
+    "few digits";
 
 enum Base { kMetre, kKilogram, kSecond, kAmpere, kKelvin, kMole, kCandela };
 
@@ -117,13 +126,15 @@ class UnitParser {
     if (offset_combined_) {
       Fail("degC is an offset unit and cannot be combined with other units (use K)");
     }
+    if (!std::isnormal(u.factor)) Fail("its scale to SI units is outside double's range");
     return u;
   }
 
  private:
   [[noreturn]] void Fail(const std::string& why) const {
     std::string at = pos_ < text_.size() ? " at character " + std::to_string(pos_ + 1) : "";
-    throw UnitError("unit '" + text_ + "' does not parse: " + why + at +
+    const std::string unit = Excerpt(text_, static_cast<int>(pos_));
+    throw UnitError("unit '" + unit + "' does not parse: " + why + at +
                     " (write units as Modelica does: m/s2, N.m, kg.m2, 1/s, rad/s, degC)");
   }
 
@@ -154,10 +165,13 @@ class UnitParser {
   Unit Factor() {
     Unit u;
     if (Peek('(')) {
+      // Parentheses are the one recursion: bounded as an expression's are.
+      if (++depth_ > kMaxNestingDepth) Fail(NestedTooDeep("parentheses"));
       ++pos_;
       u = Quotient();
       if (!Peek(')')) Fail("a missing ')'");
       ++pos_;
+      --depth_;
     } else if (Peek('1')) {
       ++pos_;
       return u;  // the dimensionless 1 takes no exponent
@@ -206,6 +220,7 @@ class UnitParser {
 
   const std::string& text_;
   size_t pos_ = 0;
+  int depth_ = 0;  ///< parentheses open at pos_
   bool offset_combined_ = false;
 };
 
@@ -327,7 +342,7 @@ std::optional<Quantity> SplitQuantity(const std::string& text) {
   }
   if (!unit_like) return std::nullopt;
   Quantity q;
-  q.value = std::stod(text.substr(b, number_end - b));
+  q.value = *ParseDecimal(text.substr(b, number_end - b));
   q.unit = text.substr(k, e - k);
   ParseUnit(q.unit);  // a unit that does not parse is an error, not an expression
   return q;
@@ -339,7 +354,49 @@ double ConvertValue(double value, const std::string& from, const std::string& to
     throw UnitError(from + " (" + DimensionText(f.dimension) + ") cannot be converted to " + to +
                     " (" + DimensionText(t.dimension) + ")");
   }
-  return (value * f.factor + f.offset - t.offset) / t.factor;
+  const double converted = (value * f.factor + f.offset - t.offset) / t.factor;
+  // Beyond the range, or below it: a subnormal, or zero from a nonzero value (not -273.15 degC).
+  const bool underflow =
+      converted != 0 ? !std::isnormal(converted) : value != 0 && f.offset == t.offset;
+  if (!std::isfinite(converted) || underflow) {
+    throw UnitError(NumberText(value) + " " + from + " is " + NumberText(converted) + " " + to +
+                    ", outside double's range (" + kDoubleRangeText + ")");
+  }
+  return converted;
+}
+
+std::optional<double> ParseDecimal(const std::string& text) {
+  // The syntax first: strtod also reads hex, inf, nan and leading spaces.
+  size_t k = 0;
+  auto digits = [&] {
+    const size_t from = k;
+    while (k < text.size() && std::isdigit(static_cast<unsigned char>(text[k]))) ++k;
+    return k - from;
+  };
+  if (k < text.size() && (text[k] == '+' || text[k] == '-')) ++k;
+  size_t mantissa = digits();
+  if (k < text.size() && text[k] == '.') {
+    ++k;
+    mantissa += digits();
+  }
+  if (mantissa == 0) return std::nullopt;
+  const size_t exponent_at = k;
+  if (k < text.size() && (text[k] == 'e' || text[k] == 'E')) {
+    ++k;
+    if (k < text.size() && (text[k] == '+' || text[k] == '-')) ++k;
+    if (digits() == 0) return std::nullopt;
+  }
+  if (k != text.size()) return std::nullopt;
+  // The range: strtod sets ERANGE on overflow (inf) and on underflow (a subnormal or zero).
+  errno = 0;
+  const double v = std::strtod(text.c_str(), nullptr);
+  const bool zero =
+      text.substr(0, exponent_at).find_first_of("123456789") == std::string::npos;
+  if (!zero && (errno == ERANGE || !std::isnormal(v))) {
+    throw UnitError("the number " + text + " is outside double's range (" + kDoubleRangeText +
+                    ")");
+  }
+  return v;
 }
 
 AstPtr ValueInUnit(double value, const std::string& unit, const std::string& target_unit,

@@ -65,8 +65,15 @@ struct Quantity {
 /// for a plain number or anything else (an expression such as "2*m").
 std::optional<Quantity> SplitQuantity(const std::string& text);
 
+/// The number `text` is when it is a decimal number as values are written: [sign] digits
+/// [. digits] [e [sign] digits], nothing before or after (no hex, inf, nan or spaces); nullopt
+/// otherwise. Throws UnitError naming the text when it is one outside double's range: above
+/// 1.8e308, or below the smallest normal double 2.2e-308 but not zero (a subnormal keeps only a
+/// few digits).
+std::optional<double> ParseDecimal(const std::string& text);
+
 /// `value` in unit `from` expressed in unit `to`. Throws UnitError when the dimensions differ:
-/// "kN/m (N/m) cannot be converted to kg (kg)".
+/// "kN/m (N/m) cannot be converted to kg (kg)", or when the result is outside double's range.
 double ConvertValue(double value, const std::string& from, const std::string& to);
 
 /// The number `value` written in `unit` as a number in `target_unit` (docs/FORMAT.md, "Units"),

@@ -11,7 +11,9 @@
 #include <memory>
 #include <set>
 #include <utility>
+#include <vector>
 
+#include "core/base/limits.h"
 #include "core/lang/arrays.h"
 #include "core/lang/yaml_loader_document.h"
 #include "core/lang/yaml_loader_model.h"
@@ -32,22 +34,48 @@ ModelSpec ParseModel(const std::string& yaml, const std::string& file_name) {
   }
 }
 
-/// Appends to spec->defines the types of every file spec->uses names (paths relative to the
-/// directory of spec->file), and of the files those use, each file once: a model file becomes a
-/// type of its model's name (with its own define: types), a library file gives its component types.
-void LoadUses(ModelSpec* spec, std::set<std::string>* loaded) {
+/// The file a `uses:` entry of `spec` names (relative to the directory of spec.file), as joined.
+std::filesystem::path UsedPath(const ModelSpec& spec, const UsesSpec& u) {
   namespace fs = std::filesystem;
-  for (const UsesSpec& u : spec->uses) {
-    fs::path path = fs::path(u.path).is_absolute() ? fs::path(u.path)
-                                                   : fs::path(spec->file).parent_path() / u.path;
-    std::error_code ec;
-    if (!fs::exists(path, ec)) {
-      throw ModelError(u.loc, "uses: no file '" + u.path + "' (looked for " +
-                                  path.lexically_normal().string() + ")");
+  fs::path path = fs::path(u.path).is_absolute() ? fs::path(u.path)
+                                                 : fs::path(spec.file).parent_path() / u.path;
+  std::error_code ec;
+  if (!fs::exists(path, ec)) {
+    throw ModelError(u.loc, "uses: no file '" + u.path + "' (looked for " +
+                                path.lexically_normal().string() + ")");
+  }
+  return path;
+}
+
+/// Appends to top->defines the types of every file top->uses names, and of the files those use,
+/// each file once: a model file becomes a type of its model's name (after its own define: types
+/// and the types of the files it uses), a library file gives its component types. The walk keeps
+/// its own stack of files, as deep as the chain of files each using the next, which may be
+/// kMaxNestingDepth long.
+void LoadUses(ModelSpec* top, std::set<std::string>* loaded) {
+  struct Open {
+    ModelSpec spec;
+    size_t next = 0;  ///< the next entry of spec.uses to read
+  };
+  std::vector<Open> chain;
+  chain.push_back({std::move(*top), 0});
+  while (true) {
+    Open& at = chain.back();
+    // A file whose entries are all read becomes a type of the file that uses it.
+    if (at.next == at.spec.uses.size()) {
+      if (chain.size() == 1) break;
+      ModelSpec used = std::move(at.spec);
+      chain.pop_back();
+      ModelSpec& user = chain.back().spec;
+      for (auto& d : used.defines) user.defines.push_back(std::move(d));
+      user.defines.push_back(ModelAsType(used));
+      continue;
     }
-    std::string key = fs::weakly_canonical(path, ec).string();
-    if (!loaded->insert(key).second) continue;
-    std::string file = path.lexically_normal().string();
+    const UsesSpec& u = at.spec.uses[at.next++];
+    const std::filesystem::path path = UsedPath(at.spec, u);
+    std::error_code ec;
+    if (!loaded->insert(std::filesystem::weakly_canonical(path, ec).string()).second) continue;
+    const std::string file = path.lexically_normal().string();
     std::string text;
     try {
       text = ReadModelText(file, "file in uses:");
@@ -57,21 +85,24 @@ void LoadUses(ModelSpec* spec, std::set<std::string>* loaded) {
     std::unique_ptr<YamlDoc> doc = ParseYamlFile(text, file, "file in uses:");
     const YamlNode root = doc->root();
     if (root.IsMap() && root["model"]) {
-      ModelSpec used = ParseModel(text, file);
-      LoadUses(&used, loaded);
-      for (auto& d : used.defines) spec->defines.push_back(std::move(d));
-      spec->defines.push_back(ModelAsType(used));
-    } else {
-      Library scratch;
-      try {
-        ReadLibraryEntries(ValueReader(file), root, &scratch, &spec->defines, true,
-                           "a library file in uses:");
-      } catch (const YAML::Exception& e) {
-        throw ModelError(MarkLoc(file, e.mark.line, e.mark.column),
-                         "malformed library file: " + e.msg);
+      if (chain.size() >= static_cast<size_t>(kMaxNestingDepth)) {
+        throw ModelError(u.loc, "uses: " + NestedTooDeep("files") + ": '" + file + "' is file " +
+                                    std::to_string(chain.size() + 1) + " of a chain of files " +
+                                    "each using the next, from " + chain.front().spec.file);
       }
+      chain.push_back({ParseModel(text, file), 0});
+      continue;
+    }
+    Library scratch;
+    try {
+      ReadLibraryEntries(ValueReader(file), root, &scratch, &at.spec.defines, true,
+                         "a library file in uses:");
+    } catch (const YAML::Exception& e) {
+      throw ModelError(MarkLoc(file, e.mark.line, e.mark.column),
+                       "malformed library file: " + e.msg);
     }
   }
+  *top = std::move(chain.front().spec);
 }
 
 }  // namespace

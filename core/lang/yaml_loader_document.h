@@ -1,8 +1,9 @@
 #pragma once
 /// A model or library file as one YAML document (core/lang/yaml_loader.h): its text, refused when
-/// it is a directory or larger than a model can sensibly be, and its single document, refused
-/// when the file is empty, holds a second document, nests deeper than yaml-cpp reads or gives a
-/// key twice in one mapping (which YAML would read as the first value only).
+/// it is not a regular file (a directory, a FIFO, a device) or larger than a model can sensibly
+/// be, and its single document, refused when the file is empty, holds a second document, nests
+/// deeper than yaml-cpp reads or gives a key twice in one mapping (which YAML would read as the
+/// first value only).
 
 #include <memory>
 #include <string>

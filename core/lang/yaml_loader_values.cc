@@ -5,6 +5,7 @@
 #include <cctype>
 #include <cmath>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 
 #include "core/lang/arrays.h"
@@ -20,14 +21,15 @@ void ValueReader::Fail(const YamlNode& n, const std::string& msg) const {
 double ValueReader::Number(const YamlNode& n, const MessageSubject& what) const {
   std::string s = Scalar(n, what);
   CheckFinite(n, s, what);
+  // Decimal only, as in expressions: "0x10" is not 16 here either.
+  std::optional<double> v;
   try {
-    size_t used = 0;
-    double v = std::stod(s, &used);
-    if (used != s.size()) throw std::invalid_argument(s);
-    return v;
-  } catch (const std::exception&) {
-    Fail(n, what + " must be a number, found '" + s + "'");
+    v = ParseDecimal(s);
+  } catch (const UnitError& e) {
+    Fail(n, what + ": " + e.what());
   }
+  if (!v) Fail(n, what + " must be a decimal number, found '" + s + "'");
+  return *v;
 }
 
 void ValueReader::CheckFinite(const YamlNode& n, std::string_view s,

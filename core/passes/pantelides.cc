@@ -7,14 +7,11 @@
 #include <unordered_map>
 
 #include "core/base/graph.h"
+#include "core/base/limits.h"
 
 namespace momenta {
 
 namespace {
-
-/// An equation differentiated more often than this means the algorithm is not converging (a
-/// structural singularity the balance checks did not catch); mechanical systems need two.
-constexpr uint32_t kMaxDifferentiations = 12;
 
 /// The bipartite graph of equations and derivatives (v, k) that Pantelides' algorithm grows.
 class DerivativeGraph {

@@ -48,8 +48,11 @@ TEST(LexerTest, NumbersEndWhereADecimalEnds) {
 
 TEST(LexerTest, MistakesAreReportedAtTheirColumn) {
   EXPECT_EQ(ErrorOf("1 + 2x"), "m.yaml:2:10: malformed number '2x'");
-  EXPECT_EQ(ErrorOf("1e999"), "m.yaml:2:5: number out of range '1e999'");
+  EXPECT_EQ(ErrorOf("1e999"), "m.yaml:2:5: number out of range '1e999' (double's range: magnitudes from 2.2e-308 to 1.8e308)");
   EXPECT_EQ(ErrorOf("a $ b"), "m.yaml:2:7: unexpected character '$'");
+  // A subnormal keeps a few digits of what was written (1e-320 reads as 9.99989e-321).
+  EXPECT_EQ(ErrorOf("x * 1e-320"), "m.yaml:2:9: number out of range '1e-320' (double's range: magnitudes from 2.2e-308 to 1.8e308)");
+  EXPECT_EQ(Kinds(Tokenize("0e-400 + 2.2250738585072014e-308", SourceLoc("m.yaml"))), "number op number end");
 }
 
 }  // namespace

@@ -131,6 +131,26 @@ TEST(ParserTest, NestingPastTheLimitIsAnErrorAtItsColumn) {
   EXPECT_NE(ParseError(Repeat("(", 40000) + "x" + Repeat(")", 40000)).find(limit), std::string::npos);
 }
 
+TEST(ParserTest, DerAroundAnExpressionNestsAtMostTheDifferentiationLimit) {
+  const int n = static_cast<int>(kMaxDifferentiations);
+  // Around names, der() nests as any call does; around an expression, up to 12 deep.
+  EXPECT_EQ(ParseError(Repeat("der(", 200) + "x" + Repeat(")", 200)), "");
+  EXPECT_EQ(ParseError(Repeat("der(", n) + "x*x + sin(x)" + Repeat(")", n)), "");
+  EXPECT_EQ(ParseError("der(" + Repeat("der(", n - 1) + "x*y" + Repeat(")", n - 1) + " + der(x))"), "");
+  // The 13th der() from the inside (offset 0 of the text, at column 7) is named.
+  std::string msg = ParseError(Repeat("der(", n + 1) + "x*x + sin(x)" + Repeat(")", n + 1));
+  EXPECT_EQ(Prefix(msg), "m.yaml:3:7: ") << msg;
+  EXPECT_NE(msg.find("der() applied more than 12 times to an expression"), std::string::npos) << msg;
+  // 200 deep (reproducer 19): the 13th from the inside, at offset 4 * (200 - 13).
+  msg = ParseError(Repeat("der(", 200) + "x*x + sin(x)" + Repeat(")", 200));
+  EXPECT_EQ(Prefix(msg), "m.yaml:3:" + std::to_string(7 + 4 * (200 - 13)) + ": ") << msg;
+  // An expression anywhere inside counts, also beside a plain der(x).
+  msg = ParseError(Repeat("der(", n) + "der(x) + der(2*x)" + Repeat(")", n));
+  EXPECT_NE(msg.find("der() applied more than 12 times"), std::string::npos) << msg;
+  // Subscripts are not differentiated.
+  EXPECT_EQ(ParseError(Repeat("der(", 20) + "x[2*i]" + Repeat(")", 20)), "");
+}
+
 TEST(ParserTest, ChainsOfOneOperatorAreOneNode) {
   // 100 000 terms: one sum node of height 2, whatever the signs.
   std::string text = "1";
@@ -341,7 +361,8 @@ namespace {
 TEST(ParserTest, PlainNumbersAndNamesGiveTheParsersTrees) {
   const SourceLoc loc{"m.yaml", 3, 7};
   for (const std::string text :
-       {"0", "1e4", "2.5", ".5", "1.", "1E-3", "7e+2", "12345678901234567890", "4.9e-324"}) {
+       {"0", "1e4", "2.5", ".5", "1.", "1E-3", "7e+2", "12345678901234567890", "2.2250738585072014e-308",
+        "0e-400"}) {
     const AstPtr plain = ParseExpression(text, loc);
     const AstPtr parsed = ParseExpression("(" + text + ")", loc);
     EXPECT_EQ(plain->kind, Ast::Kind::kNumber) << text;
@@ -358,7 +379,10 @@ TEST(ParserTest, PlainNumbersAndNamesGiveTheParsersTrees) {
     EXPECT_EQ(plain->height, parsed->height) << text;
     EXPECT_EQ(plain->column, 0) << text;
   }
-  EXPECT_EQ(ParseError("1e400"), "m.yaml:3:7: number out of range '1e400'");
+  EXPECT_EQ(ParseError("1e400"), "m.yaml:3:7: number out of range '1e400' (double's range: magnitudes from 2.2e-308 to 1.8e308)");
+  // A subnormal, alone or not, as a value with a unit is (core/lang/units.h, ParseDecimal).
+  EXPECT_EQ(ParseError("4.9e-324"), "m.yaml:3:7: number out of range '4.9e-324' (double's range: magnitudes from 2.2e-308 to 1.8e308)");
+  EXPECT_EQ(ParseError("(4.9e-324)"), "m.yaml:3:8: number out of range '4.9e-324' (double's range: magnitudes from 2.2e-308 to 1.8e308)");
   EXPECT_EQ(ParseError("1e"), "m.yaml:3:8: malformed number '1e'");
   EXPECT_EQ(P("true"), "true");
   EXPECT_THROW(ParseName("true", loc), ModelError);

@@ -117,6 +117,62 @@ TEST(UnitsTest, ValuesConvertToTheTargetUnit) {
   }
 }
 
+TEST(UnitsTest, ValuesOutsideDoublesRangeAreNamed) {
+  auto message = [](auto f) -> std::string {
+    try {
+      f();
+    } catch (const UnitError& e) {
+      return e.what();
+    }
+    return "";
+  };
+  const std::string range = "outside double's range (magnitudes from 2.2e-308";
+  for (const char* text : {"1e999 kg", "-1e999 kg", "3e308 mm", "1e-320 g", "2e-308 m"}) {
+    const std::string m = message([&] { SplitQuantity(text); });
+    EXPECT_NE(m.find("the number " + std::string(text).substr(0, std::string(text).find(' ')) +
+                     " is " + range),
+              std::string::npos)
+        << text << ": " << m;
+  }
+  // Zero in any spelling, and the smallest normal double, are numbers.
+  EXPECT_EQ(SplitQuantity("0e-999 kg")->value, 0);
+  EXPECT_EQ(SplitQuantity("-0.0 kg")->value, 0);
+  EXPECT_EQ(SplitQuantity("2.2250738585072014e-308 kg")->value, 2.2250738585072014e-308);
+  // A conversion that leaves the range; -273.15 degC is 0 K, not an underflow.
+  EXPECT_NE(message([] { ConvertValue(1e306, "Mg", "kg"); }).find("1e306 Mg is inf kg, " + range),
+            std::string::npos);
+  EXPECT_NE(message([] { ConvertValue(1e-300, "yg", "kg"); }).find("outside double's range"),
+            std::string::npos);
+  EXPECT_DOUBLE_EQ(ConvertValue(-273.15, "degC", "K"), 0);
+  // Hex, inf and spaces are not decimal numbers.
+  for (const char* text : {"0x10", "inf", "nan", " 1", "1 ", "1e", "e5", "+", "1.2.3"}) {
+    EXPECT_FALSE(ParseDecimal(text)) << text;
+  }
+  for (const char* text : {"1", "-1.5", "+.5", "5.", "1e5", "1E-5", "0"}) {
+    EXPECT_TRUE(ParseDecimal(text)) << text;
+  }
+}
+
+TEST(UnitsTest, ParenthesesNestAtMostTheNestingLimit) {
+  auto nested = [](int n) { return std::string(n, '(') + "m" + std::string(n, ')'); };
+  EXPECT_EQ(ParseUnit(nested(256)).factor, 1);
+  try {
+    ParseUnit(nested(20000));
+    ADD_FAILURE() << "20 000 parentheses parsed";
+  } catch (const UnitError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("parentheses nested deeper than 256 levels at character 257"), std::string::npos) << m.substr(0, 300);
+    EXPECT_LT(m.size(), 500u);
+  }
+  // A scale beyond double's range: (km)^999 would be 1e2997.
+  try {
+    ParseUnit("km999");
+    ADD_FAILURE() << "km999 parsed";
+  } catch (const UnitError& e) {
+    EXPECT_NE(std::string(e.what()).find("its scale to SI units is outside double's range"), std::string::npos) << e.what();
+  }
+}
+
 TEST(UnitsTest, QuantitiesSplitIntoNumberAndUnit) {
   auto q = SplitQuantity("10kN/m");
   ASSERT_TRUE(q);

@@ -263,7 +263,7 @@ TEST(YamlLoaderTest, ErrorInAModifierOfTheHundredthComponentNamesFileLineAndComp
       {"  sd50: {type: SpringDamper, c: [], d: 10, s_rel0: 1}\n",
        "test.yaml:102:33: sd50.c is an empty list; an array has at least one element"},
       {"  sd50: {type: SpringDamper, c: 1e400, d: 10, s_rel0: 1}\n",
-       "test.yaml:102:33: number out of range '1e400' (in sd50.c)"},
+       "test.yaml:102:33: number out of range '1e400' (double's range: magnitudes from 2.2e-308 to 1.8e308) (in sd50.c)"},
       {"  sd50: {type: SpringDamper, [c]: 1e4}\n",
        "test.yaml:102:30: malformed model: bad conversion"},
       {"  sd49: {type: SpringDamper, c: 1e4, d: 10, s_rel0: 1}\n",
