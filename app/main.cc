@@ -10,8 +10,8 @@
 #include "app/plot.h"
 #include "app/report_command.h"
 #include "app/sweep.h"
-#include "app/terminal_output.h"
 #include "app/sweep_plan.h"
+#include "app/terminal_output.h"
 #include "solver/simulator.h"
 
 namespace momenta {
