@@ -7,7 +7,8 @@
 // the text is only cut into its top-level entries, one a type. An entry is read as its own YAML
 // document, preceded by as many empty lines as come before it in its file, so that every location
 // (file:line:col) is the one reading the whole file gives; each type is turned into its scalar
-// form (core/lang/arrays.h) as it is read, which needs only the connector types.
+// form (core/lang/arrays.h) as it is read, which needs only the connector types. The library is
+// one object for the process, never copied (a copy would share the record of what was read).
 
 #include "core/lang/builtin_library.h"
 

@@ -26,8 +26,10 @@ using testing::TempDir;
 bool Contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 const char kModel[] = R"(model: Drop
+parameters:
+  mass: {value: 2, unit: kg}
 components:
-  m: {type: Mass, m: 2, v: {start: 3, fixed: true}, s: {start: 0, fixed: true}}
+  m: {type: Mass, m: mass, v: {start: 3, fixed: true}, s: {start: 0, fixed: true}}
 experiment: {stop: 1, interval: 0.5}
 outputs: [m.s]
 )";
@@ -100,10 +102,10 @@ TEST(StartupTest, WithoutItsPluginsMomentaSaysWhatIsMissing) {
       << mat.err;
 
   // Under mpirun on several ranks, a usage error naming the missing plugin.
-  CliResult sweep = RunBinary(binary, "sweep drop.yaml -p m.m=1,2 -o s.csv", dir);
+  CliResult sweep = RunBinary(binary, "sweep drop.yaml -p mass=1,2 -o s.csv", dir);
   ASSERT_EQ(sweep.exit_code, kExitOk) << sweep.err;  // not under mpirun: threads
   setenv("OMPI_COMM_WORLD_SIZE", "2", 1);
-  CliResult mpi = RunBinary(binary, "sweep drop.yaml -p m.m=1,2 -o s.csv", dir);
+  CliResult mpi = RunBinary(binary, "sweep drop.yaml -p mass=1,2 -o s.csv", dir);
   unsetenv("OMPI_COMM_WORLD_SIZE");
   EXPECT_EQ(mpi.exit_code, kExitUsage) << mpi.err;
   EXPECT_TRUE(Contains(mpi.err, "started by mpirun on 2 ranks, but ")) << mpi.err;
