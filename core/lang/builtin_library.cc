@@ -14,6 +14,7 @@
 
 #include <cstring>
 #include <mutex>
+#include <set>
 #include <string_view>
 
 #include "core/lang/arrays.h"
@@ -55,17 +56,19 @@ class BuiltinTypes : public LazyTypes {
     }
   }
 
+  /// Reads the type named `name` and every type whose last dotted part is `name`: Library's
+  /// short-name rule (a short name is ambiguous when two packages use it, and an unqualified type
+  /// of that name comes first) then decides as it would in the whole library.
   void Read(const std::string& name, Library* library) const override {
     std::lock_guard<std::recursive_mutex> lock(mutex_);
-    auto it = entries_.find(name);
-    if (it == entries_.end()) {
-      // Library's rule: the last dotted part names a type when no unqualified type has that name
-      // and only one package uses it.
-      auto s = short_names_.find(name);
-      if (s == short_names_.end() || s->second.empty()) return;
-      it = entries_.find(s->second);
+    if (!asked_.insert(name).second) return;
+    if (auto it = entries_.find(name); it != entries_.end() && !it->second.read) ReadEntry(&it->second, library);
+    if (auto s = by_short_name_.find(name); s != by_short_name_.end()) {
+      for (const std::string& full : s->second) {
+        Entry& entry = entries_.at(full);
+        if (!entry.read) ReadEntry(&entry, library);
+      }
     }
-    if (!it->second.read) ReadEntry(&it->second, library);
   }
 
   void ReadAll(Library* library) const override {
@@ -92,8 +95,7 @@ class BuiltinTypes : public LazyTypes {
         open = &entries_[name];
         *open = Entry{f.name, text.substr(at), line, false};
         if (size_t dot = name.rfind('.'); dot != std::string::npos) {
-          auto [s, inserted] = short_names_.emplace(name.substr(dot + 1), name);
-          if (!inserted && s->second != name) s->second.clear();
+          by_short_name_[name.substr(dot + 1)].push_back(name);
         }
       }
       at = end;
@@ -118,7 +120,9 @@ class BuiltinTypes : public LazyTypes {
   }
 
   mutable std::map<std::string, Entry> entries_;
-  std::map<std::string, std::string> short_names_;
+  /// Last dotted part -> the qualified names that end in it.
+  std::map<std::string, std::vector<std::string>> by_short_name_;
+  mutable std::set<std::string> asked_;  ///< names Read has resolved already
   mutable std::recursive_mutex mutex_;
 };
 

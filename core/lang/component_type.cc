@@ -67,8 +67,9 @@ void Library::ReadLazily(const std::string& name) const {
 }
 
 const ComponentType* Library::FindComponent(const std::string& name) const {
-  if (const ComponentType* t = FindQualified(components_, short_components_, name)) return t;
-  ReadLazily(name);
+  // Not yet read: the source reads the type of that exact name and every type it could abbreviate,
+  // so that the short-name rule below sees what it would see in the whole library.
+  if (!components_.count(name)) ReadLazily(name);
   return FindQualified(components_, short_components_, name);
 }
 

@@ -133,10 +133,15 @@ Library WholeFiles() {
 TEST(StartupTest, TypesReadOnFirstUseAreThoseOfTheWholeFiles) {
   const Library whole = WholeFiles();
   const Library& builtin = BuiltinLibrary();
-  // By short name first (before anything has read Planar.Body in this process, when the suite
-  // runs this test alone): the short-name rule holds before the type is read.
+  // The short-name rule holds before the types are read (when this test runs alone, nothing has
+  // read them yet): with Planar.Fixed read, `Fixed` is still the unqualified (translational) type,
+  // not Planar.Fixed abbreviated; `Body` is Planar.Body, the only type of that last part.
+  ASSERT_NE(builtin.FindComponent("Planar.Fixed"), nullptr);
+  ASSERT_NE(builtin.FindComponent("Fixed"), nullptr);
+  EXPECT_EQ(builtin.FindComponent("Fixed")->name, "Fixed");
   ASSERT_NE(builtin.FindComponent("Body"), nullptr);
   EXPECT_EQ(builtin.FindComponent("Body")->name, whole.FindComponent("Body")->name);
+  EXPECT_EQ(builtin.FindComponent("Body")->name, "Planar.Body");
   const std::vector<std::string> names = whole.ComponentNames();
   ASSERT_EQ(builtin.ComponentNames(), names);
   ASSERT_GT(names.size(), 100u);
