@@ -7,15 +7,32 @@
 
 #include "app/commands.h"
 #include "app/huge_pages.h"
+#include "app/mat_file.h"
+#include "app/plugin.h"
 #include "app/plot.h"
 #include "app/report_command.h"
 #include "app/sweep.h"
+#include "app/sweep_cluster.h"
 #include "app/sweep_plan.h"
 #include "app/terminal_output.h"
 #include "solver/simulator.h"
 
 namespace momenta {
 namespace {
+
+/// `momenta --version`: the SUNDIALS build, and which of the plugins' features (app/plugin.h) this
+/// installation has. Computed only when asked, since it loads the plugins.
+std::string VersionText() {
+  const SolverBuild solver = SolverBuildInfo();
+  std::string text = "momenta 0.1 (SUNDIALS " + solver.sundials_version +
+                     (solver.sundials_optimized ? ", optimised build)" : ", Debian build)");
+  auto feature = [&text](const char* what, const char* file, bool available) {
+    text += std::string("\n") + what + (available ? ": yes (" + FindPlugin(file) + ")" : ": no");
+  };
+  feature("MAT result files", "momenta-mat.so", HaveMat());
+  feature("sweeps under mpirun", "momenta-mpi.so", HaveMpi());
+  return text;
+}
 
 /// The options simulate and sweep share: the run's tolerances, interval, solver and code.
 /// Values not given stay empty (the experiment's apply); given ones are checked by the command.
@@ -127,9 +144,7 @@ int main(int argc, char** argv) {
   TerminalOutput terminal;
   CLI::App app{"momenta: acausal component-model simulation (YAML models, SUNDIALS IDA)"};
   app.require_subcommand(1);
-  const SolverBuild solver_build = SolverBuildInfo();
-  app.set_version_flag("--version", "momenta 0.1 (SUNDIALS " + solver_build.sundials_version +
-                                        (solver_build.sundials_optimized ? ", optimised build)" : ", Debian build)"));
+  app.set_version_flag("--version", VersionText);
   SimulateArgs sim;
   ReportArgs rep;
   PlotArgs plt;

@@ -1,6 +1,5 @@
 #include "app/mat_writer.h"
 
-#include <matio.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -13,14 +12,11 @@
 #include <filesystem>
 #include <memory>
 
+#include "app/mat_file.h"
+
 namespace momenta {
 
 namespace {
-
-/// Frees a matvar_t made with MAT_F_DONT_COPY_DATA (the data stays ours).
-struct VarDeleter {
-  void operator()(matvar_t* v) const { Mat_VarFree(v); }
-};
 
 /// A char matrix whose columns are `texts`, NUL-padded to the longest text + 1 (OpenModelica's
 /// convention; Dymola pads with spaces).
@@ -51,6 +47,9 @@ MatWriter::MatWriter(const std::string& path, const std::vector<std::string>& ou
       parameters_(std::move(parameters)),
       start_(start),
       stop_(stop) {
+  if (std::string why; !HaveMat(&why)) {
+    throw ResultWriteError("cannot write the results file " + path + ": MAT files need libmatio, but " + why);
+  }
   errno = 0;
   file_ = std::fopen(path.c_str(), "wb");
   if (!file_) {
@@ -122,30 +121,26 @@ MatWriter::Matrices MatWriter::MakeMatrices() const {
 }
 
 void MatWriter::WriteTemporary(const std::string& temp, Matrices* m) {
-  mat_t* mat = Mat_CreateVer(temp.c_str(), nullptr, MAT_FT_MAT4);
-  if (!mat) Fail("cannot create the temporary file " + temp, errno);
-  bool ok = true;
-  uintmax_t expected_bytes = 0;  // MAT v4: per matrix a 20-byte header, the name with its NUL, the data
-  auto write = [&](const char* var_name, matio_classes cls, matio_types type, size_t rows, size_t cols,
-                   void* data) {
-    const size_t element = type == MAT_T_DOUBLE ? 8 : type == MAT_T_INT32 ? 4 : 1;
-    expected_bytes += 20 + std::strlen(var_name) + 1 + rows * cols * element;
-    if (!ok) return;
-    size_t dims[2] = {rows, cols};
-    std::unique_ptr<matvar_t, VarDeleter> v(Mat_VarCreate(var_name, cls, type, 2, dims, data, MAT_F_DONT_COPY_DATA));
-    ok = v && Mat_VarWrite(mat, v.get(), MAT_COMPRESSION_NONE) == 0;
-  };
   const size_t n = m->num_columns;
-  write("Aclass", MAT_C_CHAR, MAT_T_UINT8, 4, 11, m->aclass.data());
-  write("name", MAT_C_CHAR, MAT_T_UINT8, m->name_height, n, m->name.data());
-  write("description", MAT_C_CHAR, MAT_T_UINT8, m->description_height, n, m->description.data());
-  write("dataInfo", MAT_C_INT32, MAT_T_INT32, 4, n, m->info.data());
-  write("data_1", MAT_C_DOUBLE, MAT_T_DOUBLE, 1 + parameters_.size(), 2, m->data1.data());
-  write("data_2", MAT_C_DOUBLE, MAT_T_DOUBLE, 1 + outputs_.size(), rows_, data_.data());
-  const bool closed = Mat_Close(mat) == 0;
+  const std::vector<MatMatrix> matrices = {
+      {"Aclass", kMatChar, 4, 11, m->aclass.data()},
+      {"name", kMatChar, m->name_height, n, m->name.data()},
+      {"description", kMatChar, m->description_height, n, m->description.data()},
+      {"dataInfo", kMatInt32, 4, n, m->info.data()},
+      {"data_1", kMatDouble, 1 + parameters_.size(), 2, m->data1.data()},
+      {"data_2", kMatDouble, 1 + outputs_.size(), rows_, data_.data()},
+  };
+  uintmax_t expected_bytes = 0;  // MAT v4: per matrix a 20-byte header, the name with its NUL, the data
+  for (const MatMatrix& matrix : matrices) {
+    const size_t element = matrix.element == kMatDouble ? 8 : matrix.element == kMatInt32 ? 4 : 1;
+    expected_bytes += 20 + std::strlen(matrix.name) + 1 + matrix.rows * matrix.cols * element;
+  }
+  int error = 0;
+  const int written = WriteMat4(temp, matrices, &error);
+  if (written == 2) Fail("cannot create the temporary file " + temp, error);
   std::error_code ec;
   const uintmax_t size = std::filesystem::file_size(temp, ec);
-  if (!ok || !closed || ec || size != expected_bytes) {
+  if (written != 0 || ec || size != expected_bytes) {
     Fail("only " + std::to_string(ec ? 0 : size) + " of " + std::to_string(expected_bytes) +
              " bytes were written to the temporary file " + temp + " (is the disk full?)",
          0);

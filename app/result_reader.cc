@@ -1,7 +1,5 @@
 #include "app/result_reader.h"
 
-#include <matio.h>
-
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -9,6 +7,7 @@
 #include <memory>
 #include <sstream>
 
+#include "app/mat_file.h"
 #include "app/mat_header_check.h"
 #include "app/mat_writer.h"
 #include "core/base/memory_budget.h"
@@ -79,19 +78,11 @@ ResultTable ReadCsv(const std::string& path, const RegularFile& file) {
   return r;
 }
 
-struct MatCloser {
-  void operator()(mat_t* m) const { Mat_Close(m); }
-};
-struct VarFree {
-  void operator()(matvar_t* v) const { Mat_VarFree(v); }
-};
-using Var = std::unique_ptr<matvar_t, VarFree>;
-
 /// The "name" matrix's texts (binTrans: one per column, NUL- or blank-padded).
-std::vector<std::string> MatNames(const matvar_t* v) {
+std::vector<std::string> MatNames(const MatFile::Matrix& v) {
   std::vector<std::string> out;
-  const size_t rows = v->dims[0], cols = v->dims[1];
-  const auto* bytes = static_cast<const unsigned char*>(v->data);
+  const size_t rows = v.rows, cols = v.cols;
+  const auto* bytes = static_cast<const unsigned char*>(v.data);
   for (size_t j = 0; j < cols; ++j) {
     std::string s;
     for (size_t i = 0; i < rows; ++i) s += static_cast<char>(bytes[j * rows + i]);
@@ -105,31 +96,29 @@ std::vector<std::string> MatNames(const matvar_t* v) {
 ResultTable ReadMat(const std::string& path, const RegularFile& file) {
   // libmatio allocates what a header claims: every header is checked against the file first.
   CheckMatHeaders(file.fd(), file.size(), path);
-  std::unique_ptr<mat_t, MatCloser> mat(Mat_Open(path.c_str(), MAT_ACC_RDONLY));
-  if (!mat)
+  MatFile mat(path);
+  if (!mat.ok())
     throw std::runtime_error("cannot read the result " + path +
                              ": not a MAT file, or not readable");
   auto read = [&](const char* name) {
-    Var v(Mat_VarRead(mat.get(), name));
+    std::unique_ptr<MatFile::Matrix> v = mat.Read(name);
     if (!v)
       throw std::runtime_error(path + ": no matrix '" + std::string(name) +
                                "'; not a result file (Aclass, name, dataInfo, data_2)");
     return v;
   };
-  Var names = read("name"), info = read("dataInfo"), data = read("data_2");
+  auto names = read("name"), info = read("dataInfo"), data = read("data_2");
   // libmatio reads a MAT v4 file's numeric matrices as doubles (dataInfo is stored as int32).
-  const bool info_ok = (info->class_type == MAT_C_INT32 && info->data_type == MAT_T_INT32) ||
-                       (info->class_type == MAT_C_DOUBLE && info->data_type == MAT_T_DOUBLE);
-  if (names->class_type != MAT_C_CHAR || names->data_size != 1 || !info_ok ||
-      data->class_type != MAT_C_DOUBLE || data->data_type != MAT_T_DOUBLE || info->dims[0] != 4 ||
-      info->dims[1] != names->dims[1]) {
+  const bool info_ok = info->element == kMatInt32 || info->element == kMatDouble;
+  if (names->element != kMatChar || !info_ok || data->element != kMatDouble || info->rows != 4 ||
+      info->cols != names->cols) {
     throw std::runtime_error(path +
                              ": name, dataInfo and data_2 do not have the binTrans result layout");
   }
-  const std::vector<std::string> all = MatNames(names.get());
+  const std::vector<std::string> all = MatNames(*names);
   std::vector<int32_t> di(4 * all.size());
   for (size_t k = 0; k < di.size(); ++k) {
-    if (info->data_type == MAT_T_INT32) {
+    if (info->element == kMatInt32) {
       di[k] = static_cast<const int32_t*>(info->data)[k];
       continue;
     }
@@ -141,7 +130,7 @@ ResultTable ReadMat(const std::string& path, const RegularFile& file) {
     di[k] = static_cast<int32_t>(v);
   }
   const auto* d = static_cast<const double*>(data->data);
-  const size_t per_row = data->dims[0], rows = data->dims[1];
+  const size_t per_row = data->rows, rows = data->cols;
   ResultTable r;
   for (size_t j = 0; j < all.size(); ++j) {
     const int32_t matrix = di[4 * j], index = di[4 * j + 1];

@@ -6,12 +6,8 @@
 
 #include "core/base/error.h"
 
-#if MOMENTA_HAVE_MPI
-// The C interface only (OpenMPI's and MPICH's headers would otherwise pull in the C++ bindings).
-#define OMPI_SKIP_MPICXX 1
-#define MPICH_SKIP_MPICXX 1
-#include <mpi.h>
-#endif
+#include "app/mpi_plugin.h"
+#include "app/plugin.h"
 
 namespace momenta {
 
@@ -70,9 +66,7 @@ class Unpacker {
   size_t at_ = 0;
 };
 
-#if MOMENTA_HAVE_MPI
 constexpr int kTagAsk = 1, kTagAnswer = 2;
-#endif
 
 }  // namespace
 
@@ -122,49 +116,69 @@ int MpirunLocalSize() {
   return n > 0 ? n : 1;
 }
 
-#if MOMENTA_HAVE_MPI
+namespace {
 
-bool HaveMpi() { return true; }
+/// The MPI plugin's table, loaded on first use; nullptr (with the reason) when it is not there.
+const MpiPluginTable* Mpi(std::string* why = nullptr) {
+#if MOMENTA_HAVE_MPI
+  return static_cast<const MpiPluginTable*>(LoadPlugin("momenta-mpi.so", "momenta_mpi_plugin", true, why));
+#else
+  if (why) *why = "this momenta was built without MPI (install libopenmpi-dev, as scripts/setup.sh does, and rebuild)";
+  return nullptr;
+#endif
+}
+
+}  // namespace
+
+bool HaveMpi() { return Mpi() != nullptr; }
 
 SweepCluster::SweepCluster() {
   if (!std::getenv("OMPI_COMM_WORLD_SIZE") && !std::getenv("PMI_SIZE") && !std::getenv("PMIX_RANK")) return;
+  std::string why;
+  mpi_ = Mpi(&why);
+  if (!mpi_) {
+    if (const int n = MpirunWorldSize(); n > 1) {
+      throw UsageError("started by mpirun on " + std::to_string(n) + " ranks, but " + why +
+                       "; without mpirun, a sweep runs on threads (--jobs)");
+    }
+    return;
+  }
   // Only the main thread calls MPI.
-  int provided = 0;
-  MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided);
-  joined_ = true;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
-  MPI_Comm_size(MPI_COMM_WORLD, &size_);
+  mpi_->join(&rank_, &size_);
 }
 
 SweepCluster::~SweepCluster() {
-  if (joined_) MPI_Finalize();
+  if (mpi_) mpi_->leave();
 }
 
 std::vector<int64_t> SweepCluster::AllGather(int64_t value) const {
   std::vector<int64_t> all(size_, value);
-  if (joined_) MPI_Allgather(&value, 1, MPI_INT64_T, all.data(), 1, MPI_INT64_T, MPI_COMM_WORLD);
+  if (mpi_) mpi_->all_gather(value, all.data());
   return all;
 }
 
+// With one rank there is nobody to send to: reaching these without MPI is a bug in the caller.
+const MpiPluginTable& SweepCluster::Joined(const char* what) const {
+  if (!mpi_) AbortOnInternalError("size() > 1", __FILE__, __LINE__, what);
+  return *mpi_;
+}
+
 bool SweepCluster::PollAsk(int* from, int64_t* run, SweepRunResult* result) const {
-  int flag = 0;
-  MPI_Status status;
-  MPI_Iprobe(MPI_ANY_SOURCE, kTagAsk, MPI_COMM_WORLD, &flag, &status);
-  if (!flag) return false;
-  int count = 0;
-  MPI_Get_count(&status, MPI_BYTE, &count);
-  std::vector<char> bytes(count);
-  MPI_Recv(bytes.data(), count, MPI_BYTE, status.MPI_SOURCE, kTagAsk, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-  *from = status.MPI_SOURCE;
-  *result = UnpackRunResult(bytes, run);
+  const MpiPluginTable& mpi = Joined("PollAsk without MPI");
+  int bytes = 0;
+  if (!mpi.probe(-1, kTagAsk, from, &bytes)) return false;
+  std::vector<char> message(bytes);
+  mpi.receive(message.data(), bytes, *from, kTagAsk);
+  *result = UnpackRunResult(message, run);
   return true;
 }
 
 void SweepCluster::Answer(int to, int64_t run) const {
-  MPI_Send(&run, 1, MPI_INT64_T, to, kTagAnswer, MPI_COMM_WORLD);
+  Joined("Answer without MPI").send(&run, sizeof run, to, kTagAnswer);
 }
 
 void SweepCluster::Ask(int64_t run, const SweepRunResult& result) const {
+  const MpiPluginTable& mpi = Joined("Ask without MPI");
   std::vector<char> bytes = PackRunResult(run, result);
   if (bytes.size() > static_cast<size_t>(INT32_MAX)) {
     // A trajectory of more than 2 GB: sent without it, the run marked as failed.
@@ -174,47 +188,15 @@ void SweepCluster::Ask(int64_t run, const SweepRunResult& result) const {
     small.message = "the trajectory is too large to send to rank 0 (" + std::to_string(bytes.size()) + " bytes)";
     bytes = PackRunResult(run, small);
   }
-  MPI_Send(bytes.data(), static_cast<int>(bytes.size()), MPI_BYTE, 0, kTagAsk, MPI_COMM_WORLD);
+  mpi.send(bytes.data(), static_cast<int>(bytes.size()), 0, kTagAsk);
 }
 
 bool SweepCluster::PollAnswer(int64_t* run) const {
-  int flag = 0;
-  MPI_Iprobe(0, kTagAnswer, MPI_COMM_WORLD, &flag, MPI_STATUS_IGNORE);
-  if (!flag) return false;
-  MPI_Recv(run, 1, MPI_INT64_T, 0, kTagAnswer, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+  const MpiPluginTable& mpi = Joined("PollAnswer without MPI");
+  int from = 0, bytes = 0;
+  if (!mpi.probe(0, kTagAnswer, &from, &bytes)) return false;
+  mpi.receive(run, sizeof *run, 0, kTagAnswer);
   return true;
 }
-
-#else  // built without MPI: a cluster of one, the only rank
-
-bool HaveMpi() { return false; }
-
-SweepCluster::SweepCluster() {
-  if (const int n = MpirunWorldSize(); n > 1) {
-    throw UsageError("started by mpirun on " + std::to_string(n) +
-                     " ranks, but this momenta was built without MPI (install libopenmpi-dev, as "
-                     "scripts/setup.sh does, and rebuild); without mpirun, a sweep runs on threads (--jobs)");
-  }
-}
-
-SweepCluster::~SweepCluster() = default;
-
-std::vector<int64_t> SweepCluster::AllGather(int64_t value) const { return {value}; }
-
-// With one rank there is nobody to send to: reaching these is a bug in the caller.
-bool SweepCluster::PollAsk(int*, int64_t*, SweepRunResult*) const {
-  AbortOnInternalError("size() > 1", __FILE__, __LINE__, "PollAsk in a build without MPI");
-}
-void SweepCluster::Answer(int, int64_t) const {
-  AbortOnInternalError("size() > 1", __FILE__, __LINE__, "Answer in a build without MPI");
-}
-void SweepCluster::Ask(int64_t, const SweepRunResult&) const {
-  AbortOnInternalError("size() > 1", __FILE__, __LINE__, "Ask in a build without MPI");
-}
-bool SweepCluster::PollAnswer(int64_t*) const {
-  AbortOnInternalError("size() > 1", __FILE__, __LINE__, "PollAnswer in a build without MPI");
-}
-
-#endif
 
 }  // namespace momenta

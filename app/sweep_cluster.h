@@ -16,8 +16,8 @@
 /// short sleep) instead of blocking in MPI, so that a rank waiting for messages does not spin a
 /// core that its own threads need (OpenMPI's blocking calls busy-wait).
 ///
-/// A plain run (not started by mpirun) is a cluster of one rank and does not initialise MPI, so it
-/// pays nothing for it. mpirun is recognised by the variables it puts in each rank's environment:
+/// A plain run (not started by mpirun) is a cluster of one rank and does not even load MPI, whose
+/// calls are in a plugin (momenta-mpi.so, app/mpi_plugin.h) loaded only under mpirun. mpirun is recognised by the variables it puts in each rank's environment:
 /// OMPI_COMM_WORLD_SIZE (OpenMPI), PMI_SIZE (MPICH's Hydra) or PMIX_RANK.
 
 #include <cstdint>
@@ -46,13 +46,15 @@ int MpirunWorldSize();
 /// The number of those on this machine (OMPI_COMM_WORLD_LOCAL_SIZE; 1 when not known).
 int MpirunLocalSize();
 
-/// True when momenta was built with MPI.
+/// True when momenta's MPI plugin loads (momenta was built with MPI and the plugin is installed).
 bool HaveMpi();
+
+struct MpiPluginTable;
 
 class SweepCluster {
  public:
-  /// Joins the MPI job when started by mpirun; otherwise a cluster of one. Throws UsageError when
-  /// started by mpirun on several ranks but built without MPI.
+  /// Joins the MPI job when started by mpirun (loading the MPI plugin); otherwise a cluster of one.
+  /// Throws UsageError when started by mpirun on several ranks but the plugin cannot be loaded.
   SweepCluster();
   /// Leaves the MPI job (MPI_Finalize).
   ~SweepCluster();
@@ -79,8 +81,11 @@ class SweepCluster {
   bool PollAnswer(int64_t* run) const;
 
  private:
+  /// The plugin's table; reaching a call that needs it without it is a bug in the caller.
+  const MpiPluginTable& Joined(const char* what) const;
+
   int rank_ = 0, size_ = 1;
-  bool joined_ = false;
+  const MpiPluginTable* mpi_ = nullptr;  ///< set when this process joined an MPI job
 };
 
 }  // namespace momenta

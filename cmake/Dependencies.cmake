@@ -37,7 +37,8 @@
 #                                      each a GoogleTest shard run in one process (scripts/test.sh:
 #                                      in the sanitizer build, whose start-up is slow)
 # Sets MOMENTA_SUNDIALS_OPTIMIZED (ON/OFF) and MOMENTA_SUNDIALS_VERSION in the including scope,
-# and MOMENTA_MPIEXEC (mpirun's path, empty without MPI) for the tests.
+# MOMENTA_HAVE_MPI (1/0: app/ builds the MPI plugin) and MOMENTA_MPIEXEC (mpirun's path, empty
+# without MPI) for the tests.
 
 include_guard(GLOBAL)
 
@@ -196,10 +197,12 @@ endif()
 if(MOMENTA_USE_MPI AND MPI_C_FOUND)
   target_link_libraries(momenta_mpi INTERFACE MPI::MPI_C)
   target_compile_definitions(momenta_mpi INTERFACE MOMENTA_HAVE_MPI=1)
+  set(MOMENTA_HAVE_MPI 1)
   set(MOMENTA_MPIEXEC "${MPIEXEC_EXECUTABLE}")
   message(STATUS "momenta: MPI ${MPI_C_VERSION} (${MPI_C_LIB_NAMES}); mpirun: ${MPIEXEC_EXECUTABLE}")
 else()
   target_compile_definitions(momenta_mpi INTERFACE MOMENTA_HAVE_MPI=0)
+  set(MOMENTA_HAVE_MPI 0)
   message(STATUS "momenta: MPI not used (MOMENTA_USE_MPI=${MOMENTA_USE_MPI}; install libopenmpi-dev and "
                  "openmpi-bin for sweeps under mpirun): sweeps run on threads only")
 endif()

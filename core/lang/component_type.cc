@@ -62,15 +62,29 @@ const ConnectorType* Library::FindConnector(const std::string& name) const {
   return FindQualified(connectors_, short_connectors_, name);
 }
 
+void Library::ReadLazily(const std::string& name) const {
+  if (lazy_) lazy_->Read(name, const_cast<Library*>(this));
+}
+
 const ComponentType* Library::FindComponent(const std::string& name) const {
+  // Not yet read: the source reads the type of that exact name and every type it could abbreviate,
+  // so that the short-name rule below sees what it would see in the whole library.
+  if (!components_.count(name)) ReadLazily(name);
   return FindQualified(components_, short_components_, name);
 }
 
 bool Library::Has(const std::string& name) const {
+  if (!connectors_.count(name) && !components_.count(name)) ReadLazily(name);
   return connectors_.count(name) || components_.count(name);
 }
 
+bool Library::HasComponent(const std::string& name) const {
+  if (!components_.count(name)) ReadLazily(name);
+  return components_.count(name) != 0;
+}
+
 std::vector<std::string> Library::ComponentNames() const {
+  if (lazy_) lazy_->ReadAll(const_cast<Library*>(this));
   std::vector<std::string> out;
   for (const auto& [name, t] : components_) out.push_back(name);
   return out;

@@ -197,15 +197,33 @@ struct ComponentType {
 /// Domain libraries name their types with a package prefix (`Rotational.Fixed`,
 /// `Planar.Body`); a type is found by its full name, or by its last part alone (`Body`) when no
 /// unqualified type has that name and no other package uses it.
+class Library;
+
+/// Component types a library reads on first use (the built-in library: reading all of its text
+/// at every start would cost more than most runs' integration, core/lang/builtin_library.cc).
+class LazyTypes {
+ public:
+  virtual ~LazyTypes() = default;
+  /// Reads into `library` the component type that `name` names (by its full name, or by its last
+  /// part as Library finds it), when there is one not read yet.
+  virtual void Read(const std::string& name, Library* library) const = 0;
+  /// Reads every type not read yet.
+  virtual void ReadAll(Library* library) const = 0;
+};
+
 class Library {
  public:
+  /// From now on, a component type not found is asked of `lazy` first. The library's contents do
+  /// not change (a type read on first use was always in it), so lookups stay const; they are not
+  /// safe from several threads at once while types are still being read.
+  void SetLazyTypes(std::shared_ptr<const LazyTypes> lazy) { lazy_ = std::move(lazy); }
   void AddConnector(ConnectorType c);
   void AddComponent(ComponentType c);
   const ConnectorType* FindConnector(const std::string& name) const;
   const ComponentType* FindComponent(const std::string& name) const;
   bool Has(const std::string& name) const;
   /// A component type of exactly this name (no short-name lookup).
-  bool HasComponent(const std::string& name) const { return components_.count(name) != 0; }
+  bool HasComponent(const std::string& name) const;
   std::vector<std::string> ComponentNames() const;
   std::vector<std::string> ConnectorNames() const;
 
@@ -214,6 +232,9 @@ class Library {
   std::map<std::string, std::shared_ptr<ComponentType>> components_;
   /// Last part of a qualified name -> the full name ("" when two packages share it).
   std::map<std::string, std::string> short_connectors_, short_components_;
+  std::shared_ptr<const LazyTypes> lazy_;
+  /// Reads `name` through lazy_, if set (a type read now was always in the library).
+  void ReadLazily(const std::string& name) const;
 };
 
 }  // namespace momenta

@@ -1,0 +1,72 @@
+#!/usr/bin/env python3
+"""Time to a first result: the whole `momenta simulate` process against a hand-written IDA program.
+
+Runs each pair (momenta, baseline) alternately K times (paired runs, so that a change in the
+machine's load touches both), and prints a Markdown table of the medians: CPU time of the process
+(user + system, from wait4; what a shared machine's waiting does not inflate) and wall time.
+
+  bench/first_result.py [--build build] [--repeat 21] [--momenta PATH]
+
+The pairs: the seed examples (models/carrier_collision*.yaml, models/ball_pendulum*.yaml) against
+bench/handwritten_carrier (the only seed model written by hand: the others are listed with `-` as
+baseline, their figure stands alone), the RC ladder at n = 1000 against handwritten_rc at the
+same settings (rtol = atol = 1e-6, interval 0.01, stop 10), and `momenta --help` (the bare
+start-up: loading, static initialisers) against /bin/true.
+"""
+import argparse
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+
+
+def run(cmd):
+    """Wall and CPU seconds of one run of `cmd` (its output thrown away)."""
+    t0 = time.perf_counter()
+    p = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    _, status, usage = os.wait4(p.pid, 0)
+    wall = time.perf_counter() - t0
+    err = p.stderr.read().decode(errors="replace")
+    p.stderr.close()
+    if os.waitstatus_to_exitcode(status) != 0:
+        sys.exit(f"failed ({os.waitstatus_to_exitcode(status)}): {' '.join(cmd)}\n{err}")
+    return wall, usage.ru_utime + usage.ru_stime
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--build", default="build")
+    ap.add_argument("--momenta", default=None, help="the momenta binary (default BUILD/app/momenta)")
+    ap.add_argument("--repeat", type=int, default=21)
+    a = ap.parse_args()
+    momenta = a.momenta or f"{a.build}/app/momenta"
+    out = tempfile.mkdtemp(prefix="momenta-first-")
+    hw = f"{a.build}/bench"
+    rc = ["--n", "1000", "--stop", "10", "--rtol", "1e-6", "--atol", "1e-6", "--interval", "0.01",
+          "--repeat", "1"]
+    pairs = [("start-up (`--help`)", [momenta, "--help"], ["/bin/true"])]
+    for m in ("carrier_collision", "carrier_collision_maplesim", "ball_pendulum_impact", "ball_pendulum"):
+        base = [f"{hw}/handwritten_carrier", f"{out}/hw.csv"] if m == "carrier_collision" else None
+        pairs.append((f"`{m}`", [momenta, "simulate", f"models/{m}.yaml", "-o", f"{out}/{m}.csv"], base))
+    pairs.append(("RC ladder n = 1000", [momenta, "simulate", "models/rc_ladder.yaml", "-p", "n=1000", "-o",
+                                         f"{out}/rc.csv"], [f"{hw}/handwritten_rc"] + rc))
+    print(f"| run | momenta CPU (ms) | hand-written CPU (ms) | **ratio** | momenta wall (ms) | hand-written wall (ms) |")
+    print("|---|---:|---:|---:|---:|---:|")
+    for name, cmd, base in pairs:
+        ours, theirs = [], []
+        for _ in range(a.repeat):
+            ours.append(run(cmd))
+            if base:
+                theirs.append(run(base))
+        med = lambda runs, i: statistics.median(r[i] for r in runs) * 1e3
+        if base:
+            print(f"| {name} | {med(ours, 1):.1f} | {med(theirs, 1):.1f} | **{med(ours, 1) / med(theirs, 1):.2f}** | "
+                  f"{med(ours, 0):.1f} | {med(theirs, 0):.1f} |")
+        else:
+            print(f"| {name} | {med(ours, 1):.1f} | - | - | {med(ours, 0):.1f} | - |")
+
+
+if __name__ == "__main__":
+    main()
