@@ -49,7 +49,7 @@ CC=clang CXX=clang++ cmake -S . -B "$DIR" "${gen[@]}" -DCMAKE_BUILD_TYPE=RelWith
   -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -gline-tables-only" -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O1 -gline-tables-only" \
   -DMOMENTA_BUILD_TESTS=OFF -DMOMENTA_BUILD_BENCH=OFF >"$DIR/configure.log" 2>&1 ||
   { tail -n 30 "$DIR/configure.log"; log "configure failed"; exit 2; }
-cmake --build "$DIR" --target momenta_fuzz_model momenta_fuzz_result -j "$JOBS" >"$DIR/build.log" 2>&1 ||
+cmake --build "$DIR" --target momenta_fuzz_model momenta_fuzz_result momenta_mat_plugin -j "$JOBS" >"$DIR/build.log" 2>&1 ||
   { tail -n 40 "$DIR/build.log"; log "build failed"; exit 2; }
 
 # ---- run --------------------------------------------------------------------------------------

@@ -113,7 +113,7 @@ outputs: [heavy.s, light.s]
 
 // Coulomb friction as a sign: a mass sliding at 1 m/s against 1 N stops at t = 1 s, where each
 // branch pushes the velocity back across zero. The run ends there with a named chattering error
-// (exit 3), not a hang, and keeps the rows up to t = 1 s.
+// (exit 3), not a hang, and keeps the rows up to t = 1 s and the left limit there.
 TEST_F(StressTest, SlidingModeEndsWithTheChatteringMessage) {
   CliResult r = Simulate("slide.yaml", R"(model: SignFriction
 define:
@@ -137,8 +137,11 @@ outputs: [mass.s, mass.v]
   EXPECT_NE(r.err.find("chattering"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("mass.v > 0"), std::string::npos) << r.err;
   const testing::Csv csv = Rows();
-  ASSERT_EQ(csv.rows.size(), 101u);
-  EXPECT_DOUBLE_EQ(csv.rows.back()[0], 1.0);
+  // The grid's rows to t = 1, then the left-limit row at the instant the iteration gave up
+  // (1 + 1e-12: the crossing's location), kept as every failed event keeps it.
+  ASSERT_EQ(csv.rows.size(), 102u);
+  EXPECT_DOUBLE_EQ(csv.rows[100][0], 1.0);
+  EXPECT_NEAR(csv.rows.back()[0], 1.0, 1e-9);
   EXPECT_NEAR(csv.rows.back()[1], 0.5, 1e-8);  // s = v0 t - t^2/2 at t = 1
 }
 
