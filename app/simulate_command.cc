@@ -193,6 +193,11 @@ int RunSimulate(const SimulateArgs& args) {
   InstallInterruptHandler();
   opt.interrupt = &InterruptRequested();
   const std::string out_path = args.out.empty() ? FileStem(args.model) + ".csv" : args.out;
+  if (std::string space = ResultSpaceProblem(out_path, opt, num_written); !space.empty()) {
+    std::cerr << "momenta: --interval " << FormatDouble(opt.interval) << " from " << FormatDouble(opt.start)
+              << " to " << FormatDouble(opt.stop) << " s: " << space << "; choose a larger --interval\n";
+    return kExitUsage;
+  }
   std::unique_ptr<ResultWriter> results;
   try {
     results = OpenResults(out_path, written_names, loaded, opt);

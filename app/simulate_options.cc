@@ -1,9 +1,14 @@
 #include "app/simulate_options.h"
 
+#include <sys/statvfs.h>
+
 #include <cmath>
 
 #include "app/csv_writer.h"
+#include "app/mat_writer.h"
 #include "core/base/error.h"
+#include "core/base/memory_budget.h"
+#include "core/base/messages.h"
 
 namespace momenta {
 
@@ -78,6 +83,31 @@ SimulationOptions ResolveSimulationOptions(const ExperimentSpec& experiment, con
     }
   }
   return opt;
+}
+
+std::string ResultSpaceProblem(const std::string& out_path, const SimulationOptions& opt, size_t columns) {
+  if (out_path == "-" || !(opt.interval > 0)) return "";
+  const double rows = std::floor((opt.stop - opt.start) / opt.interval) + 1;
+  const double values = rows * static_cast<double>(columns + 1);
+  if (IsMatPath(out_path)) {
+    // The MAT writer keeps every value (8 bytes) until the run ends, then writes the file.
+    const double bytes = 8 * values;
+    const MemoryBudget budget = BuildMemoryBudget();
+    if (bytes <= budget.bytes) return "";
+    return NumberText(rows) + " rows of " + NumberText(static_cast<double>(columns + 1)) +
+           " columns take about " + ByteText(bytes) + " of memory until the MAT file is written, more than the " +
+           ByteText(budget.bytes) + " available (" + budget.source + ")";
+  }
+  // A CSV value takes at most 25 bytes (17 significant digits, sign, exponent and separator).
+  const double bytes = 25 * values;
+  std::string dir = out_path.substr(0, out_path.find_last_of('/') + 1);
+  if (dir.empty()) dir = ".";
+  struct statvfs fs;
+  if (statvfs(dir.c_str(), &fs) != 0) return "";  // opening the file will say what is wrong
+  const double free_bytes = static_cast<double>(fs.f_bavail) * static_cast<double>(fs.f_frsize);
+  if (bytes <= free_bytes) return "";
+  return NumberText(rows) + " rows of " + NumberText(static_cast<double>(columns + 1)) + " columns may take up to " +
+         ByteText(bytes) + " of CSV, more than the " + ByteText(free_bytes) + " free in " + dir;
 }
 
 }  // namespace momenta

@@ -31,4 +31,11 @@ CodegenMode ResolveCodegenMode(const SimulateOverrides& overrides);
 /// is not a whole number of at least 1.
 SimulationOptions ResolveSimulationOptions(const ExperimentSpec& experiment, const SimulateOverrides& overrides);
 
+/// Why the rows of a run with `opt` cannot be kept in `out_path` with `columns` columns besides
+/// time, or "" when they can: a CSV file's rows must fit in the free space of its file system, a
+/// MAT file's (held in memory until the run ends) in the memory budget. Standard output ("-") is
+/// not bounded. The grid's rows are counted (events add a few more, which the estimate's margin
+/// covers).
+std::string ResultSpaceProblem(const std::string& out_path, const SimulationOptions& opt, size_t columns);
+
 }  // namespace momenta

@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <cmath>
 #include <string>
 #include <vector>
@@ -250,6 +252,29 @@ experiment: {stop: 0.1, interval: 0.01}
   CliResult w = Simulate(real_when);
   EXPECT_EQ(w.exit_code, 1) << w.err;
   EXPECT_TRUE(Has(w, real_when + ":8:5: the when-condition 'x' is a Real expression, not a truth value")) << w.err;
+}
+
+// The README's slip: `--interval 1e-9 --stop 1` (1e9 rows) was accepted and would have filled the
+// disk (CSV) or the memory (MAT, held until the run ends). With 1 000 outputs the rows need
+// terabytes on any machine: refused before the run (exit 2), with the figures.
+TEST_F(ReliabilityNumbersTest, RowsThatCannotBeKeptAreRefusedBeforeTheRun) {
+  const std::string file = dir_.Write("wide.yaml", R"(model: Wide
+variables: {x: {shape: [1000], start: 1, fixed: true}}
+equations: ["der(x) = -x"]
+outputs: [x]
+)");
+  for (const char* out : {"out.csv", "out.mat"}) {
+    CliResult r = Momenta({"simulate", file, "-q", "--interval", "1e-9", "--stop", "1", "-o", dir_.File(out)});
+    EXPECT_EQ(r.exit_code, 2) << out << ": " << r.err;
+    EXPECT_TRUE(Has(r, "momenta: --interval 1e-09 from 0 to 1 s: 1000000000 rows of 1001 columns")) << r.err;
+    EXPECT_TRUE(Has(r, std::string(out) == "out.csv" ? " of CSV, more than the " : " of memory until the MAT file is written"))
+        << r.err;
+    EXPECT_TRUE(Has(r, "; choose a larger --interval")) << r.err;
+    EXPECT_NE(access(dir_.File(out).c_str(), F_OK), 0) << out << " was created";
+  }
+  // A grid that fits runs as before.
+  CliResult ok = Momenta({"simulate", file, "-q", "--interval", "0.1", "--stop", "1", "-o", dir_.File("out.csv")});
+  EXPECT_EQ(ok.exit_code, 0) << ok.err;
 }
 
 }  // namespace
