@@ -97,13 +97,15 @@ ParameterOverrides ParseOverrides(const std::vector<std::string>& pairs, Overrid
       const Unit unit = ParseUnit(q->unit);
       v = q->value * unit.factor + unit.offset;
     } else {
+      // Decimal only, as values in a model file are written (no hex, inf or nan).
+      std::optional<double> number;
       try {
-        size_t used = 0;
-        v = std::stod(text, &used);
-        if (used != text.size()) throw std::invalid_argument(text);
-      } catch (const std::exception&) {
-        throw std::invalid_argument("-p " + name + ": '" + text + "' is not a number");
+        number = ParseDecimal(text);
+      } catch (const UnitError& e) {
+        throw std::invalid_argument("-p " + name + ": " + e.what());
       }
+      if (!number) throw std::invalid_argument("-p " + name + ": '" + text + "' is not a number");
+      v = *number;
     }
     out[name] = v;
   }

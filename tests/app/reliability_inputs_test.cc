@@ -145,6 +145,18 @@ outputs: [mass.s]
   r = RunMomenta({"check", "range.yaml", "-p", "mass.m=1e999 g"}, dir.path());
   EXPECT_EQ(r.exit_code, kExitUsage) << r.err;
   EXPECT_TRUE(Contains(r.err, "-p mass.m: the number 1e999 is outside double's range")) << r.err;
+  // A plain -p number is decimal as a model's values are: no hex, inf, nan or subnormal (stod
+  // read 0x10 as 16 and 1e999 as a bare 'stod').
+  for (const auto& [value, says] :
+       {std::pair<std::string, std::string>{"mass.m=1e999", "-p mass.m: the number 1e999 is outside double's range"},
+        {"mass.m=1e-320", "-p mass.m: the number 1e-320 is outside double's range"},
+        {"mass.m=inf", "-p mass.m: 'inf' is not a number"},
+        {"mass.m=nan", "-p mass.m: 'nan' is not a number"},
+        {"mass.m=0x10", "-p mass.m: unit 'x10' does not parse"}}) {
+    r = RunMomenta({"check", "range.yaml", "-p", value}, dir.path());
+    EXPECT_EQ(r.exit_code, kExitUsage) << value << ": " << r.err;
+    EXPECT_TRUE(Contains(r.err, says)) << value << ": " << r.err;
+  }
   // Values in range still convert: 2500 g is 2.5 kg.
   with_mass("2500 g");
   r = RunMomenta({"check", "range.yaml"}, dir.path());
