@@ -14,6 +14,7 @@
 #include "app/interrupt.h"
 #include "core/build.h"
 #include "core/base/memory_budget.h"
+#include "core/base/messages.h"
 #include "core/compile/model_state.h"
 #include "core/lang/units.h"
 #include "core/lang/yaml_loader.h"
@@ -147,7 +148,12 @@ int LoadAndBuild(const std::string& path, const ParameterOverrides& overrides, L
     out->load_s = Since(t0);
     out->doc = spec.doc;
     // An array model's file is small: a large build shows once its counts are known.
-    LargeBuildWatch large_build([](double) { RestartWithHugePagesForLargeBuild(); });
+    LargeBuildWatch large_build([](double) { RestartWithHugePagesForLargeBuild(); },
+                                [&path](double bytes, const MemoryBudget& budget) {
+                                  std::cerr << path << ": note: building this model takes about " << ByteText(bytes)
+                                            << " of memory (an estimate), more than half of the "
+                                            << ByteText(budget.bytes) << " available (" << budget.source << ")\n";
+                                });
     auto t1 = Clock::now();
     BuildOptions options;
     options.overrides = out->overrides;

@@ -76,22 +76,35 @@ double EstimatedComponentBytes(size_t num_variables, size_t num_parameters,
 }
 
 namespace {
-/// The watch of this thread's build; empty when there is none or it has been told.
+/// The watches of this thread's build; each empty when there is none or it has been told.
 thread_local std::function<void(double)> large_build_watch;
+thread_local std::function<void(double, const MemoryBudget&)> most_of_budget_watch;
 }  // namespace
 
-LargeBuildWatch::LargeBuildWatch(std::function<void(double bytes)> on_large) {
+LargeBuildWatch::LargeBuildWatch(std::function<void(double bytes)> on_large,
+                                 std::function<void(double bytes, const MemoryBudget& budget)> on_most_of_budget) {
   large_build_watch = std::move(on_large);
+  most_of_budget_watch = std::move(on_most_of_budget);
 }
 
-LargeBuildWatch::~LargeBuildWatch() { large_build_watch = nullptr; }
-
-void NotePlannedBuild(double bytes) {
-  if (!large_build_watch || bytes < kLargeBuildBytes) return;
-  // Told once: the callback leaves the watch before it runs (it may not return).
-  std::function<void(double)> on_large = std::move(large_build_watch);
+LargeBuildWatch::~LargeBuildWatch() {
   large_build_watch = nullptr;
-  on_large(bytes);
+  most_of_budget_watch = nullptr;
+}
+
+void NotePlannedBuild(double bytes, const MemoryBudget& budget) {
+  // Each told once: a callback leaves its watch before it runs (on_large may not return: it
+  // restarts the process, whose build then tells the other).
+  if (large_build_watch && bytes >= kLargeBuildBytes) {
+    std::function<void(double)> on_large = std::move(large_build_watch);
+    large_build_watch = nullptr;
+    on_large(bytes);
+  }
+  if (most_of_budget_watch && bytes > budget.bytes / 2) {
+    std::function<void(double, const MemoryBudget&)> on_most = std::move(most_of_budget_watch);
+    most_of_budget_watch = nullptr;
+    on_most(bytes, budget);
+  }
 }
 
 }  // namespace momenta

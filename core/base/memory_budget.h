@@ -36,16 +36,20 @@ constexpr double kLargeBuildBytes = 32.0 * 1024 * 1024;
 
 /// While one lives, a build on this thread whose planned size passes kLargeBuildBytes calls
 /// `on_large` with the planned bytes, once, before it makes the components (the command line
-/// restarts itself on huge pages then: app/huge_pages.h). Watches do not nest.
+/// restarts itself on huge pages then: app/huge_pages.h); one that plans more than half the
+/// memory budget calls `on_most_of_budget` once, before it takes it (the command line says so).
+/// Watches do not nest.
 class LargeBuildWatch {
  public:
-  explicit LargeBuildWatch(std::function<void(double bytes)> on_large);
+  explicit LargeBuildWatch(std::function<void(double bytes)> on_large,
+                           std::function<void(double bytes, const MemoryBudget& budget)> on_most_of_budget = nullptr);
   ~LargeBuildWatch();
   LargeBuildWatch(const LargeBuildWatch&) = delete;
   LargeBuildWatch& operator=(const LargeBuildWatch&) = delete;
 };
 
-/// Called by the flattener with the bytes planned so far (core/flatten/type_layout.cc, CheckedCount).
-void NotePlannedBuild(double bytes);
+/// Called by the flattener with the bytes planned so far and the budget they were checked
+/// against (core/flatten/type_layout.cc, CheckedCount).
+void NotePlannedBuild(double bytes, const MemoryBudget& budget);
 
 }  // namespace momenta

@@ -349,7 +349,7 @@ uint32_t CheckedCount(FlattenContext* context, const ComponentSpec& c, const Typ
                                 ByteText(bytes) + " of memory to build, more than the budget of " +
                                 ByteText(budget.bytes) + " (" + budget.source + ")");
   }
-  NotePlannedBuild(bytes);
+  NotePlannedBuild(bytes, budget);
   // Instances, variables and parameters are numbered with 32-bit indices.
   const FlatSystem& flat = context->flat;
   double ids = std::max({static_cast<double>(flat.instances.size()), static_cast<double>(flat.variables.size()),
