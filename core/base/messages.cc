@@ -10,6 +10,7 @@
 namespace momenta {
 
 std::string NumberText(double v) {
+  if (std::isnan(v)) return "NaN";  // printf writes nan or -nan by the sign bit, which means nothing
   char buf[40];
   if (std::fabs(v) < 1e15 && v == std::floor(v)) {
     std::snprintf(buf, sizeof buf, "%.0f", v);

@@ -4,6 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <limits>
+
 namespace momenta {
 namespace {
 
@@ -21,6 +24,14 @@ TEST(TerminalTextTest, TextNewlinesAndTabsPass) {
       "line 1\n\tR\xc3\xa9sistance \xc2\xb0"
       "C \xe2\x80\xa6\n";
   EXPECT_EQ(TerminalText(text), text);
+}
+
+TEST(NumberTextTest, NotANumberIsWrittenOneWay) {
+  // printf gives "nan" or "-nan" by the sign bit; a message says NaN whatever the bit.
+  EXPECT_EQ(NumberText(std::nan("")), "NaN");
+  EXPECT_EQ(NumberText(-std::nan("")), "NaN");
+  EXPECT_EQ(NumberText(std::numeric_limits<double>::infinity()), "inf");
+  EXPECT_EQ(NumberText(2.5), "2.5");
 }
 
 }  // namespace
