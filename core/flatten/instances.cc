@@ -60,7 +60,7 @@ void InstanceBuilder::Components() {
     ComponentArray arr{s, static_cast<uint32_t>(flat.instances.size()), 1, c.count != nullptr,
                        static_cast<uint32_t>(1 + layout.subs.size())};
     if (c.count) arr.count = ArrayCount(c, layout);
-    context_.planned_bytes += EstimatedBytes(layout);
+    context_.planned_bytes += arr.count * EstimatedBytes(layout);  // every element, as CheckedCount planned
     if (arr.is_array) ReserveElements(layout, arr.count);
     const Modifiers modifiers = SortModifiers(c, layout);
     const int32_t block = arr.is_array ? BeginBlock(c, layout) : -1;

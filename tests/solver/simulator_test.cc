@@ -59,10 +59,10 @@ TEST(SimulatorTest, OptionsWithoutAFiniteOutputGridAreRefused) {
   };
   for (const Case& c : std::vector<Case>{
            {inf, 0, "the stop time inf is not a finite time after the start time 0"},
-           {nan, 0, "the stop time nan is not a finite time after the start time 0"},
+           {nan, 0, "the stop time NaN is not a finite time after the start time 0"},
            {0, 0, "the stop time 0 is not a finite time after the start time 0"},
            {1, -1, "the output interval -1 is not a positive finite number"},
-           {1, nan, "the output interval nan is not a positive finite number"},
+           {1, nan, "the output interval NaN is not a positive finite number"},
            {1, 1e-300, "the output interval 1e-300: from 0 to 1 s that is 1e+300 output rows; at most 1e9 can be written"},
        }) {
     SimulationOptions opt = OptionsFromExperiment(b.model->experiment);
