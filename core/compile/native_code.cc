@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cerrno>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -312,17 +313,29 @@ bool Reap(std::vector<CompilerJob>* jobs, bool block) {
   return all;
 }
 
+/// Whether any process of group `pgid` is left (a zombie counts until its parent reaps it).
+bool GroupLeft(pid_t pgid) { return ::kill(-pgid, 0) == 0 || errno == EPERM; }
+
 /// Stops every running job's process group: SIGTERM (gcc then removes its own temporary files),
-/// SIGKILL for what still runs a second later; then reaps them.
+/// SIGKILL for what still runs a second later; then reaps them, and waits (a second at most) for
+/// the rest of each group (cc1, as: the driver may be reaped before they have gone).
 void StopCompilers(std::vector<CompilerJob>* jobs) {
+  std::vector<pid_t> groups;
   for (const CompilerJob& job : *jobs) {
-    if (!job.done && job.pid > 0) ::kill(-job.pid, SIGTERM);
+    if (!job.done && job.pid > 0) {
+      ::kill(-job.pid, SIGTERM);
+      groups.push_back(job.pid);
+    }
   }
   for (int k = 0; k < 100 && !Reap(jobs, false); ++k) std::this_thread::sleep_for(std::chrono::milliseconds(10));
   for (const CompilerJob& job : *jobs) {
     if (!job.done && job.pid > 0) ::kill(-job.pid, SIGKILL);
   }
   Reap(jobs, true);
+  for (pid_t group : groups) {
+    for (int k = 0; k < 100 && GroupLeft(group); ++k) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    if (GroupLeft(group)) ::kill(-group, SIGKILL);
+  }
 }
 
 /// Waits for `jobs`: "" when they all succeeded, else the first failure (the first line its
