@@ -46,6 +46,19 @@ const T* FindQualified(const std::map<std::string, std::shared_ptr<T>>& entries,
 
 }  // namespace
 
+Library::Library(const Library& other) { *this = other; }
+
+Library& Library::operator=(const Library& other) {
+  if (this == &other) return *this;
+  if (other.lazy_) other.lazy_->ReadAll(const_cast<Library*>(&other));
+  connectors_ = other.connectors_;
+  components_ = other.components_;
+  short_connectors_ = other.short_connectors_;
+  short_components_ = other.short_components_;
+  lazy_ = nullptr;
+  return *this;
+}
+
 void Library::AddConnector(ConnectorType c) {
   std::string name = c.name;
   AddShortName(name, &short_connectors_);

@@ -213,6 +213,16 @@ class LazyTypes {
 
 class Library {
  public:
+  Library() = default;
+  /// A copy holds every type of `other`: types `other` reads on first use are read now, and the
+  /// copy has no source of its own (a source shared by two libraries would read a type into only
+  /// one of them, and the other would never ask again).
+  Library(const Library& other);
+  Library& operator=(const Library& other);
+  Library(Library&&) noexcept = default;
+  Library& operator=(Library&&) noexcept = default;
+  ~Library() = default;
+
   /// From now on, a component type not found is asked of `lazy` first. The library's contents do
   /// not change (a type read on first use was always in it), so lookups stay const; they are not
   /// safe from several threads at once while types are still being read.

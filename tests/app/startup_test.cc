@@ -167,5 +167,43 @@ TEST(StartupTest, TypesReadOnFirstUseAreThoseOfTheWholeFiles) {
   EXPECT_EQ(builtin.ConnectorNames(), whole.ConnectorNames());
 }
 
+/// A source that reads one small type per name, counting what it is asked.
+class CountingTypes : public LazyTypes {
+ public:
+  mutable int reads = 0;
+  void Read(const std::string& name, Library* library) const override {
+    if (name != "Alpha" && name != "Beta") return;
+    ++reads;
+    LoadLibraryString(name + ":\n  parameters: {k: 1}\n", "counting.yaml", library);
+  }
+  void ReadAll(Library* library) const override {
+    for (const char* name : {"Alpha", "Beta"}) {
+      if (!library->HasComponent(name)) Read(name, library);
+    }
+  }
+};
+
+TEST(StartupTest, ACopiedLibraryHoldsEveryTypeAndTheOriginalKeepsItsSource) {
+  auto source = std::make_shared<CountingTypes>();
+  Library original;
+  original.SetLazyTypes(source);
+  ASSERT_NE(original.FindComponent("Alpha"), nullptr);
+  EXPECT_EQ(source->reads, 1);
+  // The copy reads what the original had not read yet (Beta) into the original, then copies it:
+  // a type the copy holds is never missing from the original afterwards.
+  Library copy = original;
+  EXPECT_EQ(source->reads, 2);
+  EXPECT_NE(copy.FindComponent("Beta"), nullptr);
+  EXPECT_NE(original.FindComponent("Beta"), nullptr);
+  EXPECT_EQ(source->reads, 2);
+  // The copy's additions stay its own.
+  LoadLibraryString("Gamma:\n  parameters: {k: 2}\n", "copy.yaml", &copy);
+  EXPECT_NE(copy.FindComponent("Gamma"), nullptr);
+  EXPECT_EQ(original.FindComponent("Gamma"), nullptr);
+  Library assigned;
+  assigned = original;
+  EXPECT_EQ(assigned.ComponentNames(), (std::vector<std::string>{"Alpha", "Beta"}));
+}
+
 }  // namespace
 }  // namespace momenta

@@ -169,10 +169,6 @@ outputs: [c, n, s, d, z, Ia, e]
 // A connector type whose potential and flow are vectors (a library file): connections join
 // element by element, an unconnected flow is zero in each element.
 TEST(ArraysTest, ConnectorTypeWithVectorVariables) {
-  // The built-in library reads its types on first use; a copy shares that reader, so the library
-  // reads every type before it is copied (else the copy would take types the original then
-  // never gets: later tests in the same process would miss them).
-  (void)BuiltinLibrary().ComponentNames();
   Library lib = BuiltinLibrary();
   LoadLibraryString(R"y(
 Frame2:
