@@ -75,6 +75,6 @@ constexpr momenta::MatPluginTable kTable = {momenta::kPluginAbi, WriteV4, Open, 
 
 }  // namespace
 
-extern "C" __attribute__((visibility("default"))) const momenta::MatPluginTable* momenta_mat_plugin() {
+extern "C" __attribute__((visibility("default"))) const void* momenta_mat_plugin() {
   return &kTable;
 }

@@ -40,5 +40,7 @@ struct MatPluginTable {
 
 }  // namespace momenta
 
-/// The plugin's one exported function.
-extern "C" const momenta::MatPluginTable* momenta_mat_plugin();
+/// The plugin's one exported function: its momenta::MatPluginTable. The type is the one the loader
+/// calls it through (app/plugin.h: a function called through a pointer of another type is
+/// undefined behaviour, which UBSan's function check reports).
+extern "C" const void* momenta_mat_plugin();

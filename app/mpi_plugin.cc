@@ -46,6 +46,6 @@ constexpr momenta::MpiPluginTable kTable = {momenta::kPluginAbi, Join, Leave, Al
 
 }  // namespace
 
-extern "C" __attribute__((visibility("default"))) const momenta::MpiPluginTable* momenta_mpi_plugin() {
+extern "C" __attribute__((visibility("default"))) const void* momenta_mpi_plugin() {
   return &kTable;
 }

@@ -26,5 +26,7 @@ struct MpiPluginTable {
 
 }  // namespace momenta
 
-/// The plugin's one exported function.
-extern "C" const momenta::MpiPluginTable* momenta_mpi_plugin();
+/// The plugin's one exported function: its momenta::MpiPluginTable. The type is the one the loader
+/// calls it through (app/plugin.h: a function called through a pointer of another type is
+/// undefined behaviour, which UBSan's function check reports).
+extern "C" const void* momenta_mpi_plugin();

@@ -80,6 +80,11 @@ run_target() {  # NAME SECONDS DICT SEED_DIR...
     log "$name: FOUND ${#found[@]}:"
     printf '  %s\n' "${found[@]}"
     log "reproduce with: $target FILE   (log: $log_file)"
+    # What a clean clone's log must show: the input (base64) and the report of the first finding,
+    # since build-fuzz/ does not outlive a CI machine.
+    log "first finding, base64: $(base64 -w0 "${found[0]}" | head -c 4000)"
+    UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}" timeout 60 "$target" "${found[0]}" 2>&1 |
+      grep -v '^INFO:' | head -n 40 | sed 's/^/  | /' || true
     found_any=1
   elif [[ -z "$execs" ]]; then
     tail -n 30 "$log_file"
