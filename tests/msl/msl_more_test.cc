@@ -12,6 +12,7 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <ostream>
 #include <string>
 
 #include "tests/support/msl_tube.h"
@@ -27,6 +28,8 @@ struct MoreExample {
   long dymola_steps;
   int dymola_state_events, dymola_time_events;
 };
+
+void PrintTo(const MoreExample& e, std::ostream* os) { *os << e.name; }
 
 const MoreExample kExamples[] = {
     {"Modelica.Blocks.Examples.BooleanNetwork1", 10, 850, 0, 50},
