@@ -49,7 +49,8 @@ void AddRunStats(const SimulationOptions& o, const SolverStats& s, ReportData* d
   t.push_back({"error-test failures", std::to_string(s.error_test_failures)});
   t.push_back({"convergence failures", std::to_string(s.nonlinear_failures)});
   t.push_back({"events", std::to_string(s.events) + " (" + std::to_string(s.time_events) + " time events, " +
-                             std::to_string(s.impacts) + " impacts), " + std::to_string(s.restarts) + " restarts"});
+                             std::to_string(s.impacts) + " impacts), " + std::to_string(s.restarts) + " restarts, " +
+                             std::to_string(s.quiet_crossings) + " quiet crossings (no restart)"});
 }
 
 int SaveReport(const std::string& path, const ReportData& data, std::string* summary) {

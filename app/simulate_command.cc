@@ -126,7 +126,9 @@ void PrintSummary(std::ostream& o, const SimulateArgs& args, const LoadedModel& 
   if (!stats.cost_note.empty()) o << "  note: " << stats.cost_note << "\n";
   if (stats.events > 0) {
     o << "  " << stats.events << " events (" << stats.time_events << " time events, " << stats.impacts
-      << " impacts), " << stats.restarts << " restarts\n";
+      << " impacts), " << stats.restarts << " restarts";
+    if (stats.quiet_crossings) o << "; " << stats.quiet_crossings << " quiet crossings (no restart)";
+    o << "\n";
   }
   o << "  results: " << out_path << " (" << run.rows << " rows)\n" << report_line;
   if (!model.output_names.empty()) {

@@ -182,7 +182,82 @@ std::string SingularCause(const CompiledModel& model, ModelState* state, const I
   return cause;
 }
 
+/// Whether some when-clause's condition has become true at (t, run->y, run->y').
+bool WhenWouldFire(const CompiledModel& model, ModelState* state, IntegrationState* run, double t,
+                   std::vector<double>* condition) {
+  if (model.whens.empty()) return false;
+  condition->resize(model.whens.size());
+  state->WhenConditions(t, run->y.data(), run->yp.data(), condition->data());
+  for (size_t k = 0; k < model.whens.size(); ++k) {
+    if ((*condition)[k] != 0 && !run->when_true[k]) return true;
+  }
+  return false;
+}
+
+/// Whether program `p` reads a register in [lo, hi) (an operand field equal to one: conservative,
+/// since a field that is not a register may match too).
+bool ReadsRegisters(const Program& p, uint32_t lo, uint32_t hi, std::vector<bool>* which = nullptr) {
+  bool any = false;
+  for (const Instruction& in : p.code()) {
+    for (uint32_t r : {in.a, in.b, in.c}) {
+      if (r < lo || r >= hi) continue;
+      any = true;
+      if (which) (*which)[r - lo] = true;
+    }
+  }
+  return any;
+}
+
 }  // namespace
+
+void PrepareQuietCrossings(const CompiledModel& model, IntegrationState* run) {
+  run->residual_reads_condition.clear();
+  const RegisterLayout& l = model.layout;
+  if (!model.impacts.empty() || model.conditions.empty()) return;
+  // pre(y) changes at every event (SavePre): equations that read it need the restart.
+  const uint32_t pre_y = l.pre_base, pre_y_end = l.pre_base + l.num_unknowns;
+  if (ReadsRegisters(model.residual, pre_y, pre_y_end) || ReadsRegisters(model.jacobian, pre_y, pre_y_end)) return;
+  std::vector<bool> reads(model.conditions.size(), false);
+  const uint32_t end = l.cond_base + l.num_conditions;
+  ReadsRegisters(model.residual, l.cond_base, end, &reads);
+  ReadsRegisters(model.jacobian, l.cond_base, end, &reads);
+  run->residual_reads_condition = std::move(reads);
+}
+
+bool QuietCrossing(const CompiledModel& model, ModelState* state, IntegrationState* run, double t) {
+  if (run->residual_reads_condition.empty()) return false;
+  const size_t nc = model.conditions.size();
+  std::vector<double> saved(state->event_values(), state->event_values() + state->num_event_values());
+  const std::vector<double> before(state->conditions(), state->conditions() + nc);
+  const std::vector<bool> saved_moving = run->moving_at_zero;
+  std::vector<double> left(run->outputs.size());
+  state->Outputs(t, run->y.data(), run->yp.data(), left.data());
+  state->SavePre(run->y.data());
+  SetConditions(model, state, run, t, kRightLimit);
+  bool quiet = true;
+  for (size_t i = 0; i < nc && quiet; ++i) {
+    if (state->conditions()[i] != before[i] && run->residual_reads_condition[i]) quiet = false;
+  }
+  std::vector<double> when_now;
+  if (quiet) quiet = !UpdateDiscrete(state, run, t) && !WhenWouldFire(model, state, run, t, &when_now);
+  if (!quiet) {
+    std::copy(saved.begin(), saved.end(), state->mutable_event_values());
+    run->moving_at_zero = saved_moving;
+    return false;
+  }
+  for (size_t k = 0; k < when_now.size(); ++k) run->when_true[k] = when_now[k] != 0;
+  ++run->stats->quiet_crossings;
+  run->time_events_stale = true;
+  run->sample_valid = false;
+  std::vector<double> right(run->outputs.size());
+  state->Outputs(t, run->y.data(), run->yp.data(), right.data());
+  if (right != left || run->options.rows_at_every_event) {
+    Row(run, t, left);
+    Row(run, t, right);
+    run->outputs = right;
+  }
+  return true;
+}
 
 void DoEvent(const CompiledModel& model, ModelState* state, IntegrationState* run, double t,
              bool time_event) {

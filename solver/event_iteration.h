@@ -13,6 +13,16 @@ namespace momenta {
 /// limit: the crossing that caused the event is passed), or left as it was.
 enum ZeroSide { kAtValue, kRightLimit, kHoldAtZero };
 
+/// Sets run->residual_reads_condition: which conditions the residual or its Jacobian reads (left
+/// empty when no crossing may be quiet: a model with impacts, or whose equations read pre(y)).
+void PrepareQuietCrossings(const CompiledModel& model, IntegrationState* run);
+
+/// A crossing at t that changes nothing IDA's equations read: the conditions that switch are read
+/// only by discrete equations whose values stay, and no when-clause fires. Then the conditions
+/// are set (and rows written if an output changed), IDA goes on without a restart, and it returns
+/// true; otherwise nothing is changed and it returns false (the crossing is an event: DoEvent).
+bool QuietCrossing(const CompiledModel& model, ModelState* state, IntegrationState* run, double t);
+
 /// Handles the event at t from the left-limit values in run->y, run->y'; leaves run->t = t and the
 /// right-limit values, with IDA restarted from them.
 void DoEvent(const CompiledModel& model, ModelState* state, IntegrationState* run, double t,

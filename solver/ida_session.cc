@@ -333,6 +333,14 @@ void Interpolate(IntegrationState* run, double t) {
 
 void Restart(const CompiledModel& model, ModelState* state, IntegrationState* run, double t) {
   if (run->num_unknowns == 0) return;
+  // The same values at the same time as the last restart: IDA already starts from them.
+  const double* events = state->event_values();
+  const size_t num_events = state->num_event_values();
+  if (t == run->restarted_at && run->y == run->restarted_y &&
+      std::equal(events, events + num_events, run->restarted_event_values.begin(),
+                 run->restarted_event_values.end())) {
+    return;
+  }
   IdaSession& ida = *run->ida;
   SolverStats* stats = run->stats;
   CollectIdaStats(run);
@@ -372,6 +380,9 @@ void Restart(const CompiledModel& model, ModelState* state, IntegrationState* ru
   PolishConsistentValues(model, state, run, t);
   Load(run);
   CheckFlag(IDAReInit(mem, t, ida.y.get(), ida.yp.get()), "IDAReInit");
+  run->restarted_at = t;
+  run->restarted_y = run->y;
+  run->restarted_event_values.assign(events, events + num_events);
 }
 
 void PolishConsistentValues(const CompiledModel& model, ModelState* state, IntegrationState* run,

@@ -97,6 +97,15 @@ struct IntegrationState {
   double last_event_time = -HUGE_VAL;  ///< of the last event that wrote rows
   int close_events = 0;  ///< events in a row within 1e-10 s (relative) of last_event_time
   std::vector<bool> when_true;         ///< per when-clause: its condition when last evaluated
+  /// Per condition: the residual or its Jacobian reads it (a crossing of one that is not read
+  /// changes IDA's equations only through discrete values). Empty when no crossing may be quiet
+  /// (impacts, or equations that read pre-values of y).
+  std::vector<bool> residual_reads_condition;
+
+  // ---- The last restart (ida_session.cc): a restart from the same values at the same time is
+  // not repeated ----------------------------------------------------------------------------------
+  double restarted_at = HUGE_VAL;
+  std::vector<double> restarted_y, restarted_event_values;
 
   // ---- IDA (ida_session.cc); null for a model without unknowns -------------------------------
   std::unique_ptr<IdaSession, IdaSessionDeleter> ida;

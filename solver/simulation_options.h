@@ -48,7 +48,10 @@ struct SolverStats {
   std::string linear_solver;
   long steps = 0, residual_evals = 0, jacobian_evals = 0, error_test_failures = 0,
        nonlinear_failures = 0, init_iterations = 0;
-  long events = 0, time_events = 0, impacts = 0, restarts = 0;
+  /// Event instants (state and time events) that changed what the equations read; a relation's
+  /// crossing that changed nothing else (a threshold only a discrete equation reads, whose value
+  /// stays) is counted as a quiet crossing instead, and IDA goes on without a restart.
+  long events = 0, time_events = 0, impacts = 0, restarts = 0, quiet_crossings = 0;
   std::vector<double> impact_times;  ///< when each impact happened (for tests and summaries)
   double init_seconds = 0, integrate_seconds = 0;
   double final_time = 0;

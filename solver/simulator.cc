@@ -77,9 +77,14 @@ void RunWithoutEvents(const CompiledModel& model, ModelState* state, Integration
   }
 }
 
+/// Quiet crossings passed within one step before the next crossing is handled as an event (a
+/// relation that keeps switching back and forth is then reported as chattering).
+constexpr int kQuietPerStep = 100;
+
 /// IDA's steps one at a time, each searched for crossings; time events as IDA stop times.
 void RunWithEvents(const CompiledModel& model, ModelState* state, IntegrationState* run) {
   const double stop = run->options.stop;
+  PrepareQuietCrossings(model, run);
   if (TimeRelationSwitchesAtStart(model, state, run)) DoEvent(model, state, run, run->t, true);
   long steps_since_row = 0;
   while (run->t < stop && !Interrupted(run, run->t)) {
@@ -91,12 +96,24 @@ void RunWithEvents(const CompiledModel& model, ModelState* state, IntegrationSta
     if (++steps_since_row > run->options.max_steps) FailTooMuchWork(model, run);
     const long rows_before = run->next_grid_row;
     const IdaStepEnd step = StepIda(model, run, StepTarget(*run, tstop));
-    // A state event inside (t_old, step.t]?
-    const double t_cross = FirstCrossing(model, state, run, t_old, step.t);
-    if (t_cross <= step.t) {
+    // A state event inside (t_old, step.t]? Quiet crossings (they change nothing IDA's equations
+    // read) are passed in the same step; at most kQuietPerStep of them, then it is an event.
+    double from = t_old;
+    bool restarted = false;
+    for (int quiet = 0;; ++quiet) {
+      const double t_cross = FirstCrossing(model, state, run, from, step.t);
+      if (t_cross > step.t) break;
       EmitGrid(state, run, t_cross, /*inclusive=*/false);
       Interpolate(run, t_cross);
+      if (quiet < kQuietPerStep && QuietCrossing(model, state, run, t_cross)) {
+        from = t_cross;
+        continue;
+      }
       DoEvent(model, state, run, t_cross, false);
+      restarted = true;
+      break;
+    }
+    if (restarted) {
       steps_since_row = 0;
       continue;
     }

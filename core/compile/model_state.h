@@ -43,6 +43,13 @@ class ModelState {
   double* mutable_conditions() { return regs_.data() + model_->layout.cond_base; }
   const double* discrete() const { return regs_.data() + model_->layout.disc_base; }
   double* mutable_discrete() { return regs_.data() + model_->layout.disc_base; }
+  /// What the equations read besides time, y and y' and an event may change: the discrete values,
+  /// the pre-values and the conditions, one block of num_event_values() (RegisterLayout).
+  const double* event_values() const { return regs_.data() + model_->layout.disc_base; }
+  double* mutable_event_values() { return regs_.data() + model_->layout.disc_base; }
+  size_t num_event_values() const {
+    return model_->layout.cond_base + model_->layout.num_conditions - model_->layout.disc_base;
+  }
   /// Discrete values before the first event (and their pre-values).
   void StartDiscrete();
   /// Sets initial() for the programs run next (the initialisation programs set it themselves).
