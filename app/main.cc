@@ -41,8 +41,10 @@ void AddRunOptions(CLI::App* command, SimulateOverrides* options, const char* ma
     command->add_option_function<double>(name, [to](const double& v) { *to = v; }, help);
   };
   number("--stop", &options->stop, "stop time [s]");
-  number("--rtol", &options->rtol, "relative tolerance");
-  number("--atol", &options->atol, "absolute tolerance (scaled by each variable's nominal)");
+  number("--rtol", &options->rtol, "relative tolerance (default: the experiment's tolerance, else 1e-6)");
+  number("--atol", &options->atol,
+         "absolute tolerance (default: the relative one); each variable's is atol*nominal, its nominal 1 unless "
+         "its type or component entry sets one (e.g. w_rel: {nominal: 1e-4})");
   number("--interval", &options->interval, "output interval [s]");
   number("--max-order", &options->max_order, max_order_help);
   number("--max-steps", &options->max_steps,

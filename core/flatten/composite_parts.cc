@@ -140,7 +140,7 @@ void AdoptPartTemplates(TypeLayout* layout, const PartPlan& plan) {
 }
 
 /// The composite's modifiers of part `plan`, in place of the part's defaults: a parameter's value,
-/// or a variable's start, fixed and stateSelect.
+/// or a variable's start, fixed, nominal and stateSelect.
 void ApplyModifiers(TypeLayout* layout, const PartPlan& plan) {
   const TypeLayout& part = *plan.layout;
   const uint32_t var_off = layout->subs[plan.sub].first_var, param_off = layout->subs[plan.sub].first_param;
@@ -156,6 +156,7 @@ void ApplyModifiers(TypeLayout* layout, const PartPlan& plan) {
       if (m.start) layout->starts[var_off + k] = MakeTemplate(*layout, *m.start, AstToString(*m.start), m.loc, true, loop);
       if (m.fixed) layout->vars[var_off + k].fixed = *m.fixed;
       if (m.state_priority) layout->vars[var_off + k].state_priority = *m.state_priority;
+      if (m.nominal) layout->vars[var_off + k].nominal = *m.nominal;
       layout->vars[var_off + k].loc = m.loc;
     }
   }

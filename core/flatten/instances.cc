@@ -386,12 +386,14 @@ void InstanceBuilder::AddVariables(const NewInstance& instance, const std::vecto
     }
     if (lv.fixed) fv.fixed = *lv.fixed;
     if (lv.state_priority) fv.state_priority = *lv.state_priority;
+    if (lv.nominal) fv.nominal = *lv.nominal;
     if (layout.starts[k].root >= 0) fv.start = Instantiate(instance, layout.starts[k], "", fv.loc);
     fv.discrete = layout.discrete[k];
     if (const Modifier* m = modifiers[k]) {
       if (m->start) fv.start = scope_.StartExpr(*m->start, m->loc, instance.index);
       if (m->fixed) fv.fixed = *m->fixed;
       if (m->state_priority) fv.state_priority = *m->state_priority;
+      if (m->nominal) fv.nominal = *m->nominal;
       fv.loc = m->loc;
     }
     context_.flat.variables.push_back(std::move(fv));

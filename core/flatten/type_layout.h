@@ -30,6 +30,7 @@ struct LocalVar {
   int32_t sub = -1;            ///< the part of a composite it belongs to (-1: the type itself)
   std::optional<bool> fixed;   ///< set by a composite's modifier
   std::optional<int> state_priority;  ///< stateSelect, set by a composite's modifier
+  std::optional<double> nominal;      ///< set by a composite's modifier
   SourceLoc loc;               ///< a composite's modifier, if one sets it
 };
 

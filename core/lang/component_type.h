@@ -132,7 +132,8 @@ struct ConnectorDecl {
   SourceLoc loc;
 };
 
-/// `key: value` in a component entry: a parameter value, or start/fixed/stateSelect of a variable.
+/// `key: value` in a component entry: a parameter value, or start/fixed/nominal/min/max/stateSelect
+/// of a variable.
 struct Modifier {
   std::string key;
   AstPtr value;      ///< parameter value; null for a variable modifier
@@ -143,6 +144,8 @@ struct Modifier {
   AstPtr start;      ///< variable modifier: start value (may be null)
   std::optional<bool> fixed;
   std::optional<int> state_priority;  ///< stateSelect, as VariableDecl::state_priority
+  std::optional<double> nominal;      ///< > 0: scales the variable's absolute tolerance
+  std::optional<double> min, max;     ///< the variable's range, as VariableDecl::min and max
   SourceLoc loc;      ///< the value
   SourceLoc key_loc;  ///< the key
 };

@@ -13,8 +13,33 @@ namespace momenta {
 
 namespace {
 
+/// The attributes a component entry may set on a variable of its type: `start`, `fixed`,
+/// `nominal` (positive), `min`, `max` (min <= max) and `stateSelect`.
+void ReadVariableAttributes(const ValueReader& reader, const YamlNode& value, const MessageSubject& what,
+                            const std::string& name, Modifier* m) {
+  reader.CheckKeys(value, what, {"start", "fixed", "nominal", "min", "max", "stateSelect"});
+  if (const YamlNode start = value["start"]) {
+    m->start = reader.Expression(start, MessageSubject{"start of ", name, ".", m->key});
+  }
+  if (const YamlNode fixed = value["fixed"]) m->fixed = reader.Bool(fixed, what.Plus(".fixed"));
+  if (const YamlNode nominal = value["nominal"]) {
+    m->nominal = reader.Number(nominal, what.Plus(".nominal"));
+    if (!(*m->nominal > 0)) {
+      reader.Fail(nominal, what + ".nominal must be a positive number (the variable's typical magnitude), found " +
+                               reader.Scalar(nominal, what.Plus(".nominal")));
+    }
+  }
+  m->min = reader.OptionalNumber(value, "min", what);
+  m->max = reader.OptionalNumber(value, "max", what);
+  if (m->min && m->max && *m->min > *m->max) {
+    reader.Fail(value["max"], what + ".max = " + reader.Scalar(value["max"], what.Plus(".max")) +
+                                  " is below its min = " + reader.Scalar(value["min"], what.Plus(".min")));
+  }
+  if (const YamlNode choice = value["stateSelect"]) m->state_priority = reader.StateSelect(choice, what);
+}
+
 /// Component `name`: `type:`, and `doc:`, `count:` and a modifier for each other key (a value,
-/// or a mapping of `start:`, `fixed:`, `stateSelect:`).
+/// or a mapping of `start:`, `fixed:`, `nominal:`, `min:`, `max:`, `stateSelect:`).
 ComponentSpec ReadComponentEntry(const ValueReader& reader, const std::string& name,
                                  const YamlNode& n) {
   ComponentSpec c;
@@ -45,14 +70,7 @@ ComponentSpec ReadComponentEntry(const ValueReader& reader, const std::string& n
     m.key_loc = m.loc;
     const YamlNode value = it->second;
     if (value.IsMap()) {
-      reader.CheckKeys(value, what, {"start", "fixed", "stateSelect"});
-      if (const YamlNode start = value["start"]) {
-        m.start = reader.Expression(start, MessageSubject{"start of ", name, ".", key});
-      }
-      if (const YamlNode fixed = value["fixed"]) m.fixed = reader.Bool(fixed, what.Plus(".fixed"));
-      if (const YamlNode choice = value["stateSelect"]) {
-        m.state_priority = reader.StateSelect(choice, what);
-      }
+      ReadVariableAttributes(reader, value, what, name, &m);
     } else {
       m.value_text = reader.ValueText(value, what);
       m.value = reader.ValueExpression(value, m.value_text, what, &m.value_unit);

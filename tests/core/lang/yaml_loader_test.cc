@@ -249,7 +249,7 @@ TEST(YamlLoaderTest, ErrorInAModifierOfTheHundredthComponentNamesFileLineAndComp
        "test.yaml:102:71: sd50.s_rel0.fixed must be true or false, found 'maybe'"},
       {"  sd50: {type: SpringDamper, c: 1e4, d: 10, s_rel0: {begin: 1}}\n",
        "test.yaml:102:54: unknown key 'begin' in sd50.s_rel0 (valid keys: start, fixed, "
-       "stateSelect)"},
+       "nominal, min, max, stateSelect)"},
       {"  sd50: {type: SpringDamper, c: 1e4, d: 10, s_rel0: {stateSelect: often}}\n",
        "test.yaml:102:67: unknown stateSelect 'often' for sd50.s_rel0 (valid choices: never, "
        "avoid, default, "
