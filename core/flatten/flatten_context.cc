@@ -30,6 +30,11 @@ FlattenContext::FlattenContext(const ModelSpec& spec, const Library& library,
 }
 
 const ComponentType* FlattenContext::FindType(const std::string& name) const {
+  // A full name first, the model's own types before the library's; a short name only then, so
+  // that a model's own OpAmpCircuits.Feedback leaves `Feedback` to the library's (FORMAT.md: a
+  // short name finds a qualified type when no unqualified type has that name).
+  if (defines->HasComponent(name)) return defines->FindComponent(name);
+  if (library.HasComponent(name)) return library.FindComponent(name);
   if (const ComponentType* t = defines->FindComponent(name)) return t;
   return library.FindComponent(name);
 }

@@ -69,7 +69,7 @@ components:
        "components:\n"
        "  A: {type: Mas, m: 1}\n",
        {},
-       {"@:3:13: ", "'Mas'", "A", "did you mean Mass?", "valid types: ", "Damper", "Resistor"}},
+       {"@:3:13: ", "'Mas'", "A", "did you mean Mass", "valid types: ", "Damper", "Capacitor"}},
 
       // A connector the component does not have.
       {"unknown_connector",
@@ -331,7 +331,7 @@ connections:
 outputs: [C.v]
 )",
        {},
-       {"@", "R.R = 0", "'v = R*i'", "R (Resistor"}},
+       {"@", "R.R * (1 + R.alpha * (R.T - R.T_ref)) = 0", "'v = R_actual*i'", "R (Resistor"}},
 
       // Two signal outputs joined.
       {"two_outputs_connected",

@@ -59,8 +59,8 @@ connections:
 
 TEST(FlattenBoundsTest, HugeCountSaysTheValueAndTheMemory) {
   std::string msg = FlattenError(kLadder, {{"n", 1e300}});
-  EXPECT_NE(msg.find("test.yaml:6:6: count of R ('n') is 1e300: 1e300 Resistor components (6 variables, "
-                     "1 parameter each) need about "),
+  EXPECT_NE(msg.find("test.yaml:6:6: count of R ('n') is 1e300: 1e300 Resistor components (11 variables, "
+                     "5 parameters each) need about "),
             std::string::npos)
       << msg;
   EXPECT_NE(msg.find("GiB of memory to build, more than the budget of "), std::string::npos) << msg;
@@ -69,12 +69,13 @@ TEST(FlattenBoundsTest, HugeCountSaysTheValueAndTheMemory) {
 
 TEST(FlattenBoundsTest, CountAgainstTheBudget) {
   MemoryBudgetOverride budget("1");
-  // A Resistor is estimated at about 4.6 kB: 100 fit in 1 MiB, 1000 do not.
+  // A Resistor (with the MSL's heat port and temperature dependence) is estimated at about 9.4 kB:
+  // 100 fit in 1 MiB, 1000 do not.
   EXPECT_EQ(FlattenError(kLadder, {{"n", 100}}), "");
   std::string msg = FlattenError(kLadder, {{"n", 1000}});
   EXPECT_EQ(msg,
-            "test.yaml:6:6: count of R ('n') is 1000: 1000 Resistor components (6 variables, 1 parameter "
-            "each) need about 4.5 MiB of memory to build, more than the budget of 1 MiB "
+            "test.yaml:6:6: count of R ('n') is 1000: 1000 Resistor components (11 variables, 5 "
+            "parameters each) need about 9.2 MiB of memory to build, more than the budget of 1 MiB "
             "(MOMENTA_MEMORY_MB=1)");
 }
 
