@@ -10,11 +10,15 @@
 // - CriticalDamping of order 2, w = 2 pi f/alpha, alpha = sqrt(2^(1/2) - 1):
 //   y = 1 - (1 + w s) e^{-w s};
 // - SampleTrigger, BooleanPulse and Pulse switch at exactly startTime + k period (time events);
-// - Mean of u = 1 + sin(2 pi f t) over each period 1/f is 1 from the first period's end.
+// - Mean of u = 1 + sin(2 pi f t) over each period 1/f is 1 from the first period's end;
+// - KinematicPTP2 from 0 to 1 with qd_max 1, qdd_max 2 from t0: accelerates at 2 for 0.5 s,
+//   moves at 1 for 0.5 s, decelerates for 0.5 s: q = (t-t0)^2 for t-t0 < 0.5, then
+//   0.25 + (t-t0-0.5), then 1 - (t0+1.5-t)^2, and 1 from t0 + 1.5 on.
 // Tolerances: the runs use rtol 1e-8, so the states are within about 1e-6 of the closed forms.
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -208,6 +212,27 @@ outputs: [mean.y]
 )yaml");
   EXPECT_EQ(At(tr, "mean.y", 0.15), -1);
   for (double t : {0.2, 0.45, 0.7}) EXPECT_NEAR(At(tr, "mean.y", t), 1, 1e-6) << "t = " << t;
+}
+
+TEST(BlocksLibraryTest, KinematicPTP2TrapezoidalSpeedProfile) {
+  Trajectory tr = RunModel(R"yaml(
+model: M
+components:
+  ptp: {type: KinematicPTP2, q_end: [1], qd_max: [1], qdd_max: [2], startTime: 0.1}
+experiment: {stop: 2, interval: 0.05, tolerance: 1e-8}
+outputs: [ptp.q, ptp.qd, ptp.qdd, ptp.moving]
+)yaml");
+  auto q = [](double s) { return s < 0.5 ? s * s : s < 1 ? 0.25 + (s - 0.5) : s < 1.5 ? 1 - (1.5 - s) * (1.5 - s) : 1.0; };
+  auto qd = [](double s) { return s < 0.5 ? 2 * s : s < 1 ? 1.0 : s < 1.5 ? 2 * (1.5 - s) : 0.0; };
+  for (double t : {0.05, 0.35, 0.85, 1.35, 1.95}) {
+    const double s = std::max(0.0, t - 0.1);
+    EXPECT_NEAR(At(tr, "ptp.q[1]", t), q(s), 1e-9) << "t = " << t;
+    EXPECT_NEAR(At(tr, "ptp.qd[1]", t), qd(s), 1e-9) << "t = " << t;
+  }
+  EXPECT_NEAR(At(tr, "ptp.qdd[1]", 0.35), 2, 1e-9);
+  EXPECT_NEAR(At(tr, "ptp.qdd[1]", 1.35), -2, 1e-9);
+  EXPECT_EQ(At(tr, "ptp.moving[1]", 1.55), 1);
+  EXPECT_EQ(At(tr, "ptp.moving[1]", 1.65), 0);
 }
 
 TEST(BlocksLibraryTest, FilterRefusesOrdersAndKindsItDoesNotHave) {
