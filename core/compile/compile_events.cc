@@ -8,6 +8,7 @@
 #include <unordered_set>
 
 #include "core/compile/compile_stages.h"
+#include "core/expr/expr_leaves.h"
 
 namespace momenta {
 
@@ -167,10 +168,16 @@ void CollectConditions(EquationSystem* sys, CompileContext* ctx, CompiledModel* 
   ConditionTable conds(&p, names, ctx->slots.disc_of_var);
   ForEachEvaluated(sys, m, [&](ExprId& e) { conds.Collect(e); });
   conds.Freeze();
+  std::vector<bool> is_discrete(ctx->slots.disc_of_var.size());
+  for (size_t v = 0; v < is_discrete.size(); ++v) is_discrete[v] = ctx->slots.disc_of_var[v] >= 0;
   for (size_t r = 0; r < conds.size(); ++r) {
     const Node rel = p.node(conds.relation(r));
     ExprId z = conds.Replace(p.Sub(ExprId(rel.a), ExprId(rel.b)));
-    bool time_only = !(p.mask(z) & (kHasVar | kHasDer | kHasPre | kHasCond | kHasInitial));
+    // A time event: time, parameters and discrete values alone (MSL's Pulse, `time >=
+    // startTime + pre(count)*period`), which are constant between events, so the time at which
+    // z reaches zero is known once an event has been handled.
+    bool time_only = !(p.mask(z) & (kHasDer | kHasCond | kHasInitial)) &&
+                     AllLeavesIn(p, z, kHasVar, is_discrete);
     ctx->zero_crossings.push_back(z);
     const ExprId rate = CrossingRate(&p, ctx->slots, z);
     ctx->zero_crossing_rates.push_back(rate.valid() ? rate : p.Zero());

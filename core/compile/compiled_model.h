@@ -69,7 +69,7 @@ struct CompiledModel {
   // between events; its zero-crossing function z (a - b of the relation a op b) is monitored.
   struct Condition {
     Op op;
-    bool time_only;  ///< depends on time and parameters only: a time event
+    bool time_only;  ///< depends on time, parameters and discrete values only: a time event
     std::string text;
     bool has_rate = true;  ///< dz/dt is known (z contains no der(): zero_crossing_rates has it)
   };

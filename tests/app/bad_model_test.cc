@@ -63,13 +63,13 @@ components:
        {},
        {"@:7:23: ", "'*'", "der(x) = -2 * * x"}},
 
-      // A misspelt library type: the closest one and the whole list.
+      // A misspelt library type: the closest ones and the list (its first 80 names, alphabetical).
       {"unknown_type",
        "model: Bad\n"
        "components:\n"
        "  A: {type: Mas, m: 1}\n",
        {},
-       {"@:3:13: ", "'Mas'", "A", "did you mean Mass", "valid types: ", "Damper", "Capacitor"}},
+       {"@:3:13: ", "'Mas'", "A", "did you mean Mass", "valid types: ", "Accelerate", "Add"}},
 
       // A connector the component does not have.
       {"unknown_connector",

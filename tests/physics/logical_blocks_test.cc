@@ -22,7 +22,7 @@ using testing::Trajectory;
 /// [on2, off2), and a counter of the instants where its input becomes true.
 constexpr const char* kPulseAndCounter = R"yaml(
 define:
-  Pulse:
+  TimePulse:
     parameters: {on: 1, off: 2, on2: -1, off2: -1}
     connectors: {y: BooleanOutput}
     equations:
@@ -58,9 +58,9 @@ TEST(LogicalBlocksTest, TruthTablesOfXorNorNandAndLogicalSwitch) {
   Trajectory tr = RunModel(R"yaml(
 model: Gates
 components:
-  u1: {type: Pulse, on: 1, off: 3}
-  u2: {type: Pulse, on: 2, off: 4}
-  sel: {type: Pulse, on: 0, off: 2.5}
+  u1: {type: TimePulse, on: 1, off: 3}
+  u2: {type: TimePulse, on: 2, off: 4}
+  sel: {type: TimePulse, on: 0, off: 2.5}
   xor: {type: Xor}
   nor: {type: Nor}
   nand: {type: Nand}
@@ -97,8 +97,8 @@ TEST(LogicalBlocksTest, RSFlipFlopTruthTable) {
   const std::string model = R"yaml(
 model: FlipFlop
 components:
-  s: {type: Pulse, on: 1, off: 2, on2: 5, off2: 6}
-  r: {type: Pulse, on: 3, off: 4, on2: 5, off2: 6}
+  s: {type: TimePulse, on: 1, off: 2, on2: 5, off2: 6}
+  r: {type: TimePulse, on: 3, off: 4, on2: 5, off2: 6}
   rSFlipFlop: {type: RSFlipFlop}
 connections:
   - [s.y, rSFlipFlop.S]
@@ -128,7 +128,7 @@ TEST(LogicalBlocksTest, PreChangeEdgeAndFallingEdgeFireAtTheirInstants) {
   Trajectory tr = RunModel(R"yaml(
 model: Instants
 components:
-  u: {type: Pulse, on: 1, off: 3, on2: 5, off2: 7}
+  u: {type: TimePulse, on: 1, off: 3, on2: 5, off2: 7}
   pre1: {type: Pre}
   change1: {type: Change}
   edge1: {type: Edge}
@@ -167,7 +167,7 @@ TEST(LogicalBlocksTest, ZeroCrossingCountsCrossingsWhileEnabled) {
 model: Crossings
 components:
   sine: {type: Sine, f: 1}
-  enable: {type: Pulse, on: 0.25, off: 2.25}
+  enable: {type: TimePulse, on: 0.25, off: 2.25}
   zeroCrossing: {type: ZeroCrossing}
   crossings: {type: Counter}
 connections:
@@ -241,7 +241,7 @@ TEST(LogicalBlocksTest, TimerMeasuresTheTimeSinceTheInputBecameTrue) {
   Trajectory tr = RunModel(R"yaml(
 model: Timing
 components:
-  u: {type: Pulse, on: 1, off: 3, on2: 5, off2: 7}
+  u: {type: TimePulse, on: 1, off: 3, on2: 5, off2: 7}
   timer: {type: Timer}
 connections:
   - [u.y, timer.u]
@@ -270,7 +270,7 @@ TEST(LogicalBlocksTest, TriggeredTrapezoidRampsFromWhereItIs) {
   Trajectory tr = RunModel(R"yaml(
 model: Trapezoid
 components:
-  u: {type: Pulse, on: 1, off: 1.5, on2: 3, off2: 5}
+  u: {type: TimePulse, on: 1, off: 1.5, on2: 3, off2: 5}
   triggeredTrapezoid: {type: TriggeredTrapezoid, amplitude: 2, offset: 0.5, rising: 1, falling: 0.5}
 connections:
   - [u.y, triggeredTrapezoid.u]
