@@ -49,6 +49,7 @@ struct SolverStats {
   long steps = 0, residual_evals = 0, jacobian_evals = 0, error_test_failures = 0,
        nonlinear_failures = 0, init_iterations = 0;
   long events = 0, time_events = 0, impacts = 0, restarts = 0;
+  std::vector<double> event_times;   ///< when each event happened (time events and impacts too)
   std::vector<double> impact_times;  ///< when each impact happened (for tests and summaries)
   double init_seconds = 0, integrate_seconds = 0;
   double final_time = 0;
