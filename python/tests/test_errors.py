@@ -93,12 +93,13 @@ def test_a_solver_failure_keeps_the_rows_before_it(write_model):
     r = e.value.result
     assert r is not None and not r.ok and r.error == text
     assert 0.9 <= r.time[-1] < 1.0
-    assert r["b.x"][:5] == pytest.approx(1 / (1 - r.time[:5]), rel=1e-5)
+    # The default rtol 1e-6 bounds each step's error; the blow-up amplifies it (2e-5 by t = 0.4).
+    assert r["b.x"][:5] == pytest.approx(1 / (1 - r.time[:5]), rel=1e-4)
     # The model still runs with a value that does not blow up before the stop time.
     assert m.simulate(params={"k": 0.4})["b.x"][-1] == pytest.approx(5, rel=1e-4)
 
 
 def test_an_unknown_output(carrier):
     r = carrier.simulate(stop=0.01)
-    with pytest.raises(KeyError, match=r"'B\.x' is not an output of this model \(did you mean B\.s"):
+    with pytest.raises(KeyError, match=r"'B\.x' is not an output of this model \(did you mean B\.v, B\.s\?\)"):
         r["B.x"]
