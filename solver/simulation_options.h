@@ -49,10 +49,10 @@ struct SolverStats {
   long steps = 0, residual_evals = 0, jacobian_evals = 0, error_test_failures = 0,
        nonlinear_failures = 0, init_iterations = 0;
   long events = 0, time_events = 0, impacts = 0, restarts = 0;
-  std::vector<double> event_times;   ///< when each event happened (time events and impacts too)
   std::vector<double> impact_times;  ///< when each impact happened (for tests and summaries)
   double init_seconds = 0, integrate_seconds = 0;
   double final_time = 0;
+  std::vector<double> event_times;  ///< when each event happened (time events and impacts too)
   /// Set when the run took far more steps per output interval than a smooth solution needs: how
   /// many, the model's fastest modes and what helps (solver/stiffness_report.h, StepCostNote).
   std::string cost_note;
