@@ -50,6 +50,7 @@ fi
 #    builds the fuzz target (scripts/fuzz.sh); its libFuzzer, ASan and UBSan runtimes are in
 #    libclang-rt-14-dev, which clang only recommends (and --no-install-recommends skips). Ninja
 #    keeps both cores busy where Make waits between targets (scripts/test.sh uses it if present).
+#    Python's headers, pybind11, numpy and pytest build and test the Python module (python/).
 # ---------------------------------------------------------------------------------------------
 PACKAGES=(
   build-essential cmake ninja-build
@@ -61,6 +62,7 @@ PACKAGES=(
   dpkg-dev
   clang libclang-rt-14-dev
   chromium gnuplot-nox libpng-dev
+  python3-dev python3-pybind11 python3-numpy python3-pytest
 )
 # The report's uPlot comes from the npm registry: npm (Debian's, unless an npm is already there,
 # as a Node.js distribution's own npm would conflict with Debian's package).

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # momenta: the project's test command (what CI runs after scripts/setup.sh).
 #
-#   1. Release build in build/ and its tests;
+#   1. Release build in build/ and its tests, and the Python module's (pytest, python/tests);
 #   2. ASan + UBSan build (-O1 with line tables, no benchmarks) in build-asan/ and its tests;
 #   3. a minute of fuzzing model loading and building (scripts/fuzz.sh: clang, build-fuzz/).
 # A build failure stops at once; a test failure or a fuzz finding is remembered, the next stage
@@ -57,6 +57,21 @@ if ctest --test-dir build --output-on-failure --no-tests=error -j "$JOBS"; then
 else
   end "FAILED"
   failed+=("Release tests")
+fi
+
+# The Python module's tests (python/tests) with the python it was built for; skipped, saying so,
+# only when the build left the module out (no pybind11: build/python/interpreter.txt is absent).
+if [[ -f build/python/interpreter.txt ]]; then
+  begin "pytest Release (python/tests, PYTHONPATH=build/python)"
+  if PYTHONPATH=build/python PYTHONDONTWRITEBYTECODE=1 "$(cat build/python/interpreter.txt)" -m pytest -q \
+       -p no:cacheprovider python/tests; then
+    end "passed"
+  else
+    end "FAILED"
+    failed+=("Python tests")
+  fi
+else
+  log "the Python module was not built (pybind11 or Python's headers not found): skipping python/tests"
 fi
 
 # ---- 2. Sanitizer build and tests -----------------------------------------------------------

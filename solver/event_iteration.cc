@@ -264,6 +264,7 @@ void DoEvent(const CompiledModel& model, ModelState* state, IntegrationState* ru
   run->time_events_stale = true;
   run->sample_valid = false;  // the conditions and discrete values change
   ++run->stats->events;
+  run->stats->event_times.push_back(t);
   if (time_event) ++run->stats->time_events;
   CheckChattering(model, run, t);
   // The left limit is written only if the event changes an output (or every event's is asked

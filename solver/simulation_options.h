@@ -55,6 +55,7 @@ struct SolverStats {
   std::vector<double> impact_times;  ///< when each impact happened (for tests and summaries)
   double init_seconds = 0, integrate_seconds = 0;
   double final_time = 0;
+  std::vector<double> event_times;  ///< when each event happened (time events and impacts too)
   /// Set when the run took far more steps per output interval than a smooth solution needs: how
   /// many, the model's fastest modes and what helps (solver/stiffness_report.h, StepCostNote).
   std::string cost_note;

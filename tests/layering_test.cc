@@ -1,7 +1,8 @@
 // The house's shape, checked on the source tree (docs/ARCHITECTURE.md): dependencies point one way
 // through core's stages (base <- expr <- lang <- flatten <- passes <- compile <- the pipeline) and
-// then core <- solver <- app; the app sees only core's public face; no yaml-cpp or SUNDIALS header
-// is in a public header of core or of the solver; no source file is longer than 800 lines.
+// then core <- solver <- app; the app and the Python module (python/) see only core's public face;
+// no yaml-cpp or SUNDIALS header is in a public header of core or of the solver; no source file is
+// longer than 800 lines.
 //
 // A new include that runs against the pipeline fails here with the file, the line and the rule,
 // before it makes two stages depend on each other in a circle.
@@ -131,6 +132,22 @@ TEST(LayeringTest, AppIncludesOnlyThePublicFace) {
                              << ::testing::PrintToString(wrong);
 }
 
+TEST(LayeringTest, PythonModuleIncludesOnlyThePublicFace) {
+  // python/ is a front end beside the command line: the app's face, and of the app only the run
+  // options a command line and a Python call both resolve from the experiment section.
+  std::vector<std::string> wrong;
+  for (const auto& file : SourcesUnder("python")) {
+    for (const auto& inc : IncludesOf(file)) {
+      const bool ours = inc.header.rfind("core/", 0) == 0 || inc.header.rfind("solver/", 0) == 0 ||
+                        inc.header.rfind("app/", 0) == 0;
+      if (!inc.angled && ours && !AppFace().count(inc.header) && inc.header != "app/simulate_options.h") {
+        wrong.push_back(Relative(file) + ":" + std::to_string(inc.line) + ": " + inc.header);
+      }
+    }
+  }
+  EXPECT_TRUE(wrong.empty()) << "python/ reaches past the public face:\n  " << ::testing::PrintToString(wrong);
+}
+
 /// The headers a public header brings in, followed through the project's own headers.
 void CollectIncludes(const std::string& header, std::set<std::string>* seen) {
   if (!seen->insert(header).second || !fs::exists(kSource / header)) return;
@@ -168,7 +185,7 @@ TEST(LayeringTest, PublicHeadersHoldNoYamlCppOrSundials) {
 
 TEST(LayeringTest, NoSourceFileOver800Lines) {
   std::vector<std::string> wrong;
-  for (const char* dir : {"core", "solver", "app"}) {
+  for (const char* dir : {"core", "solver", "app", "python"}) {
     for (const auto& file : SourcesUnder(dir)) {
       std::ifstream in(file);
       size_t lines = 0;

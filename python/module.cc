@@ -1,0 +1,168 @@
+// momenta's Python extension `momenta._momenta`: PythonModel (python/python_model.h) bound with
+// pybind11. Runs release the GIL while they simulate and poll Python's signals, so that Ctrl-C
+// stops them; their rows come back as numpy arrays. The API users call (momenta.load, Result,
+// SweepResult, the exception classes) is python/momenta/__init__.py, over this module.
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <algorithm>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/base/error.h"
+#include "python/python_model.h"
+
+namespace py = pybind11;
+
+namespace momenta::python {
+
+namespace {
+
+/// The exception classes momenta/__init__.py defines (set by _set_exceptions; owned for the
+/// process's life).
+PyObject* g_model_error = nullptr;
+PyObject* g_usage_error = nullptr;
+
+py::array_t<double> Array(const std::vector<double>& v) {
+  py::array_t<double> a(static_cast<py::ssize_t>(v.size()));
+  std::copy(v.begin(), v.end(), a.mutable_data());
+  return a;
+}
+
+py::dict StatsDict(const SolverStats& s) {
+  py::dict d;
+  d["linear_solver"] = s.linear_solver;
+  d["steps"] = s.steps;
+  d["residual_evals"] = s.residual_evals;
+  d["jacobian_evals"] = s.jacobian_evals;
+  d["error_test_failures"] = s.error_test_failures;
+  d["nonlinear_failures"] = s.nonlinear_failures;
+  d["init_iterations"] = s.init_iterations;
+  d["events"] = s.events;
+  d["time_events"] = s.time_events;
+  d["impacts"] = s.impacts;
+  d["restarts"] = s.restarts;
+  d["init_seconds"] = s.init_seconds;
+  d["integrate_seconds"] = s.integrate_seconds;
+  d["final_time"] = s.final_time;
+  d["cost_note"] = s.cost_note;
+  return d;
+}
+
+/// A run as the Python layer takes it: time (rows), values (rows x outputs), events and impacts
+/// (their times), stats, status and message.
+py::dict RecordDict(const RunRecord& r, size_t width) {
+  py::dict d;
+  const auto rows = static_cast<py::ssize_t>(r.time.size());
+  py::array_t<double> values({rows, static_cast<py::ssize_t>(width)});
+  std::copy(r.values.begin(), r.values.end(), values.mutable_data());
+  d["time"] = Array(r.time);
+  d["values"] = std::move(values);
+  d["events"] = Array(r.stats.event_times);
+  d["impacts"] = Array(r.stats.impact_times);
+  d["stats"] = StatsDict(r.stats);
+  d["status"] = r.status;
+  d["message"] = r.message;
+  return d;
+}
+
+/// The run options the Python layer passes: numbers (or None) by name, and linear_solver.
+SimulateOverrides OverridesFrom(const py::dict& options) {
+  SimulateOverrides o;
+  auto number = [&](const char* name, std::optional<double>* out) {
+    if (options.contains(name) && !options[name].is_none()) *out = options[name].cast<double>();
+  };
+  number("stop", &o.stop);
+  number("rtol", &o.rtol);
+  number("atol", &o.atol);
+  number("interval", &o.interval);
+  number("max_order", &o.max_order);
+  number("max_steps", &o.max_steps);
+  if (options.contains("linear_solver") && !options["linear_solver"].is_none()) {
+    o.linear_solver = options["linear_solver"].cast<std::string>();
+  }
+  return o;
+}
+
+/// Runs every set of overrides with the GIL released; Ctrl-C (a pending KeyboardInterrupt)
+/// stops them and is raised.
+py::list Run(PythonModel& model, const std::vector<ParameterOverrides>& runs, const py::dict& options,
+             unsigned jobs, bool keep_rows) {
+  const SimulationOptions resolved = model.ResolveOptions(OverridesFrom(options));
+  const std::vector<ParameterOverrides> overrides = model.RunOverrides(runs);
+  model.PrepareForRuns(runs.size());
+  const std::shared_ptr<const CompiledModel> compiled = model.compiled();
+  std::vector<RunRecord> records;
+  {
+    py::gil_scoped_release release;
+    records = RunAll(compiled, model.path(), overrides, resolved, jobs, keep_rows, [] {
+      py::gil_scoped_acquire acquire;
+      return PyErr_CheckSignals() != 0;
+    });
+  }
+  if (PyErr_Occurred()) throw py::error_already_set();
+  py::list out;
+  for (const RunRecord& r : records) out.append(RecordDict(r, compiled->output_names.size()));
+  return out;
+}
+
+}  // namespace
+
+}  // namespace momenta::python
+
+PYBIND11_MODULE(_momenta, m) {
+  using namespace momenta;
+  using namespace momenta::python;
+  m.doc() = "momenta's compiled core; use the momenta package (momenta.load) rather than this module.";
+
+  m.def("_set_exceptions", [](py::object model_error, py::object usage_error) {
+    g_model_error = model_error.release().ptr();
+    g_usage_error = usage_error.release().ptr();
+  });
+  // A model error (file:line:col first) and an argument error, as the classes __init__.py gave.
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const UsageError& e) {
+      PyErr_SetString(g_usage_error ? g_usage_error : PyExc_ValueError, PythonText(e.what()).c_str());
+    } catch (const ModelError& e) {
+      PyErr_SetString(g_model_error ? g_model_error : PyExc_RuntimeError, PythonText(e.what()).c_str());
+    }
+  });
+
+  py::class_<PythonModel>(m, "Model")
+      .def(py::init([](const std::string& path, const ParameterOverrides& params, const std::string& codegen) {
+             py::gil_scoped_release release;
+             return std::make_unique<PythonModel>(path, params, codegen);
+           }),
+           py::arg("path"), py::arg("params"), py::arg("codegen"))
+      .def_property_readonly("path", &PythonModel::path)
+      .def_property_readonly("name", &PythonModel::model_name)
+      .def_property_readonly("outputs", &PythonModel::output_names)
+      .def_property_readonly("units", &PythonModel::output_units)
+      .def_property_readonly("warnings", &PythonModel::warnings)
+      .def_property_readonly("codegen", &PythonModel::codegen_summary)
+      .def("parameters",
+           [](const PythonModel& model) {
+             py::list out;
+             for (const ParameterInfo& p : model.Parameters()) {
+               out.append(py::make_tuple(p.name, p.value, p.unit, p.description, p.structural));
+             }
+             return out;
+           })
+      .def("experiment",
+           [](const PythonModel& model) {
+             const SimulationOptions o = model.experiment_options();
+             py::dict d;
+             d["start"] = o.start;
+             d["stop"] = o.stop;
+             d["rtol"] = o.rtol;
+             d["atol"] = o.atol < 0 ? o.rtol : o.atol;
+             d["interval"] = o.interval > 0 ? o.interval : (o.stop - o.start) / 500;
+             return d;
+           })
+      .def("run", &Run, py::arg("runs"), py::arg("options"), py::arg("jobs"), py::arg("keep_rows"));
+}
