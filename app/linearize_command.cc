@@ -66,7 +66,7 @@ void JsonNumber(double v, std::string* out) {
     return;
   }
   char buf[32];
-  std::snprintf(buf, sizeof buf, "%.17g", v);
+  std::snprintf(buf, sizeof buf, "%.17g", v + 0.0);  // -0 is written 0
   *out += buf;
 }
 

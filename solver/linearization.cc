@@ -148,6 +148,7 @@ Linearization Linearize(const ModelState& state, double t, const std::vector<dou
   lin.t = t;
   std::vector<std::pair<size_t, double>> inputs;
   std::vector<bool> is_input(model.num_states(), false);
+  for (size_t k : columns.held) is_input[InputState(model, outputs, k).first] = true;
   for (size_t k : columns.inputs) {
     inputs.push_back(InputState(model, outputs, k));
     is_input[inputs.back().first] = true;

@@ -57,6 +57,9 @@ void PrepareLinearizationBuild(const LinearizationSpec& spec, BuildOptions* opti
 /// (BuildOptions::hold_free_inputs) is also an output column, which tells which state it is.
 struct LinearizationColumns {
   std::vector<size_t> outputs, inputs;
+  /// Every input the build held, chosen or not: those not in `inputs` stay at their operating
+  /// values and are no states of the linearisation either.
+  std::vector<size_t> held;
 };
 
 /// The output columns of `model`, built by PrepareLinearizationBuild(spec) with `report`, that are

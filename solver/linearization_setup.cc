@@ -74,6 +74,7 @@ LinearizationColumns ResolveLinearizationColumns(const CompiledModel& model, con
   for (const auto& input : spec.inputs) inputs.push_back(input.first);
   if (inputs.empty()) inputs = report.inputs;
   for (const std::string& name : inputs) columns.inputs.push_back(Column(model, name));
+  for (const std::string& name : report.inputs) columns.held.push_back(Column(model, name));
   if (!spec.outputs.empty()) {
     for (const std::string& name : spec.outputs) columns.outputs.push_back(Column(model, name));
     return columns;
