@@ -48,6 +48,7 @@ constexpr double kInputRowTolerance = 1e-8;
 std::vector<Eigen::VectorXd> StateColumns(ModelState* state, double t, const std::vector<double>& y,
                                           const std::vector<double>& yp) {
   const CompiledModel& model = state->model();
+  if (model.num_states() == 0) return {};  // nothing moves: A, B and C are empty
   MixedJacobian jacobian(state, t, y.data(), yp.data());
   if (!jacobian.Factor()) {
     throw SolverError("at t = " + NumberText(t) + ": the system cannot be linearised there: the matrix of its "

@@ -176,6 +176,7 @@ void Run(ModelState* state, const SimulationOptions& options, const RowCallback&
   InitializeRun(model, state, &run);
   if (run.num_unknowns == 0) {
     RunWithoutUnknowns(model, state, &run);
+    if (end) *end = {options.stop, {}, {}};
     return;
   }
   PolishConsistentValues(model, state, &run, options.start);
