@@ -165,6 +165,7 @@ int LoadAndBuild(const std::string& path, const ParameterOverrides& overrides, L
         out->scene = AddSceneOutputs(flat, model);
       };
     }
+    if (out->configure_build) out->configure_build(&options);
     out->model = BuildModel(std::move(spec), BuiltinLibrary(), options, &out->report);
     out->overrides = out->report.overrides;
     out->build_s = Since(t1);

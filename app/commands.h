@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include <functional>
 #include <map>
 #include <memory>
 
@@ -78,6 +79,9 @@ struct LoadedModel {
   /// was chosen and what it cost.
   NativeCodeOptions codegen;
   NativeCodeReport codegen_report;
+  /// Set before LoadAndBuild: adjusts the build's options (a linearisation's held inputs and
+  /// outputs, solver/linearization.h).
+  std::function<void(BuildOptions*)> configure_build;
 };
 
 /// Loads and builds the model with `overrides` and sets its parameters; returns an exit code

@@ -5,7 +5,9 @@
 
 #include <iostream>
 
+#include "app/accuracy_command.h"
 #include "app/commands.h"
+#include "app/linearize_command.h"
 #include "app/huge_pages.h"
 #include "app/mat_file.h"
 #include "app/plugin.h"
@@ -123,15 +125,49 @@ CLI::App* AddSweep(CLI::App* app, SweepArgs* swp) {
   return sweep;
 }
 
+CLI::App* AddLinearize(CLI::App* app, LinearizeArgs* lin) {
+  auto* linearize = app->add_subcommand(
+      "linearize", "the model's state-space form A, B, C, D at a time (JSON, or a MAT file in Dymola's dslin layout)");
+  linearize->add_option("model", lin->model, "model file (YAML)")->required();
+  linearize->add_option("-p,--param", lin->params, "override a parameter: NAME=VALUE (repeatable)");
+  linearize->add_option_function<double>("--at", [lin](const double& t) { lin->at = t; },
+                                         "linearise at this time [s], after simulating to it (default: the start, "
+                                         "after the initialisation)");
+  linearize->add_option("-u,--input", lin->inputs,
+                        "an unconnected signal input, NAME or NAME=VALUE (its operating value, default 0; "
+                        "repeatable; default: every unconnected input)");
+  linearize->add_option("-y,--output", lin->outputs,
+                        "an output, a variable's name (repeatable, or A,B; default: the model's outputs)");
+  linearize->add_option("-o,--out", lin->out, "lin.json or lin.mat (default: JSON on standard output)");
+  return linearize;
+}
+
+CLI::App* AddAccuracy(CLI::App* app, AccuracyArgs* acc) {
+  auto* accuracy = app->add_subcommand(
+      "accuracy", "run a model at a range of tolerances: each run's error and cost (the work-precision table and plot)");
+  accuracy->add_option("model", acc->model, "model file (YAML)")->required();
+  accuracy->add_option("-p,--param", acc->params, "override a parameter: NAME=VALUE (repeatable)");
+  accuracy->add_option("--rtol", acc->rtol, "the tolerances, LOOSE:TIGHT a decade apart (default 1e-3:1e-10)");
+  accuracy->add_option("--reference", acc->reference,
+                       "the reference result (CSV or MAT; default: a run at a tolerance 100 times tighter than the "
+                       "tightest)");
+  accuracy->add_option("-o,--out", acc->out, "the plot, .svg or .png (default: <model stem>.accuracy.svg)");
+  accuracy->add_option("--table", acc->table, "also write the table as CSV");
+  accuracy->add_option("--report", acc->report, "also write an HTML report (the reference run and the table)");
+  return accuracy;
+}
+
 /// An unknown command is named (CLI11 would only say that a subcommand is required).
 bool KnownCommand(int argc, char** argv) {
   if (argc <= 1 || argv[1][0] == '-') return true;
   const std::string cmd = argv[1];
-  if (cmd == "simulate" || cmd == "check" || cmd == "list" || cmd == "sweep" || cmd == "report" || cmd == "plot") {
+  if (cmd == "simulate" || cmd == "check" || cmd == "list" || cmd == "sweep" || cmd == "report" || cmd == "plot" ||
+      cmd == "linearize" || cmd == "accuracy") {
     return true;
   }
   std::cerr << "momenta: unknown command '" << cmd
-            << "' (valid commands: simulate, sweep, report, plot, check, list; see momenta --help)\n";
+            << "' (valid commands: simulate, sweep, linearize, accuracy, report, plot, check, list; see momenta "
+               "--help)\n";
   return false;
 }
 
@@ -152,12 +188,16 @@ int main(int argc, char** argv) {
   PlotArgs plt;
   CheckArgs chk;
   SweepArgs swp;
+  LinearizeArgs lin;
+  AccuracyArgs acc;
   std::string list_name;
   CLI::App* simulate = AddSimulate(&app, &sim);
   CLI::App* report = AddReport(&app, &rep);
   CLI::App* plot = AddPlot(&app, &plt);
   CLI::App* check = AddCheck(&app, &chk);
   CLI::App* sweep = AddSweep(&app, &swp);
+  CLI::App* linearize = AddLinearize(&app, &lin);
+  CLI::App* accuracy = AddAccuracy(&app, &acc);
   CLI::App* list = app.add_subcommand("list", "list the component library, or describe one component");
   list->add_option("name", list_name, "component or connector type");
 
@@ -171,6 +211,8 @@ int main(int argc, char** argv) {
   try {
     if (*simulate) return RunSimulate(sim);
     if (*sweep) return RunSweep(swp);
+    if (*linearize) return RunLinearize(lin);
+    if (*accuracy) return RunAccuracy(acc);
     if (*report) return RunReport(rep);
     if (*plot) return RunPlot(plt);
     if (*check) return RunCheck(chk);

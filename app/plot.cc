@@ -120,9 +120,8 @@ class MessageFile {
   int fd_ = -1;
 };
 
-/// Runs gnuplot ($MOMENTA_GNUPLOT, else gnuplot on the PATH; no shell) on `script`, its standard
-/// output into `out` (opened here: no file name reaches gnuplot), its messages kept; "" on
-/// success, else what went wrong (the image is then removed).
+}  // namespace
+
 std::string RunGnuplot(const std::string& script, const std::string& out) {
   const char* env = std::getenv("MOMENTA_GNUPLOT");
   std::string program = env && *env ? env : "gnuplot";
@@ -170,7 +169,7 @@ std::string RunGnuplot(const std::string& script, const std::string& out) {
   return "gnuplot failed writing " + out + (line.empty() ? "" : " (" + line + ")");
 }
 
-}  // namespace
+std::string GnuplotTextLine(const std::string& text) { return TextLine(text); }
 
 std::string GnuplotScript(const PlotArgs& args, const std::string& out_path) {
   if (std::string c = FirstControl(args.title); !c.empty()) {

@@ -20,6 +20,15 @@ struct PlotArgs {
 /// missing or fails) after printing what went wrong.
 int RunPlot(const PlotArgs& args);
 
+/// Runs gnuplot ($MOMENTA_GNUPLOT, else gnuplot on the PATH; no shell) on `script`, its standard
+/// output into `out` (opened here: no file name reaches gnuplot), its messages kept; "" on
+/// success, else what went wrong (the image is then removed).
+std::string RunGnuplot(const std::string& script, const std::string& out);
+
+/// `text` as one line of a script's text block: a control character is written as visible text
+/// (`\x0a`), so the line cannot end early (user text never stands in a gnuplot command).
+std::string GnuplotTextLine(const std::string& text);
+
 /// The gnuplot program that draws `columns` of the result (exposed for tests).
 std::string GnuplotScript(const PlotArgs& args, const std::string& out_path);
 

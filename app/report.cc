@@ -11,17 +11,6 @@
 
 namespace momenta {
 
-namespace {
-
-#include "report_assets.inc"
-
-std::string Join(const char* const* pieces) {
-  std::string s;
-  for (; *pieces; ++pieces) s += *pieces;
-  return s;
-}
-
-/// `text` as a JSON string; `<` is written `\u003c` so the data cannot end its <script> element.
 void JsonString(const std::string& text, std::string* out) {
   *out += '"';
   for (const char ch : text) {
@@ -56,6 +45,16 @@ void JsonString(const std::string& text, std::string* out) {
     }
   }
   *out += '"';
+}
+
+namespace {
+
+#include "report_assets.inc"
+
+std::string Join(const char* const* pieces) {
+  std::string s;
+  for (; *pieces; ++pieces) s += *pieces;
+  return s;
 }
 
 /// A number with 9 significant digits (the page's plots and scene need no more; it keeps the

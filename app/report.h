@@ -46,6 +46,10 @@ constexpr size_t kMaxReportRows = 20000;
 /// every table and the scene, and a note in place of the plots.
 bool ReportHasPlots();
 
+/// Appends `text` as a JSON string to `*out`; `<` is written `\u003c`, so the data cannot end the
+/// page's <script> element.
+void JsonString(const std::string& text, std::string* out);
+
 /// The page's HTML text.
 std::string ReportHtml(const ReportData& data);
 

@@ -10,6 +10,7 @@
 #include <optional>
 #include <sstream>
 
+#include "core/base/messages.h"
 #include "core/compile/compile.h"
 #include "core/flatten/flatten.h"
 #include "core/lang/parser.h"
@@ -331,16 +332,57 @@ std::shared_ptr<FlatSystem> FlattenWithAddedOutputs(std::shared_ptr<FlatSystem> 
   return std::make_shared<FlatSystem>(Flatten(*spec, library, overrides, /*defer_equations=*/true));
 }
 
+/// The free signal inputs of `flat` held as inputs (BuildOptions::hold_free_inputs): for each
+/// input u, `der(u) = 0` and the initial equation `u = value` appended to `*spec`, which is then
+/// flattened again; `flat` when the model has none. Their names go to `report->inputs`.
+std::shared_ptr<FlatSystem> FlattenWithHeldInputs(std::shared_ptr<FlatSystem> flat, ModelSpec* spec,
+                                                  const Library& library, const BuildOptions& options,
+                                                  const ParameterOverrides& overrides, BuildReport* report) {
+  std::vector<std::string> names;
+  for (VarId v : flat->free_inputs) names.push_back(flat->VariableName(v));
+  for (const auto& [name, value] : options.input_values) {
+    if (std::find(names.begin(), names.end(), name) == names.end()) {
+      throw UsageError("momenta: -u " + name + ": " + flat->model_name + " has no unconnected signal input " + name +
+                       (names.empty() ? " (it has none)" : " (its unconnected inputs: " + JoinNames(names) + ")"));
+    }
+  }
+  if (names.empty()) return flat;
+  for (size_t k = 0; k < names.size(); ++k) {
+    const FlatVariable& v = flat->variables[flat->free_inputs[k].value()];
+    if (v.type != ValueType::kReal) {
+      throw ModelError(flat->instances[v.instance.value()].loc,
+                       "the input " + names[k] + " is not connected; only a Real input can be an input of a "
+                       "linearisation (connect it to a source)");
+    }
+    const auto given = options.input_values.find(names[k]);
+    const double value = given == options.input_values.end() ? 0.0 : given->second;
+    EquationDecl held, initial;
+    held.text = "der(" + names[k] + ") = 0";
+    initial.text = names[k] + " = " + NumberText(value);
+    held.loc = initial.loc = spec->loc;
+    held.ast = ParseEquation(held.text, held.loc);
+    initial.ast = ParseEquation(initial.text, initial.loc);
+    spec->equations.push_back(std::move(held));
+    spec->initial_equations.push_back(std::move(initial));
+  }
+  report->inputs = names;
+  return std::make_shared<FlatSystem>(Flatten(*spec, library, overrides, /*defer_equations=*/true));
+}
+
 /// The flatten step: `spec` flattened once (BuildOptions), then released when `release` is given.
 StepOutcome FlattenModel(const ModelSpec& spec, ModelSpec* release, const Library& library,
                          const BuildOptions& options, BuildState* state) {
   state->overrides = options.overrides;
   state->flat = FlattenWithOverrides(spec, library, options.override_units, &state->overrides);
+  // Held inputs and added outputs go on a spec of the build's own unless the caller gave the spec up.
+  std::optional<ModelSpec> copy;
+  auto extended = [&]() -> ModelSpec* { return release != nullptr ? release : copy ? &*copy : &copy.emplace(spec); };
+  if (options.hold_free_inputs || !options.input_values.empty()) {
+    state->flat = FlattenWithHeldInputs(std::move(state->flat), extended(), library, options, state->overrides,
+                                        state->report);
+  }
   if (options.add_outputs) {
-    // The outputs go on a spec of the build's own unless the caller gave the spec up.
-    std::optional<ModelSpec> copy;
-    ModelSpec* extended = release != nullptr ? release : &copy.emplace(spec);
-    state->flat = FlattenWithAddedOutputs(std::move(state->flat), extended, library, options,
+    state->flat = FlattenWithAddedOutputs(std::move(state->flat), extended(), library, options,
                                           state->overrides);
   }
   state->deferred = std::move(state->flat->deferred);

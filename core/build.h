@@ -40,6 +40,14 @@ struct BuildOptions {
   /// model's own outputs, which for a model that lists none are its states. The model is then
   /// flattened again with them.
   std::function<void(const FlatSystem& flat, ModelSpec* spec)> add_outputs;
+  /// Hold the model's signal inputs that are connected to nothing (FlatSystem::free_inputs) as
+  /// inputs of a linearisation, instead of refusing them: each input u becomes a state with
+  /// der(u) = 0 and the initial equation u = its value in `input_values` (0 when not there), so
+  /// the DAE's Jacobian holds the inputs' columns (solver/linearization.h). BuildReport::inputs
+  /// names them. Only Real inputs can be held; a name in `input_values` that is not a free input
+  /// throws UsageError listing those that are.
+  bool hold_free_inputs = false;
+  std::map<std::string, double> input_values;
 };
 
 /// Flattens, simplifies and compiles the model (the passes recorded in `report`). Throws

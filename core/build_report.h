@@ -39,6 +39,8 @@ struct BuildReport {
   std::vector<std::string> notes;       ///< what was accepted but deserves a word (redundant initial conditions)
   std::vector<std::string> pruned;      ///< names of pruned variables
   std::vector<std::string> states;      ///< names of the states
+  /// The free signal inputs held as inputs (BuildOptions::hold_free_inputs), in the model's order.
+  std::vector<std::string> inputs;
   size_t num_components = 0, num_parameters = 0;
   /// Index reduction (Pantelides and dummy derivatives), when the model needed it.
   uint32_t structural_index = 1;

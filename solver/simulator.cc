@@ -182,14 +182,18 @@ SimulationOptions OptionsFromExperiment(const ExperimentSpec& e) {
   return o;
 }
 
-void Simulate(ModelState* state, const SimulationOptions& options, const RowCallback& row,
-              SolverStats* stats) {
+namespace {
+
+/// The run itself; `end`, when given, receives where it stands at its end.
+void Run(ModelState* state, const SimulationOptions& options, const RowCallback& row, SolverStats* stats,
+         RunPoint* end) {
   const CompiledModel& model = state->model();
   IntegrationState run(options, row, stats);
   PrepareRun(model, &run);
   InitializeRun(model, state, &run);
   if (run.num_unknowns == 0) {
     RunWithoutUnknowns(model, state, &run);
+    if (end) *end = {options.stop, {}, {}};
     return;
   }
   PolishConsistentValues(model, state, &run, options.start);
@@ -207,6 +211,40 @@ void Simulate(ModelState* state, const SimulationOptions& options, const RowCall
   if (!stats->interrupted) {
     stats->cost_note = StepCostNote(*state, run.t, run.y, run.yp, run.interval, stats->steps, run.num_intervals);
   }
+  if (end) {
+    // The last row's values are IDA's interpolant: the rates and algebraic unknowns are made
+    // consistent with the states again.
+    PolishConsistentValues(model, state, &run, run.t);
+    *end = {run.t, run.y, run.yp};
+  }
+}
+
+}  // namespace
+
+void Simulate(ModelState* state, const SimulationOptions& options, const RowCallback& row,
+              SolverStats* stats) {
+  Run(state, options, row, stats, nullptr);
+}
+
+RunPoint SimulateTo(ModelState* state, SimulationOptions options, double t, const RowCallback& row,
+                    SolverStats* stats) {
+  if (!(std::isfinite(t) && t >= options.start)) {
+    throw std::invalid_argument("the time " + NumberText(t) + " is not a finite time from the start time " +
+                                NumberText(options.start) + " on");
+  }
+  RunPoint end;
+  if (t > options.start) {
+    options.stop = t;
+    Run(state, options, row, stats, &end);
+    return end;
+  }
+  // At the start: the initialisation alone.
+  const CompiledModel& model = state->model();
+  IntegrationState run(options, row, stats);
+  PrepareRun(model, &run);
+  InitializeRun(model, state, &run);
+  if (run.num_unknowns > 0) PolishConsistentValues(model, state, &run, options.start);
+  return {options.start, run.y, run.yp};
 }
 
 }  // namespace momenta

@@ -24,6 +24,7 @@
 /// the grid rows within each.
 
 #include <string>
+#include <vector>
 
 #include "core/compile/model_state.h"
 #include "solver/simulation_options.h"
@@ -36,6 +37,20 @@ namespace momenta {
 /// is not positive or gives more than kMaxOutputRows rows) throw std::invalid_argument.
 void Simulate(ModelState* state, const SimulationOptions& options, const RowCallback& row,
               SolverStats* stats);
+
+/// Where a run stands: the time and the unknowns y, y' there, consistent (F(t, y, y') = 0 with
+/// the rates and algebraic unknowns polished for the states: PolishConsistentValues).
+struct RunPoint {
+  double t = 0;
+  std::vector<double> y, yp;
+};
+
+/// The model's values at `t`, for what looks at the model where it stands (linearisation): at
+/// options.start, those of the initialisation (after the initial event); later, where a run from
+/// options.start to t (options.stop := t, its rows to `row`) ends. Throws as Simulate does, and
+/// std::invalid_argument for a t before the start or not finite.
+RunPoint SimulateTo(ModelState* state, SimulationOptions options, double t, const RowCallback& row,
+                    SolverStats* stats);
 
 /// The options a model's experiment section asks for.
 SimulationOptions OptionsFromExperiment(const ExperimentSpec& e);

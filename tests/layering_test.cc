@@ -114,6 +114,7 @@ const std::set<std::string>& AppFace() {
       "core/base/regular_file.h",     // result files are opened as model files are (no FIFO)
       "solver/simulator.h",
       "solver/simulation_options.h",
+      "solver/linearization.h",       // `momenta linearize`: the state-space form where the model stands
   };
   return face;
 }

@@ -225,6 +225,9 @@ struct FlatSystem {
   std::vector<FlatImpact> impacts;
   std::vector<FlatTable> tables;
   std::vector<FlatOutput> outputs;
+  /// The model's signal inputs connected to nothing (a component's RealInput left open). A build
+  /// refuses them, unless it holds them as inputs (BuildOptions::hold_free_inputs).
+  std::vector<VarId> free_inputs;
   std::vector<FlatConditionalConnector> conditional_connectors;
   ExperimentSpec experiment;
   std::shared_ptr<const Library> defines;  ///< the model's own types (instances point into them)

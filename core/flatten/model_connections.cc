@@ -175,9 +175,13 @@ bool ModelConnections::Continuous(VarId a, VarId b) const {
 }
 
 void ModelConnections::Unconnected(uint32_t slot) {
-  // An unconnected physical connector: its flows are zero.
+  // An unconnected physical connector: its flows are zero. An unconnected signal input is
+  // recorded: a linearisation takes it as an input, anything else refuses it.
   const ConnectorType& type = TypeOf(slot);
-  if (type.is_signal) return;
+  if (type.is_signal) {
+    if (type.is_input && !context_.conditional_slot.count(slot)) context_.flat.free_inputs.push_back(VarOf(slot, 0));
+    return;
+  }
   FlatSystem& flat = context_.flat;
   ExprPool& pool = context_.pool();
   const uint32_t instance = context_.slot_instance[slot];
