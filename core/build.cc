@@ -12,6 +12,7 @@
 
 #include "core/base/messages.h"
 #include "core/compile/compile.h"
+#include "core/flatten/build_time_values.h"
 #include "core/flatten/flatten.h"
 #include "core/lang/parser.h"
 #include "core/passes/alias_elimination.h"
@@ -108,6 +109,7 @@ StepOutcome FixStructuralParameters(BuildState* state) {
   state->flat->pool->Reserve(2 * state->flat->pool->size());
   // Parameters are evaluated now too, so a bad value is reported before any solving.
   state->params = EvaluateParameters(*state->flat, state->overrides);
+  CheckIntegerValues(*state->flat);
   // The system takes the flat system over: passes that extend it need not copy it.
   state->sys = MakeEquationSystem(std::move(state->flat));
   EquationSystem& sys = state->sys;

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include "core/base/error.h"
 #include "core/base/messages.h"
@@ -67,7 +68,78 @@ bool IsTruth(const FlatSystem& flat, ExprId e) {
   }
 }
 
+/// A number that is not whole where it becomes the value of `e` (an operand of +, -, * or unary
+/// minus, a branch of an if-expression, min or max): what an Integer defined by `e` would take.
+/// Conditions and function arguments are not followed: their numbers are not the value.
+bool NonWholeValue(const ExprPool& pool, ExprId e, double* value) {
+  std::vector<ExprId> todo{e};
+  while (!todo.empty()) {
+    const ExprId id = todo.back();
+    todo.pop_back();
+    const Node& n = pool.node(id);
+    switch (n.op) {
+      case Op::kConst:
+        if (std::isfinite(n.value()) && n.value() != std::floor(n.value())) {
+          *value = n.value();
+          return true;
+        }
+        break;
+      case Op::kAdd: case Op::kSub: case Op::kMul: case Op::kMin: case Op::kMax:
+        todo.push_back(ExprId(n.a));
+        todo.push_back(ExprId(n.b));
+        break;
+      case Op::kNeg: todo.push_back(ExprId(n.a)); break;
+      case Op::kIf:
+        todo.push_back(ExprId(n.b));
+        todo.push_back(ExprId(n.c));
+        break;
+      default: break;
+    }
+  }
+  return false;
+}
+
+/// The Integer variable an equation `k = e` (residual k - e or e - k) defines, and e.
+bool IntegerDefinition(const FlatSystem& flat, ExprId residual, VarId* k, ExprId* value) {
+  const ExprPool& pool = *flat.pool;
+  const Node& n = pool.node(residual);
+  if (n.op != Op::kSub) return false;
+  for (const auto& [var, other] : {std::pair{n.a, n.b}, std::pair{n.b, n.a}}) {
+    const Node& v = pool.node(ExprId(var));
+    if (v.op == Op::kVar && flat.variables[v.a].type == ValueType::kInteger) {
+      *k = VarId(v.a);
+      *value = ExprId(other);
+      return true;
+    }
+  }
+  return false;
+}
+
+std::string NotWhole(const FlatSystem& flat, VarId k, double value) {
+  return "the Integer " + flat.VariableName(k) + " is given " + NumberText(value);
+}
+
 }  // namespace
+
+void CheckIntegerValues(const FlatSystem& flat) {
+  const char* const kWhole = ": an Integer takes whole numbers only (a Real value needs a Real variable)";
+  double value = 0;
+  for (const FlatEquation& eq : flat.equations) {
+    VarId k;
+    ExprId e;
+    if (!eq.residual.valid() || !IntegerDefinition(flat, eq.residual, &k, &e)) continue;
+    if (!NonWholeValue(*flat.pool, e, &value)) continue;
+    SourceLoc loc = eq.loc;
+    if (!loc.known() && eq.instance.valid()) loc = flat.instances[eq.instance.value()].loc;
+    throw ModelError(loc, NotWhole(flat, k, value) + " by '" + flat.EquationText(eq) + "'" + kWhole);
+  }
+  for (const FlatWhen& w : flat.whens) {
+    for (const auto& [v, e] : w.assigns) {
+      if (flat.variables[v.value()].type != ValueType::kInteger || !NonWholeValue(*flat.pool, e, &value)) continue;
+      throw ModelError(w.loc, NotWhole(flat, v, value) + " in when-clause '" + flat.WhenText(w) + "'" + kWhole);
+    }
+  }
+}
 
 void CheckWhenConditions(const FlatSystem& flat) {
   for (const FlatWhen& w : flat.whens) {

@@ -18,4 +18,10 @@ void CheckBuildTimeValues(const FlatSystem& flat);
 /// Real x.
 void CheckWhenConditions(const FlatSystem& flat);
 
+/// Throws ModelError at the file:line of the first equation `k = e` or when-assignment to an
+/// Integer k whose value e is a number that is not whole (in a sum, product, min, max or a branch
+/// of an if-expression): `k = if c then 2 else 1.5`. Values computed at run time are checked
+/// there (a non-whole Integer is exit 3).
+void CheckIntegerValues(const FlatSystem& flat);
+
 }  // namespace momenta

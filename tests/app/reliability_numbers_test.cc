@@ -192,16 +192,31 @@ TEST_F(ReliabilityNumbersTest, IntegerAndBooleanValuesAreEnforced) {
   CliResult o = Simulate(whole, {"-p", "p=3.7"});
   EXPECT_EQ(o.exit_code, 2) << o.err;
   EXPECT_TRUE(Has(o, "-p p=3.7: an Integer parameter takes whole numbers only")) << o.err;
-  // The Integer k takes 1.5 from its equation where x falls below 0.95 (t = ln(1/0.95) = 0.0513):
-  // exit 3 there, the rows before it kept (with the event of j at t = 0.05: two rows), k = p = 2.
+  // The Integer k is given 1.5 by its equation: a number that is not whole, known at build time.
   CliResult k = Simulate(whole);
-  EXPECT_EQ(k.exit_code, 3) << k.err;
-  EXPECT_TRUE(Has(k, "at t = 0.0512")) << k.err;
-  EXPECT_TRUE(Has(k, ": the Integer k is 1.5: an Integer takes whole numbers only")) << k.err;
+  EXPECT_EQ(k.exit_code, 1) << k.err;
+  EXPECT_TRUE(Has(k, whole + ":13:5: the Integer k is given 1.5 by 'k = if x > 0.95 then p else 1.5': "
+                            "an Integer takes whole numbers only")) << k.err;
+  // Given 2*x instead, k's value is known at run time only: where x falls below 0.95 (t = ln(1/0.95)
+  // = 0.0513), k = 1.9: exit 3 there, the rows before it kept (with the event of j at t = 0.05:
+  // two rows), k = p = 2.
+  const std::string real = Variant("16-integer-not-enforced.yaml", "16r.yaml",
+                                   {{"pre(j) + 1/0", "pre(j) + 1"}, {"value: 2.5", "value: 2"}, {"else 1.5", "else 2*x"}});
+  CliResult r3 = Simulate(real);
+  EXPECT_EQ(r3.exit_code, 3) << r3.err;
+  EXPECT_TRUE(Has(r3, "at t = 0.0512")) << r3.err;
+  EXPECT_TRUE(Has(r3, ": the Integer k is 1.899")) << r3.err;
+  EXPECT_TRUE(Has(r3, ": an Integer takes whole numbers only")) << r3.err;
   const testing::Csv csv = testing::ReadCsv(dir_.File("out.csv"));
-  ASSERT_EQ(csv.rows.size(), 7u) << k.err;  // t = 0 … 0.05, and 0.05 after j's event
+  ASSERT_EQ(csv.rows.size(), 7u) << r3.err;  // t = 0 … 0.05, and 0.05 after j's event
   EXPECT_EQ(csv.rows.back()[2], 2.0);
   EXPECT_EQ(csv.rows.back()[3], 1.0);
+  // A when-assignment giving an Integer a number that is not whole: at the when-clause.
+  const std::string half = Variant("16-integer-not-enforced.yaml", "16h.yaml",
+                                   {{"pre(j) + 1/0", "pre(j) + 0.5"}, {"value: 2.5", "value: 2"}, {"else 1.5", "else 1"}});
+  CliResult h = Simulate(half);
+  EXPECT_EQ(h.exit_code, 1) << h.err;
+  EXPECT_TRUE(Has(h, half + ":15:5: the Integer j is given 0.5 in when-clause 'time > 0.05'")) << h.err;
   // A non-finite Integer at run time: pre(j) + big*10 with big = 1e308 at t = 0.05.
   const std::string overflow = Variant("16-integer-not-enforced.yaml", "16c.yaml",
                                        {{"pre(j) + 1/0", "pre(j) + big*10"},
