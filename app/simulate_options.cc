@@ -74,6 +74,12 @@ SimulationOptions ResolveSimulationOptions(const ExperimentSpec& experiment, con
     opt.max_steps = static_cast<long>(k);
   }
   if (!overrides.linear_solver.empty()) opt.linear_solver = overrides.linear_solver;
+  if (!overrides.error_test.empty()) {
+    if (overrides.error_test != "states" && overrides.error_test != "all") {
+      throw UsageError("--error-test " + overrides.error_test + ": the choices are states and all");
+    }
+    opt.test_algebraic = overrides.error_test == "all";
+  }
   // The output grid they make together (the experiment's own grid was checked when it was read).
   if (opt.interval > 0) {
     if (std::string grid = OutputGridProblem(opt.start, opt.stop, opt.interval); !grid.empty()) {

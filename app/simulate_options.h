@@ -16,6 +16,7 @@ struct SimulateOverrides {
   std::optional<double> max_order;  ///< IDA's maximum BDF order, a whole number from 1 to 5
   std::optional<double> max_steps;  ///< steps allowed between two output rows, a whole number >= 1
   std::string linear_solver;  ///< empty: the experiment's
+  std::string error_test;     ///< --error-test: states or all (empty: states)
   /// --codegen: auto, native or interp (empty: auto); see core/compile/native_code.h.
   std::string codegen;
 };

@@ -69,7 +69,8 @@ py::dict RecordDict(const RunRecord& r, size_t width) {
   return d;
 }
 
-/// The run options the Python layer passes: numbers (or None) by name, and linear_solver.
+/// The run options the Python layer passes: numbers (or None) by name, linear_solver and
+/// error_test.
 SimulateOverrides OverridesFrom(const py::dict& options) {
   SimulateOverrides o;
   auto number = [&](const char* name, std::optional<double>* out) {
@@ -83,6 +84,9 @@ SimulateOverrides OverridesFrom(const py::dict& options) {
   number("max_steps", &o.max_steps);
   if (options.contains("linear_solver") && !options["linear_solver"].is_none()) {
     o.linear_solver = options["linear_solver"].cast<std::string>();
+  }
+  if (options.contains("error_test") && !options["error_test"].is_none()) {
+    o.error_test = options["error_test"].cast<std::string>();
   }
   return o;
 }

@@ -28,6 +28,12 @@ struct SimulationOptions {
   /// At most this many steps between two output rows (IDASetMaxNumSteps' meaning for a run that
   /// steps one at a time); more stop the run with a message that names the model's fastest modes.
   long max_steps = kDefaultMaxSteps;
+  /// Whether IDA's local error test covers every unknown (IDA's own default) or, when false, the
+  /// states and the algebraic unknowns whose rates the equations read (index reduction's dummy
+  /// states), leaving out those that follow from them within a step (forces, accelerations,
+  /// currents), as an ODE solver on the model's state-space form does (DASSL in Dymola's ODE form).
+  /// A kink in such an unknown (a friction force's |v|) then costs no steps (--error-test).
+  bool test_algebraic = false;
   /// Left- and right-limit rows at every event, also one that changes no output (as Dymola's
   /// events=true output, which the MSL reference results use); otherwise only at events that
   /// change an output.

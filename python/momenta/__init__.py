@@ -58,7 +58,7 @@ _momenta._set_exceptions(ModelError, UsageError)
 Parameter = collections.namedtuple("Parameter", "value unit description")
 Parameter.__doc__ = "A parameter's value (in its unit, as the model was loaded), unit and description."
 
-_OPTIONS = ("stop", "rtol", "atol", "interval", "max_order", "max_steps", "linear_solver")
+_OPTIONS = ("stop", "rtol", "atol", "interval", "max_order", "max_steps", "linear_solver", "error_test")
 
 
 def load(path, params=None, codegen="auto"):
@@ -125,13 +125,13 @@ class Model:
             self.name, self.path, len(self.outputs), len(self.parameters))
 
     def simulate(self, params=None, *, stop=None, rtol=None, atol=None, interval=None, max_order=None,
-                 max_steps=None, linear_solver=None):
+                 max_steps=None, linear_solver=None, error_test=None):
         """Runs the model once with `params` (name -> number) over the values it was loaded
         with; the options default to the model file's experiment section. Returns a Result.
         Raises ModelError for a parameter value the model refuses, UsageError for an unknown
         name or a bad option, SimulationError (with the rows so far) when the solver fails."""
         options = dict(stop=stop, rtol=rtol, atol=atol, interval=interval, max_order=max_order,
-                       max_steps=max_steps, linear_solver=linear_solver)
+                       max_steps=max_steps, linear_solver=linear_solver, error_test=error_test)
         params = _numbers(params)
         record = self._model.run([params], options, 1, True)[0]
         result = Result(record, self, params)

@@ -77,6 +77,8 @@ def test_options_out_of_range_name_the_argument(carrier):
         carrier.simulate(max_order=7)
     with pytest.raises(momenta.UsageError, match=r"^linear_solver=lu: the choices are auto, dense and klu"):
         carrier.simulate(linear_solver="lu")
+    with pytest.raises(momenta.UsageError, match=r"^error_test=some: the choices are states and all"):
+        carrier.simulate(error_test="some")
     with pytest.raises(momenta.UsageError, match=r"^codegen=fast: the choices are auto, native and interp"):
         momenta.load(CARRIER, codegen="fast")
     with pytest.raises(TypeError, match="unexpected keyword"):

@@ -305,6 +305,7 @@ TEST_F(CliTest, UsageErrorsExitWithTwo) {
            {{"simulate", "pushed.yaml", "-p", "F=abc"}, "'abc' is not a number"},
            {{"check", "pushed.yaml", "-p", "F=1x"}, "-p F: unit 'x' does not parse"},
            {{"simulate", "pushed.yaml", "--linear-solver", "lu"}, "lu"},
+           {{"simulate", "pushed.yaml", "--error-test", "algebraic"}, "--error-test: algebraic not in {states,all}"},
            {{"simulate", "pushed.yaml", "--rtol", "small"}, "small"},
            {{"simulate", "pushed.yaml", "--no-such-flag"}, "--no-such-flag"},
        }) {

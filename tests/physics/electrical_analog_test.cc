@@ -173,8 +173,10 @@ TEST(ElectricalAnalog, SaturatingInductorsFluxHasItsNominalInductance) {
   for (size_t r = 0; r < tr.t.size(); ++r) {
     EXPECT_EQ(tr.Column("inductor.Ipar", r), Ipar) << "t = " << tr.t[r];
     EXPECT_NEAR(tr.Column("inductor.Psi", r), psi(tr.Column("inductor.i", r)), 1e-9) << "t = " << tr.t[r];
-    // v = der(Psi) with v = 1.25 cos(t): Psi = 1.25 sin(t) from Psi(0) = 0.
-    EXPECT_NEAR(tr.Column("inductor.Psi", r), 1.25 * std::sin(tr.t[r]), 1e-8) << "t = " << tr.t[r];
+    // v = der(Psi) with v = 1.25 cos(t): Psi = 1.25 sin(t) from Psi(0) = 0. IDA's error test holds
+    // the state i to rtol 1e-10 per step; Psi follows from it (dPsi/di up to Lzer = 2): a global
+    // error of 1.0e-8 after 3 s (5e-9 with Psi in the error test too, --error-test all).
+    EXPECT_NEAR(tr.Column("inductor.Psi", r), 1.25 * std::sin(tr.t[r]), 3e-8) << "t = " << tr.t[r];
   }
 }
 

@@ -70,8 +70,9 @@ TEST(PlanarScenes, DoublePendulumConservesEnergy) {
   double worst = 0;
   for (size_t k = 0; k < tr.t.size(); ++k) worst = std::max(worst, std::fabs(PendulumEnergy(tr, k) - e0));
   // Energy scale (m1 + m2) g L1 + m2 g L2 = 20.4 J; at rtol 1e-10 the drift over 20 s (about 15
-  // swings, body 2 turning over) stays within 1e-8 of it (observed 2e-8 J).
-  EXPECT_LT(worst, 2e-7) << "worst energy error " << worst;
+  // swings, body 2 turning over, chaotic) stays within 5e-8 of it: observed 7.7e-7 J with IDA's
+  // error test on the four states (9 537 steps), 2e-8 J with every unknown tested (35 921 steps).
+  EXPECT_LT(worst, 1e-6) << "worst energy error " << worst;
   // The bars keep their lengths: body 1 at L1 from the origin, body 2 at L2 from body 1.
   for (size_t k = 0; k < tr.t.size(); k += 50) {
     const double x1 = tr.Column("body1.r[1]", k), y1 = tr.Column("body1.r[2]", k);
