@@ -58,9 +58,9 @@ void AddSolverChoices(CLI::App* command, SimulateOverrides* options) {
   command->add_option("--linear-solver", options->linear_solver, "auto, dense or klu")
       ->check(CLI::IsMember({"auto", "dense", "klu"}));
   command->add_option("--error-test", options->error_test,
-                      "which unknowns IDA's local error test covers: states (default: the states and the positions "
-                      "index reduction keeps algebraic, as an ODE solver would) or all (also forces, accelerations "
-                      "and currents, which follow from the states)")
+                      "which unknowns IDA's local error test covers: states (default, as an ODE solver would; an "
+                      "index-reduced model keeps all) or all (also forces, accelerations and currents, which "
+                      "follow from the states)")
       ->check(CLI::IsMember({"states", "all"}));
   command->add_option("--codegen", options->codegen,
                       "auto (native code where it pays), native (compile the model to native code) or interp")

@@ -29,10 +29,10 @@ struct SimulationOptions {
   /// steps one at a time); more stop the run with a message that names the model's fastest modes.
   long max_steps = kDefaultMaxSteps;
   /// Whether IDA's local error test covers every unknown (IDA's own default) or, when false, the
-  /// states and the algebraic unknowns whose rates the equations read (index reduction's dummy
-  /// states), leaving out those that follow from them within a step (forces, accelerations,
-  /// currents), as an ODE solver on the model's state-space form does (DASSL in Dymola's ODE form).
-  /// A kink in such an unknown (a friction force's |v|) then costs no steps (--error-test).
+  /// states only, leaving out the algebraic unknowns that follow from them (forces, accelerations,
+  /// currents), as an ODE solver on the model's state-space form does (DASSL in Dymola's ODE form);
+  /// a kink in such an unknown (a friction force's |v|) then costs no steps (--error-test). A
+  /// model that index reduction differentiated keeps every unknown tested.
   bool test_algebraic = false;
   /// Left- and right-limit rows at every event, also one that changes no output (as Dymola's
   /// events=true output, which the MSL reference results use); otherwise only at events that
