@@ -1,5 +1,7 @@
 #include "core/passes/causalization.h"
 
+#include "core/expr/expr_leaves.h"
+
 #include <algorithm>
 
 #include "core/base/graph.h"
@@ -103,8 +105,11 @@ bool InlineSolution(EquationSystem* sys, uint32_t k, uint32_t v) {
     value = SolveFor(&p, s.Apply(sys->equations[k].residual), p.Var(VarId(v)), true, &coefficient);
   }
   if (!value.valid()) return false;
-  s.Set(p.Var(VarId(v)), value);
   ExprId pre = p.FindLeaf(Op::kPre, v);
+  // v defined by its own left limit (y = if b then 4 else pre(y)): pre(v) is replaced by v's
+  // solution below, which would then hold itself. Such a v is kept an unknown.
+  if (pre.valid() && ContainsLeaf(p, value, pre)) return false;
+  s.Set(p.Var(VarId(v)), value);
   if (pre.valid()) s.Set(pre, value);
   if (!p.IsConst(coefficient)) {
     sys->guards.push_back({coefficient, sys->equations[k].origin, VarId(v)});

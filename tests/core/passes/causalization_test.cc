@@ -124,6 +124,31 @@ outputs: [x, u, s]
   EXPECT_GT(tr.Column("x", 8), tr.Column("x", 4));
 }
 
+// A Real defined by its own left limit holds its value until b turns true (a sample-and-hold).
+// Inlined, its solution would replace pre(y) by itself: the build looped until memory ran out.
+TEST(CausalizationTest, RealDefinedByItsOwnPreValueIsKeptAnUnknown) {
+  testing::Built b = testing::BuildYaml(R"(
+model: Hold
+variables:
+  x: {start: 0, fixed: true}
+  y: {start: 1}
+  b: {type: Boolean, start: false}
+equations:
+  - der(x) = 1
+  - b = x > 0.5
+  - y = if b then 4 else pre(y)
+experiment: {stop: 1, interval: 0.1}
+outputs: [x, y]
+)");
+  EXPECT_EQ(b.model->num_unknowns(), 2u);  // x, and y kept
+  testing::Trajectory tr = testing::RunDefault(b);
+  for (size_t row = 0; row < tr.t.size(); ++row) {
+    // Rows up to the event at x = 0.5 (its left limit included) hold the start value.
+    const bool after = tr.t[row] > 0.5 + 1e-6 || (row > 0 && tr.t[row] == tr.t[row - 1]);
+    EXPECT_EQ(tr.Column("y", row), after ? 4.0 : 1.0) << "t = " << tr.t[row];
+  }
+}
+
 TEST(CausalizationTest, AlgebraicLoopIsKeptForIda) {
   // x needs y and y needs x: each equation is linear in its own unknown, but they form a loop.
   testing::Built b = testing::BuildYaml(R"(
