@@ -72,8 +72,8 @@ CLI::App* AddSimulate(CLI::App* app, SimulateArgs* sim) {
   simulate->add_option("model", sim->model, "model file (YAML)")->required();
   simulate->add_option("-p,--param", sim->params, "override a parameter: NAME=VALUE (repeatable)");
   AddRunOptions(simulate, &sim->options,
-                "IDA's maximum BDF order, 1 to 5 (default: the experiment's max_order, else 5; 2 or 3 for lightly "
-                "damped oscillations)");
+                "IDA's maximum BDF order, 1 to 5 (default: the experiment's max_order, else 5; 3 can save steps on "
+                "lightly damped oscillations, but an undamped one gains energy at it: bench/RESULTS.md)");
   simulate->add_option("-o,--out", sim->out, "results file (CSV; '-' for standard output)");
   AddSolverChoices(simulate, &sim->options);
   simulate->add_flag("-q,--quiet", sim->quiet, "print nothing on success");
