@@ -66,7 +66,8 @@ std::set<std::string> LoadedLibraries(const std::string& log) {
 
 TEST(StartupTest, ACsvRunLoadsOnlyTheCAndMathLibraries) {
 #if !MOMENTA_LEAN_LINK
-  GTEST_SKIP() << "built with MOMENTA_LEAN_LINK off (or with the sanitizers): libstdc++ and yaml-cpp are shared";
+  GTEST_SKIP() << "built with MOMENTA_LEAN_LINK off, with the sanitizers, or without a library's static "
+                  "archive: some of momenta's libraries are shared";
 #endif
   // The binary holds the C++ runtime, yaml-cpp and SuiteSparse (cmake/Dependencies.cmake,
   // momenta_lean_link): their symbol lookups were a fifth of a small model's whole run.
