@@ -9,9 +9,9 @@ machine's load touches both), and prints a Markdown table of the medians: CPU ti
 
 The pairs: the seed examples (models/carrier_collision*.yaml, models/ball_pendulum*.yaml) against
 bench/handwritten_carrier and bench/handwritten_ball_pendulum [--impact] (the MapleSim variant of
-the carrier has no program of its own: `-` as baseline, its figure stands alone), the RC ladder at n = 1000 against handwritten_rc at the
-same settings (rtol = atol = 1e-6, interval 0.01, stop 10), and `momenta --help` (the bare
-start-up: loading, static initialisers) against /bin/true.
+the carrier has no program of its own: `-` as baseline, its figure stands alone), the RC ladder at
+n = 1000 against handwritten_rc at the same settings (rtol = atol = 1e-6, interval 0.01, stop 10),
+and `momenta --help` (the bare start-up: loading, static initialisers) against /bin/true.
 """
 import argparse
 import os
