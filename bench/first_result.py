@@ -8,10 +8,10 @@ machine's load touches both), and prints a Markdown table of the medians: CPU ti
   bench/first_result.py [--build build] [--repeat 21] [--momenta PATH]
 
 The pairs: the seed examples (models/carrier_collision*.yaml, models/ball_pendulum*.yaml) against
-bench/handwritten_carrier (the only seed model written by hand: the others are listed with `-` as
-baseline, their figure stands alone), the RC ladder at n = 1000 against handwritten_rc at the
-same settings (rtol = atol = 1e-6, interval 0.01, stop 10), and `momenta --help` (the bare
-start-up: loading, static initialisers) against /bin/true.
+bench/handwritten_carrier and bench/handwritten_ball_pendulum [--impact] (the MapleSim variant of
+the carrier has no program of its own: `-` as baseline, its figure stands alone), the RC ladder at
+n = 1000 against handwritten_rc at the same settings (rtol = atol = 1e-6, interval 0.01, stop 10),
+and `momenta --help` (the bare start-up: loading, static initialisers) against /bin/true.
 """
 import argparse
 import os
@@ -47,8 +47,11 @@ def main():
     rc = ["--n", "1000", "--stop", "10", "--rtol", "1e-6", "--atol", "1e-6", "--interval", "0.01",
           "--repeat", "1"]
     pairs = [("start-up (`--help`)", [momenta, "--help"], ["/bin/true"])]
+    baselines = {"carrier_collision": [f"{hw}/handwritten_carrier", f"{out}/hw.csv"],
+                 "ball_pendulum_impact": [f"{hw}/handwritten_ball_pendulum", "--impact", f"{out}/hw.csv"],
+                 "ball_pendulum": [f"{hw}/handwritten_ball_pendulum", f"{out}/hw.csv"]}
     for m in ("carrier_collision", "carrier_collision_maplesim", "ball_pendulum_impact", "ball_pendulum"):
-        base = [f"{hw}/handwritten_carrier", f"{out}/hw.csv"] if m == "carrier_collision" else None
+        base = baselines.get(m)
         pairs.append((f"`{m}`", [momenta, "simulate", f"models/{m}.yaml", "-o", f"{out}/{m}.csv"], base))
     pairs.append(("RC ladder n = 1000", [momenta, "simulate", "models/rc_ladder.yaml", "-p", "n=1000", "-o",
                                          f"{out}/rc.csv"], [f"{hw}/handwritten_rc"] + rc))

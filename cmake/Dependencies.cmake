@@ -33,6 +33,8 @@
 #                                      not with ccache, which would then compile them uncached)
 #   MOMENTA_TESTS_COMPILE_OPTIONS  ("") extra compile options of the test sources only
 #                                      (scripts/test.sh: -O0 in the sanitizer build)
+#   MOMENTA_LEAN_LINK            (ON)  the momenta binary links libstdc++, libgcc, yaml-cpp, libyaml
+#                                      and SuiteSparse statically (momenta_lean_link() below)
 #   MOMENTA_TESTS_SHARDS         (0)   0: one ctest test per GoogleTest test; N: N ctest tests,
 #                                      each a GoogleTest shard run in one process (scripts/test.sh:
 #                                      in the sanitizer build, whose start-up is slow)
@@ -48,6 +50,7 @@ option(MOMENTA_SANITIZE "Build with AddressSanitizer and UndefinedBehaviorSaniti
 option(MOMENTA_BUILD_FUZZ "Build the libFuzzer target in fuzz/ (needs clang; implies the sanitizers)" OFF)
 option(MOMENTA_USE_SYSTEM_SUNDIALS "Use the system SUNDIALS even if the optimised build exists" OFF)
 option(MOMENTA_USE_MPI "Run sweeps under mpirun when MPI is found" ON)
+option(MOMENTA_LEAN_LINK "Link the momenta binary's C++ runtime, yaml-cpp and SuiteSparse statically (start-up)" ON)
 option(MOMENTA_TESTS_PCH "Precompile the common headers of the tests (not with ccache)" OFF)
 set(MOMENTA_TESTS_COMPILE_OPTIONS "" CACHE STRING "Extra compile options of the test sources only")
 set(MOMENTA_TESTS_SHARDS 0 CACHE STRING "0: a ctest test per GoogleTest test; N: N GoogleTest shards")
@@ -216,3 +219,65 @@ endif()
 if(MOMENTA_BUILD_BENCH)
   find_package(benchmark CONFIG REQUIRED)   # benchmark::benchmark
 endif()
+
+# ---- Lean link of the momenta binary (start-up time) ---------------------------------------
+# A small model's whole run is a few milliseconds, of which the dynamic loader's symbol lookups in
+# libstdc++, yaml-cpp and SuiteSparse were a fifth (bench/RESULTS.md, "time to a first result").
+# momenta_lean_link(TARGET) links that executable with those libraries' static archives (where
+# they are installed; the shared ones otherwise), libstdc++ and libgcc static, and the linker's
+# section garbage collection: it then loads only libc and libm. Everything else (the tests, the
+# Python module, the plugins, which talk to momenta through plain C tables) links as before. The
+# swap is a generator expression on the consuming target's property MOMENTA_STATIC_LIBRARIES.
+set(_momenta_static_when "$<BOOL:$<TARGET_PROPERTY:MOMENTA_STATIC_LIBRARIES>>")
+function(_momenta_static_swap target)
+  get_target_property(_libs ${target} INTERFACE_LINK_LIBRARIES)
+  if(NOT _libs)
+    return()
+  endif()
+  set(_swapped "")
+  foreach(_lib IN LISTS _libs)
+    string(REGEX REPLACE "\\.so(\\.[0-9.]+)?$" ".a" _archive "${_lib}")
+    if(NOT _archive STREQUAL _lib AND EXISTS "${_archive}")
+      list(APPEND _swapped "$<IF:${_momenta_static_when},${_archive},${_lib}>")
+    else()
+      list(APPEND _swapped "${_lib}")
+      set(MOMENTA_LEAN_LINK_COMPLETE OFF PARENT_SCOPE)
+    endif()
+  endforeach()
+  set_property(TARGET ${target} PROPERTY INTERFACE_LINK_LIBRARIES "${_swapped}")
+endfunction()
+if(MOMENTA_LEAN_LINK AND NOT MOMENTA_SANITIZE AND NOT MOMENTA_BUILD_FUZZ
+   AND CMAKE_SYSTEM_NAME STREQUAL "Linux" AND CMAKE_CXX_COMPILER_ID MATCHES "GNU|Clang")
+  set(MOMENTA_LEAN_LINK_ACTIVE ON)
+  # OFF when a library's archive is not installed (its shared library is linked instead); the
+  # system SUNDIALS is Debian's shared libraries.
+  set(MOMENTA_LEAN_LINK_COMPLETE ${MOMENTA_SUNDIALS_OPTIMIZED})
+  if(TARGET SUNDIALS::KLU)
+    _momenta_static_swap(SUNDIALS::KLU)
+  endif()
+  # yaml-cpp's imported target names the shared library: the archive beside it, when installed.
+  foreach(_t yaml-cpp::yaml-cpp yaml-cpp)
+    if(TARGET ${_t})
+      get_target_property(_so ${_t} LOCATION)
+      string(REGEX REPLACE "\\.so(\\.[0-9.]+)?$" ".a" _a "${_so}")
+      if(EXISTS "${_a}")
+        set_property(TARGET momenta_yaml PROPERTY INTERFACE_LINK_LIBRARIES "$<IF:${_momenta_static_when},${_a},${_t}>")
+        target_link_libraries(momenta_yaml INTERFACE PkgConfig::LIBYAML)
+      else()
+        set(MOMENTA_LEAN_LINK_COMPLETE OFF)
+      endif()
+      break()
+    endif()
+  endforeach()
+  _momenta_static_swap(PkgConfig::LIBYAML)
+else()
+  set(MOMENTA_LEAN_LINK_ACTIVE OFF)
+  set(MOMENTA_LEAN_LINK_COMPLETE OFF)
+endif()
+function(momenta_lean_link target)
+  if(MOMENTA_LEAN_LINK_ACTIVE)
+    set_property(TARGET ${target} PROPERTY MOMENTA_STATIC_LIBRARIES ON)
+    target_link_options(${target} PRIVATE -static-libstdc++ -static-libgcc
+                        "LINKER:-O1,--hash-style=gnu,--as-needed,--gc-sections")
+  endif()
+endfunction()
