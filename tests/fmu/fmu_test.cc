@@ -9,6 +9,7 @@
 #include <sstream>
 #include <string>
 
+#include "app/plugin.h"
 #include "tests/support/cli_runner.h"
 #include "tests/support/fmu_importer.h"
 #include "tests/support/test_models.h"
@@ -24,6 +25,14 @@ using testing::ReadText;
 using testing::RunMomenta;
 using testing::SourcePath;
 using testing::TempDir;
+
+/// The FMU runtime is left out of sanitizer builds (fmu/CMakeLists.txt): nothing to test there.
+class FmuTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (FindPlugin("momenta-fmu.so").empty()) GTEST_SKIP() << "no FMU runtime in this build (fmu/CMakeLists.txt)";
+  }
+};
 
 /// The output of a shell command.
 std::string Shell(const std::string& command) {
@@ -53,7 +62,7 @@ double CarrierClosedForm(double eC, double eS = 0.3, double mA = 40, double mB =
   return vB1 * (mB - mS * eS) / (mB + mS);
 }
 
-TEST(FmuTest, CarrierCollisionBothKindsEndAtTheClosedForm) {
+TEST_F(FmuTest, CarrierCollisionBothKindsEndAtTheClosedForm) {
   TempDir dir;
   const std::string fmu = Export(dir, "models/carrier_collision.yaml");
   ASSERT_FALSE(fmu.empty());
@@ -76,7 +85,7 @@ TEST(FmuTest, CarrierCollisionBothKindsEndAtTheClosedForm) {
   }
 }
 
-TEST(FmuTest, ExportedParameterValueIsTheStartValue) {
+TEST_F(FmuTest, ExportedParameterValueIsTheStartValue) {
   TempDir dir;
   const std::string fmu = Export(dir, "models/carrier_collision.yaml", {"-p", "eC=0.5"});
   ASSERT_FALSE(fmu.empty());
@@ -102,6 +111,7 @@ std::map<std::string, double> SimulateEnd(const TempDir& dir, const std::string&
 }
 
 /// Runs `model` in both kinds to `stop` and compares `names` with `momenta simulate` within `tol`.
+/// (Co-Simulation's last step is the simulation's own run to `stop`: it agrees to the last bit.)
 void CompareWithSimulate(const std::string& model, double stop, double step, const std::vector<std::string>& names,
                          double tol) {
   TempDir dir;
@@ -120,22 +130,24 @@ void CompareWithSimulate(const std::string& model, double stop, double step, con
   }
 }
 
-TEST(FmuTest, BouncingBallMatchesSimulate) {
-  // Three bounces by t = 2.5 s (the first at 0.4515 s); between them the ball falls freely, which
-  // RK4 integrates exactly, and each impact is located by bisection: the runs agree with the
-  // simulation (tolerance 1e-8) to 1e-6.
-  CompareWithSimulate("models/bouncing_ball.yaml", 2.5, 0.01, {"ball.s", "ball.v"}, 1e-6);
+TEST_F(FmuTest, BouncingBallMatchesSimulate) {
+  // Between the bounces the ball falls freely, which RK4 integrates exactly, and each impact is
+  // located by bisection: in flight at 2.5 s the Model Exchange run is within 1e-12 of the
+  // simulation (tolerance 1e-8; measured 5e-13); at 6 s, past the accumulation of the bounces at
+  // 4.06 s, the contact has closed in both and the ball rests at s = 0. 1e-9 leaves room.
+  CompareWithSimulate("models/bouncing_ball.yaml", 2.5, 0.01, {"ball.s", "ball.v"}, 1e-9);
+  CompareWithSimulate("models/bouncing_ball.yaml", 6, 0.01, {"ball.s", "ball.v"}, 1e-9);
 }
 
-TEST(FmuTest, PlanarDoublePendulumMatchesSimulate) {
+TEST_F(FmuTest, PlanarDoublePendulumMatchesSimulate) {
   // An index-reduced planar multibody model: the importer integrates the states the build chose
-  // and the FMU solves the algebraic part at every derivative. RK4 at 1 ms has a global error of
-  // about 1e-9 here over 1 s; 1e-6 rad and rad/s covers it and the simulation's (1e-10).
+  // and the FMU solves the algebraic part at every derivative. RK4 at 1 ms differs from the
+  // simulation (tolerance 1e-10) by 4.3e-10 at most over 1 s (measured); 1e-8 rad and rad/s.
   CompareWithSimulate("models/double_pendulum.yaml", 1.0, 0.001, {"joint1.phi", "joint2.phi", "joint1.w", "joint2.w"},
-                      1e-6);
+                      1e-8);
 }
 
-TEST(FmuTest, DescriptionIsValidAgainstTheFmi2Schema) {
+TEST_F(FmuTest, DescriptionIsValidAgainstTheFmi2Schema) {
   TempDir dir;
   for (const char* model : {"models/carrier_collision.yaml", "models/double_pendulum.yaml"}) {
     const std::string fmu = Export(dir, model);
@@ -147,7 +159,7 @@ TEST(FmuTest, DescriptionIsValidAgainstTheFmi2Schema) {
   }
 }
 
-TEST(FmuTest, BinaryNeedsOnlyTheCAndCxxRuntime) {
+TEST_F(FmuTest, BinaryNeedsOnlyTheCAndCxxRuntime) {
   TempDir dir;
   const std::string fmu = Export(dir, "models/carrier_collision.yaml");
   ASSERT_FALSE(fmu.empty());
@@ -167,7 +179,7 @@ TEST(FmuTest, BinaryNeedsOnlyTheCAndCxxRuntime) {
   EXPECT_EQ(std::stoi(symbols), 0) << symbols;
 }
 
-TEST(FmuTest, GuidChangesWithTheStructureNotWithValues) {
+TEST_F(FmuTest, GuidChangesWithTheStructureNotWithValues) {
   TempDir dir;
   const std::string model = ReadText(SourcePath("models/carrier_collision.yaml"));
   int unpacked = 0;
@@ -193,7 +205,7 @@ TEST(FmuTest, GuidChangesWithTheStructureNotWithValues) {
   EXPECT_FALSE(base.empty());
 }
 
-TEST(FmuTest, WrongGuidAndLateParameterAreRefusedWithMessages) {
+TEST_F(FmuTest, WrongGuidAndLateParameterAreRefusedWithMessages) {
   TempDir dir;
   const std::string fmu = Export(dir, "models/carrier_collision.yaml");
   ASSERT_FALSE(fmu.empty());
@@ -214,7 +226,7 @@ TEST(FmuTest, WrongGuidAndLateParameterAreRefusedWithMessages) {
   importer.Free(c);
 }
 
-TEST(FmuTest, CommandErrorsNameTheOption) {
+TEST_F(FmuTest, CommandErrorsNameTheOption) {
   TempDir dir;
   const std::string model = SourcePath("models/carrier_collision.yaml");
   CliResult r = RunMomenta({"fmu", model, "-p", "eX=1", "-o", dir.File("a.fmu")}, dir.path());
