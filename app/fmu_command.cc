@@ -24,12 +24,23 @@ std::string XmlEscape(const std::string& text) {
   std::string out;
   for (char c : text) {
     switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      case '\n': out += "&#10;"; break;
-      default: out += c;
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      case '\n':
+        out += "&#10;";
+        break;
+      default:
+        out += c;
     }
   }
   return out;
@@ -127,17 +138,22 @@ std::string WriteZip(const std::string& path, const FmuContents& contents) {
 
 }  // namespace
 
-std::string ModelDescriptionXml(const CompiledModel& model, const fmu::FmuLayout& layout, const std::string& doc,
-                                bool model_exchange, bool co_simulation) {
+std::string ModelDescriptionXml(const CompiledModel& model, const fmu::FmuLayout& layout,
+                                const std::string& doc, bool model_exchange, bool co_simulation) {
   const std::string id = fmu::ModelIdentifier(model.flat->model_name);
-  std::string xml = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<fmiModelDescription fmiVersion=\"2.0\" modelName=\"" +
-                    XmlEscape(model.flat->model_name) + "\" guid=\"" + layout.guid + "\"";
+  std::string xml =
+      "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<fmiModelDescription fmiVersion=\"2.0\" "
+      "modelName=\"" +
+      XmlEscape(model.flat->model_name) + "\" guid=\"" + layout.guid + "\"";
   if (!doc.empty()) xml += " description=\"" + XmlEscape(doc) + "\"";
-  xml += " generationTool=\"momenta 0.1\" variableNamingConvention=\"structured\" numberOfEventIndicators=\"" +
-         std::to_string(layout.num_event_indicators) + "\">\n";
-  const std::string common = " modelIdentifier=\"" + id +
-                             "\" canNotUseMemoryManagementFunctions=\"true\" canGetAndSetFMUstate=\"false\" "
-                             "canSerializeFMUstate=\"false\" providesDirectionalDerivative=\"false\"";
+  xml +=
+      " generationTool=\"momenta 0.1\" variableNamingConvention=\"structured\" "
+      "numberOfEventIndicators=\"" +
+      std::to_string(layout.num_event_indicators) + "\">\n";
+  const std::string common =
+      " modelIdentifier=\"" + id +
+      "\" canNotUseMemoryManagementFunctions=\"true\" canGetAndSetFMUstate=\"false\" "
+      "canSerializeFMUstate=\"false\" providesDirectionalDerivative=\"false\"";
   if (model_exchange) xml += "  <ModelExchange" + common + "/>\n";
   if (co_simulation) {
     xml += "  <CoSimulation" + common + " canHandleVariableCommunicationStepSize=\"true\"/>\n";
@@ -170,25 +186,29 @@ std::string ModelDescriptionXml(const CompiledModel& model, const fmu::FmuLayout
 
 int RunFmu(const FmuArgs& args) {
   if (args.kind != "me" && args.kind != "cs" && args.kind != "both") {
-    std::cerr << "momenta: --kind " << args.kind << ": the choices are me (Model Exchange), cs (Co-Simulation) "
+    std::cerr << "momenta: --kind " << args.kind
+              << ": the choices are me (Model Exchange), cs (Co-Simulation) "
               << "and both\n";
     return kExitUsage;
   }
   const std::string runtime = FindPlugin("momenta-fmu.so");
   if (runtime.empty()) {
-    std::cerr << "momenta: the FMU runtime momenta-fmu.so is not in this build (build/lib/momenta/); "
-              << "its static libraries are missing: run scripts/setup.sh and build again\n";
+    std::cerr
+        << "momenta: the FMU runtime momenta-fmu.so is not in this build (build/lib/momenta/); "
+        << "its static libraries are missing: run scripts/setup.sh and build again\n";
     return kExitSolver;
   }
   LoadedModel loaded;
   if (int code = LoadAndBuild(args.model, args.params, &loaded); code != kExitOk) return code;
-  for (const auto& w : loaded.report.warnings) std::cerr << args.model << ": warning: " << w << "\n";
+  for (const auto& w : loaded.report.warnings)
+    std::cerr << args.model << ": warning: " << w << "\n";
   const CompiledModel& model = *loaded.model;
   const fmu::FmuLayout layout = fmu::MakeLayout(model, loaded.state->parameter_values());
   const std::string id = fmu::ModelIdentifier(model.flat->model_name);
   const std::string out = args.out.empty() ? FileStem(args.model) + ".fmu" : args.out;
 
-  // The resources: the model file, the files its uses: names (beside it, as written) and the manifest.
+  // The resources: the model file, the files its uses: names (beside it, as written) and the
+  // manifest.
   namespace fs = std::filesystem;
   const fs::path model_path(args.model);
   FmuContents contents;
@@ -203,19 +223,25 @@ int RunFmu(const FmuArgs& args) {
                 << ": an FMU carries files beside the model or below its folder only\n";
       return kExitModel;
     }
-    contents.files.emplace_back("resources/" + used.string(), (model_path.parent_path() / used).string());
+    contents.files.emplace_back("resources/" + used.string(),
+                                (model_path.parent_path() / used).string());
   }
-  contents.texts.emplace_back("resources/" + std::string(fmu::kManifestName), fmu::ManifestText(manifest));
-  contents.texts.emplace_back("modelDescription.xml",
-                              ModelDescriptionXml(model, layout, loaded.doc, args.kind != "cs", args.kind != "me"));
+  contents.texts.emplace_back("resources/" + std::string(fmu::kManifestName),
+                              fmu::ManifestText(manifest));
+  contents.texts.emplace_back(
+      "modelDescription.xml",
+      ModelDescriptionXml(model, layout, loaded.doc, args.kind != "cs", args.kind != "me"));
   contents.files.emplace_back("binaries/linux64/" + id + ".so", runtime);
   if (std::string why = WriteZip(out, contents); !why.empty()) {
     std::cerr << "momenta: cannot write " << out << ": " << why << "\n";
     return kExitSolver;
   }
-  std::cout << "wrote " << out << " (FMI 2.0 " << (args.kind == "both" ? "Model Exchange and Co-Simulation" : args.kind == "me" ? "Model Exchange" : "Co-Simulation")
-            << ", " << model.num_states() << " states, " << layout.num_event_indicators << " event indicators, "
-            << layout.variables.size() << " variables)\n";
+  std::cout << "wrote " << out << " (FMI 2.0 "
+            << (args.kind == "both" ? "Model Exchange and Co-Simulation"
+                : args.kind == "me" ? "Model Exchange"
+                                    : "Co-Simulation")
+            << ", " << model.num_states() << " states, " << layout.num_event_indicators
+            << " event indicators, " << layout.variables.size() << " variables)\n";
   return kExitOk;
 }
 

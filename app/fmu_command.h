@@ -22,7 +22,7 @@ struct FmuArgs {
 int RunFmu(const FmuArgs& args);
 
 /// The modelDescription.xml of `model` laid out as `layout`, for the kinds asked for.
-std::string ModelDescriptionXml(const CompiledModel& model, const fmu::FmuLayout& layout, const std::string& doc,
-                                bool model_exchange, bool co_simulation);
+std::string ModelDescriptionXml(const CompiledModel& model, const fmu::FmuLayout& layout,
+                                const std::string& doc, bool model_exchange, bool co_simulation);
 
 }  // namespace momenta

@@ -26,9 +26,15 @@ typedef char fmi2Byte;
 
 typedef enum { fmi2OK, fmi2Warning, fmi2Discard, fmi2Error, fmi2Fatal, fmi2Pending } fmi2Status;
 typedef enum { fmi2ModelExchange, fmi2CoSimulation } fmi2Type;
-typedef enum { fmi2DoStepStatus, fmi2PendingStatus, fmi2LastSuccessfulTime, fmi2Terminated } fmi2StatusKind;
+typedef enum {
+  fmi2DoStepStatus,
+  fmi2PendingStatus,
+  fmi2LastSuccessfulTime,
+  fmi2Terminated
+} fmi2StatusKind;
 
-typedef void (*fmi2CallbackLogger)(fmi2ComponentEnvironment, fmi2String, fmi2Status, fmi2String, fmi2String, ...);
+typedef void (*fmi2CallbackLogger)(fmi2ComponentEnvironment, fmi2String, fmi2Status, fmi2String,
+                                   fmi2String, ...);
 typedef void* (*fmi2CallbackAllocateMemory)(size_t, size_t);
 typedef void (*fmi2CallbackFreeMemory)(void*);
 typedef void (*fmi2StepFinished)(fmi2ComponentEnvironment, fmi2Status);
@@ -55,44 +61,57 @@ typedef struct {
 // ---- Common to both kinds ------------------------------------------------------------------
 MOMENTA_FMI2_EXPORT const char* fmi2GetTypesPlatform(void);
 MOMENTA_FMI2_EXPORT const char* fmi2GetVersion(void);
-MOMENTA_FMI2_EXPORT fmi2Status fmi2SetDebugLogging(fmi2Component, fmi2Boolean, size_t, const fmi2String[]);
-MOMENTA_FMI2_EXPORT fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2String fmuGUID,
+MOMENTA_FMI2_EXPORT fmi2Status fmi2SetDebugLogging(fmi2Component, fmi2Boolean, size_t,
+                                                   const fmi2String[]);
+MOMENTA_FMI2_EXPORT fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType,
+                                                  fmi2String fmuGUID,
                                                   fmi2String fmuResourceLocation,
-                                                  const fmi2CallbackFunctions* functions, fmi2Boolean visible,
-                                                  fmi2Boolean loggingOn);
+                                                  const fmi2CallbackFunctions* functions,
+                                                  fmi2Boolean visible, fmi2Boolean loggingOn);
 MOMENTA_FMI2_EXPORT void fmi2FreeInstance(fmi2Component);
-MOMENTA_FMI2_EXPORT fmi2Status fmi2SetupExperiment(fmi2Component, fmi2Boolean toleranceDefined, fmi2Real tolerance,
-                                                   fmi2Real startTime, fmi2Boolean stopTimeDefined,
-                                                   fmi2Real stopTime);
+MOMENTA_FMI2_EXPORT fmi2Status fmi2SetupExperiment(fmi2Component, fmi2Boolean toleranceDefined,
+                                                   fmi2Real tolerance, fmi2Real startTime,
+                                                   fmi2Boolean stopTimeDefined, fmi2Real stopTime);
 MOMENTA_FMI2_EXPORT fmi2Status fmi2EnterInitializationMode(fmi2Component);
 MOMENTA_FMI2_EXPORT fmi2Status fmi2ExitInitializationMode(fmi2Component);
 MOMENTA_FMI2_EXPORT fmi2Status fmi2Terminate(fmi2Component);
 MOMENTA_FMI2_EXPORT fmi2Status fmi2Reset(fmi2Component);
-MOMENTA_FMI2_EXPORT fmi2Status fmi2GetReal(fmi2Component, const fmi2ValueReference[], size_t, fmi2Real[]);
-MOMENTA_FMI2_EXPORT fmi2Status fmi2GetInteger(fmi2Component, const fmi2ValueReference[], size_t, fmi2Integer[]);
-MOMENTA_FMI2_EXPORT fmi2Status fmi2GetBoolean(fmi2Component, const fmi2ValueReference[], size_t, fmi2Boolean[]);
-MOMENTA_FMI2_EXPORT fmi2Status fmi2GetString(fmi2Component, const fmi2ValueReference[], size_t, fmi2String[]);
-MOMENTA_FMI2_EXPORT fmi2Status fmi2SetReal(fmi2Component, const fmi2ValueReference[], size_t, const fmi2Real[]);
-MOMENTA_FMI2_EXPORT fmi2Status fmi2SetInteger(fmi2Component, const fmi2ValueReference[], size_t, const fmi2Integer[]);
-MOMENTA_FMI2_EXPORT fmi2Status fmi2SetBoolean(fmi2Component, const fmi2ValueReference[], size_t, const fmi2Boolean[]);
-MOMENTA_FMI2_EXPORT fmi2Status fmi2SetString(fmi2Component, const fmi2ValueReference[], size_t, const fmi2String[]);
+MOMENTA_FMI2_EXPORT fmi2Status fmi2GetReal(fmi2Component, const fmi2ValueReference[], size_t,
+                                           fmi2Real[]);
+MOMENTA_FMI2_EXPORT fmi2Status fmi2GetInteger(fmi2Component, const fmi2ValueReference[], size_t,
+                                              fmi2Integer[]);
+MOMENTA_FMI2_EXPORT fmi2Status fmi2GetBoolean(fmi2Component, const fmi2ValueReference[], size_t,
+                                              fmi2Boolean[]);
+MOMENTA_FMI2_EXPORT fmi2Status fmi2GetString(fmi2Component, const fmi2ValueReference[], size_t,
+                                             fmi2String[]);
+MOMENTA_FMI2_EXPORT fmi2Status fmi2SetReal(fmi2Component, const fmi2ValueReference[], size_t,
+                                           const fmi2Real[]);
+MOMENTA_FMI2_EXPORT fmi2Status fmi2SetInteger(fmi2Component, const fmi2ValueReference[], size_t,
+                                              const fmi2Integer[]);
+MOMENTA_FMI2_EXPORT fmi2Status fmi2SetBoolean(fmi2Component, const fmi2ValueReference[], size_t,
+                                              const fmi2Boolean[]);
+MOMENTA_FMI2_EXPORT fmi2Status fmi2SetString(fmi2Component, const fmi2ValueReference[], size_t,
+                                             const fmi2String[]);
 MOMENTA_FMI2_EXPORT fmi2Status fmi2GetFMUstate(fmi2Component, fmi2FMUstate*);
 MOMENTA_FMI2_EXPORT fmi2Status fmi2SetFMUstate(fmi2Component, fmi2FMUstate);
 MOMENTA_FMI2_EXPORT fmi2Status fmi2FreeFMUstate(fmi2Component, fmi2FMUstate*);
 MOMENTA_FMI2_EXPORT fmi2Status fmi2SerializedFMUstateSize(fmi2Component, fmi2FMUstate, size_t*);
-MOMENTA_FMI2_EXPORT fmi2Status fmi2SerializeFMUstate(fmi2Component, fmi2FMUstate, fmi2Byte[], size_t);
-MOMENTA_FMI2_EXPORT fmi2Status fmi2DeSerializeFMUstate(fmi2Component, const fmi2Byte[], size_t, fmi2FMUstate*);
-MOMENTA_FMI2_EXPORT fmi2Status fmi2GetDirectionalDerivative(fmi2Component, const fmi2ValueReference[], size_t,
-                                                            const fmi2ValueReference[], size_t, const fmi2Real[],
-                                                            fmi2Real[]);
+MOMENTA_FMI2_EXPORT fmi2Status fmi2SerializeFMUstate(fmi2Component, fmi2FMUstate, fmi2Byte[],
+                                                     size_t);
+MOMENTA_FMI2_EXPORT fmi2Status fmi2DeSerializeFMUstate(fmi2Component, const fmi2Byte[], size_t,
+                                                       fmi2FMUstate*);
+MOMENTA_FMI2_EXPORT fmi2Status fmi2GetDirectionalDerivative(fmi2Component,
+                                                            const fmi2ValueReference[], size_t,
+                                                            const fmi2ValueReference[], size_t,
+                                                            const fmi2Real[], fmi2Real[]);
 
 // ---- Model Exchange ------------------------------------------------------------------------
 MOMENTA_FMI2_EXPORT fmi2Status fmi2EnterEventMode(fmi2Component);
 MOMENTA_FMI2_EXPORT fmi2Status fmi2NewDiscreteStates(fmi2Component, fmi2EventInfo*);
 MOMENTA_FMI2_EXPORT fmi2Status fmi2EnterContinuousTimeMode(fmi2Component);
-MOMENTA_FMI2_EXPORT fmi2Status fmi2CompletedIntegratorStep(fmi2Component, fmi2Boolean noSetFMUStatePriorToCurrentPoint,
-                                                           fmi2Boolean* enterEventMode,
-                                                           fmi2Boolean* terminateSimulation);
+MOMENTA_FMI2_EXPORT fmi2Status
+fmi2CompletedIntegratorStep(fmi2Component, fmi2Boolean noSetFMUStatePriorToCurrentPoint,
+                            fmi2Boolean* enterEventMode, fmi2Boolean* terminateSimulation);
 MOMENTA_FMI2_EXPORT fmi2Status fmi2SetTime(fmi2Component, fmi2Real);
 MOMENTA_FMI2_EXPORT fmi2Status fmi2SetContinuousStates(fmi2Component, const fmi2Real[], size_t);
 MOMENTA_FMI2_EXPORT fmi2Status fmi2GetDerivatives(fmi2Component, fmi2Real[], size_t);
@@ -101,9 +120,11 @@ MOMENTA_FMI2_EXPORT fmi2Status fmi2GetContinuousStates(fmi2Component, fmi2Real[]
 MOMENTA_FMI2_EXPORT fmi2Status fmi2GetNominalsOfContinuousStates(fmi2Component, fmi2Real[], size_t);
 
 // ---- Co-Simulation -------------------------------------------------------------------------
-MOMENTA_FMI2_EXPORT fmi2Status fmi2SetRealInputDerivatives(fmi2Component, const fmi2ValueReference[], size_t,
+MOMENTA_FMI2_EXPORT fmi2Status fmi2SetRealInputDerivatives(fmi2Component,
+                                                           const fmi2ValueReference[], size_t,
                                                            const fmi2Integer[], const fmi2Real[]);
-MOMENTA_FMI2_EXPORT fmi2Status fmi2GetRealOutputDerivatives(fmi2Component, const fmi2ValueReference[], size_t,
+MOMENTA_FMI2_EXPORT fmi2Status fmi2GetRealOutputDerivatives(fmi2Component,
+                                                            const fmi2ValueReference[], size_t,
                                                             const fmi2Integer[], fmi2Real[]);
 MOMENTA_FMI2_EXPORT fmi2Status fmi2DoStep(fmi2Component, fmi2Real currentCommunicationPoint,
                                           fmi2Real communicationStepSize,
@@ -111,9 +132,12 @@ MOMENTA_FMI2_EXPORT fmi2Status fmi2DoStep(fmi2Component, fmi2Real currentCommuni
 MOMENTA_FMI2_EXPORT fmi2Status fmi2CancelStep(fmi2Component);
 MOMENTA_FMI2_EXPORT fmi2Status fmi2GetStatus(fmi2Component, const fmi2StatusKind, fmi2Status*);
 MOMENTA_FMI2_EXPORT fmi2Status fmi2GetRealStatus(fmi2Component, const fmi2StatusKind, fmi2Real*);
-MOMENTA_FMI2_EXPORT fmi2Status fmi2GetIntegerStatus(fmi2Component, const fmi2StatusKind, fmi2Integer*);
-MOMENTA_FMI2_EXPORT fmi2Status fmi2GetBooleanStatus(fmi2Component, const fmi2StatusKind, fmi2Boolean*);
-MOMENTA_FMI2_EXPORT fmi2Status fmi2GetStringStatus(fmi2Component, const fmi2StatusKind, fmi2String*);
+MOMENTA_FMI2_EXPORT fmi2Status fmi2GetIntegerStatus(fmi2Component, const fmi2StatusKind,
+                                                    fmi2Integer*);
+MOMENTA_FMI2_EXPORT fmi2Status fmi2GetBooleanStatus(fmi2Component, const fmi2StatusKind,
+                                                    fmi2Boolean*);
+MOMENTA_FMI2_EXPORT fmi2Status fmi2GetStringStatus(fmi2Component, const fmi2StatusKind,
+                                                   fmi2String*);
 
 #ifdef __cplusplus
 }

@@ -23,9 +23,11 @@ struct Component {
   std::unique_ptr<FmuInstance> instance;
 };
 
-void Log(const fmi2CallbackFunctions* functions, const std::string& name, fmi2Status status, const std::string& text) {
+void Log(const fmi2CallbackFunctions* functions, const std::string& name, fmi2Status status,
+         const std::string& text) {
   if (functions && functions->logger) {
-    functions->logger(functions->componentEnvironment, name.c_str(), status, "momenta", "%s", text.c_str());
+    functions->logger(functions->componentEnvironment, name.c_str(), status, "momenta", "%s",
+                      text.c_str());
   }
 }
 
@@ -48,7 +50,8 @@ fmi2Status Guard(fmi2Component component, const char* function, Body body) {
 }
 
 fmi2Status Unsupported(fmi2Component component, const char* function) {
-  if (component) Log(static_cast<Component*>(component), fmi2Error, std::string(function) + " is not supported");
+  if (component)
+    Log(static_cast<Component*>(component), fmi2Error, std::string(function) + " is not supported");
   return fmi2Error;
 }
 
@@ -64,8 +67,8 @@ fmi2Status fmi2SetDebugLogging(fmi2Component c, fmi2Boolean, size_t, const fmi2S
 }
 
 fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2String fmuGUID,
-                              fmi2String fmuResourceLocation, const fmi2CallbackFunctions* functions,
-                              fmi2Boolean, fmi2Boolean) {
+                              fmi2String fmuResourceLocation,
+                              const fmi2CallbackFunctions* functions, fmi2Boolean, fmi2Boolean) {
   const std::string name = instanceName ? instanceName : "";
   try {
     auto c = std::make_unique<Component>();
@@ -74,8 +77,10 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
       c->logger = functions->logger;
       c->environment = functions->componentEnvironment;
     }
-    const std::string resources = momenta::fmu::PathOfUri(fmuResourceLocation ? fmuResourceLocation : "");
-    c->instance = std::make_unique<FmuInstance>(resources, fmuGUID ? fmuGUID : "", fmuType == fmi2CoSimulation);
+    const std::string resources =
+        momenta::fmu::PathOfUri(fmuResourceLocation ? fmuResourceLocation : "");
+    c->instance = std::make_unique<FmuInstance>(resources, fmuGUID ? fmuGUID : "",
+                                                fmuType == fmi2CoSimulation);
     return c.release();
   } catch (const std::exception& e) {
     Log(functions, name, fmi2Error, std::string("fmi2Instantiate: ") + e.what());
@@ -85,8 +90,8 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
 
 void fmi2FreeInstance(fmi2Component c) { delete static_cast<Component*>(c); }
 
-fmi2Status fmi2SetupExperiment(fmi2Component c, fmi2Boolean toleranceDefined, fmi2Real tolerance, fmi2Real startTime,
-                               fmi2Boolean stopTimeDefined, fmi2Real stopTime) {
+fmi2Status fmi2SetupExperiment(fmi2Component c, fmi2Boolean toleranceDefined, fmi2Real tolerance,
+                               fmi2Real startTime, fmi2Boolean stopTimeDefined, fmi2Real stopTime) {
   return Guard(c, "fmi2SetupExperiment", [&](FmuInstance& m) {
     m.SetupExperiment(toleranceDefined, tolerance, startTime, stopTimeDefined, stopTime);
   });
@@ -98,15 +103,21 @@ fmi2Status fmi2EnterInitializationMode(fmi2Component c) {
 fmi2Status fmi2ExitInitializationMode(fmi2Component c) {
   return Guard(c, "fmi2ExitInitializationMode", [](FmuInstance& m) { m.ExitInitialization(); });
 }
-fmi2Status fmi2Terminate(fmi2Component c) { return Guard(c, "fmi2Terminate", [](FmuInstance&) {}); }
-fmi2Status fmi2Reset(fmi2Component c) { return Guard(c, "fmi2Reset", [](FmuInstance& m) { m.Reset(); }); }
+fmi2Status fmi2Terminate(fmi2Component c) {
+  return Guard(c, "fmi2Terminate", [](FmuInstance&) {});
+}
+fmi2Status fmi2Reset(fmi2Component c) {
+  return Guard(c, "fmi2Reset", [](FmuInstance& m) { m.Reset(); });
+}
 
-fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2Real value[]) {
+fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
+                       fmi2Real value[]) {
   return Guard(c, "fmi2GetReal", [&](FmuInstance& m) {
     for (size_t k = 0; k < nvr; ++k) value[k] = m.GetReal(vr[k]);
   });
 }
-fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2Real value[]) {
+fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
+                       const fmi2Real value[]) {
   return Guard(c, "fmi2SetReal", [&](FmuInstance& m) {
     for (size_t k = 0; k < nvr; ++k) m.SetReal(vr[k], value[k]);
   });
@@ -121,20 +132,29 @@ fmi2Status fmi2GetBoolean(fmi2Component c, const fmi2ValueReference[], size_t nv
 fmi2Status fmi2GetString(fmi2Component c, const fmi2ValueReference[], size_t nvr, fmi2String[]) {
   return nvr == 0 ? fmi2OK : Unsupported(c, "fmi2GetString (the FMU has no String variables)");
 }
-fmi2Status fmi2SetInteger(fmi2Component c, const fmi2ValueReference[], size_t nvr, const fmi2Integer[]) {
+fmi2Status fmi2SetInteger(fmi2Component c, const fmi2ValueReference[], size_t nvr,
+                          const fmi2Integer[]) {
   return nvr == 0 ? fmi2OK : Unsupported(c, "fmi2SetInteger (the FMU has no Integer variables)");
 }
-fmi2Status fmi2SetBoolean(fmi2Component c, const fmi2ValueReference[], size_t nvr, const fmi2Boolean[]) {
+fmi2Status fmi2SetBoolean(fmi2Component c, const fmi2ValueReference[], size_t nvr,
+                          const fmi2Boolean[]) {
   return nvr == 0 ? fmi2OK : Unsupported(c, "fmi2SetBoolean (the FMU has no Boolean variables)");
 }
-fmi2Status fmi2SetString(fmi2Component c, const fmi2ValueReference[], size_t nvr, const fmi2String[]) {
+fmi2Status fmi2SetString(fmi2Component c, const fmi2ValueReference[], size_t nvr,
+                         const fmi2String[]) {
   return nvr == 0 ? fmi2OK : Unsupported(c, "fmi2SetString (the FMU has no String variables)");
 }
 
 // State saving and directional derivatives are not offered (the capability flags say so).
-fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate*) { return Unsupported(c, "fmi2GetFMUstate"); }
-fmi2Status fmi2SetFMUstate(fmi2Component c, fmi2FMUstate) { return Unsupported(c, "fmi2SetFMUstate"); }
-fmi2Status fmi2FreeFMUstate(fmi2Component c, fmi2FMUstate*) { return Unsupported(c, "fmi2FreeFMUstate"); }
+fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate*) {
+  return Unsupported(c, "fmi2GetFMUstate");
+}
+fmi2Status fmi2SetFMUstate(fmi2Component c, fmi2FMUstate) {
+  return Unsupported(c, "fmi2SetFMUstate");
+}
+fmi2Status fmi2FreeFMUstate(fmi2Component c, fmi2FMUstate*) {
+  return Unsupported(c, "fmi2FreeFMUstate");
+}
 fmi2Status fmi2SerializedFMUstateSize(fmi2Component c, fmi2FMUstate, size_t*) {
   return Unsupported(c, "fmi2SerializedFMUstateSize");
 }
@@ -144,14 +164,17 @@ fmi2Status fmi2SerializeFMUstate(fmi2Component c, fmi2FMUstate, fmi2Byte[], size
 fmi2Status fmi2DeSerializeFMUstate(fmi2Component c, const fmi2Byte[], size_t, fmi2FMUstate*) {
   return Unsupported(c, "fmi2DeSerializeFMUstate");
 }
-fmi2Status fmi2GetDirectionalDerivative(fmi2Component c, const fmi2ValueReference[], size_t, const fmi2ValueReference[],
-                                        size_t, const fmi2Real[], fmi2Real[]) {
+fmi2Status fmi2GetDirectionalDerivative(fmi2Component c, const fmi2ValueReference[], size_t,
+                                        const fmi2ValueReference[], size_t, const fmi2Real[],
+                                        fmi2Real[]) {
   return Unsupported(c, "fmi2GetDirectionalDerivative");
 }
 
 // ---- Model Exchange ------------------------------------------------------------------------
 
-fmi2Status fmi2EnterEventMode(fmi2Component c) { return Guard(c, "fmi2EnterEventMode", [](FmuInstance&) {}); }
+fmi2Status fmi2EnterEventMode(fmi2Component c) {
+  return Guard(c, "fmi2EnterEventMode", [](FmuInstance&) {});
+}
 
 fmi2Status fmi2NewDiscreteStates(fmi2Component c, fmi2EventInfo* info) {
   return Guard(c, "fmi2NewDiscreteStates", [&](FmuInstance& m) {
@@ -194,17 +217,18 @@ fmi2Status fmi2GetContinuousStates(fmi2Component c, fmi2Real x[], size_t n) {
   return Guard(c, "fmi2GetContinuousStates", [&](FmuInstance& m) { m.GetContinuousStates(x, n); });
 }
 fmi2Status fmi2GetNominalsOfContinuousStates(fmi2Component c, fmi2Real x[], size_t n) {
-  return Guard(c, "fmi2GetNominalsOfContinuousStates", [&](FmuInstance& m) { m.GetNominals(x, n); });
+  return Guard(c, "fmi2GetNominalsOfContinuousStates",
+               [&](FmuInstance& m) { m.GetNominals(x, n); });
 }
 
 // ---- Co-Simulation -------------------------------------------------------------------------
 
-fmi2Status fmi2SetRealInputDerivatives(fmi2Component c, const fmi2ValueReference[], size_t nvr, const fmi2Integer[],
-                                       const fmi2Real[]) {
+fmi2Status fmi2SetRealInputDerivatives(fmi2Component c, const fmi2ValueReference[], size_t nvr,
+                                       const fmi2Integer[], const fmi2Real[]) {
   return nvr == 0 ? fmi2OK : Unsupported(c, "fmi2SetRealInputDerivatives (the FMU has no inputs)");
 }
-fmi2Status fmi2GetRealOutputDerivatives(fmi2Component c, const fmi2ValueReference[], size_t nvr, const fmi2Integer[],
-                                        fmi2Real[]) {
+fmi2Status fmi2GetRealOutputDerivatives(fmi2Component c, const fmi2ValueReference[], size_t nvr,
+                                        const fmi2Integer[], fmi2Real[]) {
   return nvr == 0 ? fmi2OK : Unsupported(c, "fmi2GetRealOutputDerivatives");
 }
 
@@ -213,7 +237,9 @@ fmi2Status fmi2DoStep(fmi2Component c, fmi2Real t, fmi2Real h, fmi2Boolean) {
 }
 fmi2Status fmi2CancelStep(fmi2Component c) { return Unsupported(c, "fmi2CancelStep"); }
 
-fmi2Status fmi2GetStatus(fmi2Component c, const fmi2StatusKind, fmi2Status*) { return Unsupported(c, "fmi2GetStatus"); }
+fmi2Status fmi2GetStatus(fmi2Component c, const fmi2StatusKind, fmi2Status*) {
+  return Unsupported(c, "fmi2GetStatus");
+}
 fmi2Status fmi2GetRealStatus(fmi2Component c, const fmi2StatusKind kind, fmi2Real* value) {
   if (kind != fmi2LastSuccessfulTime) return Unsupported(c, "fmi2GetRealStatus of this kind");
   return Guard(c, "fmi2GetRealStatus", [&](FmuInstance& m) { *value = m.time(); });

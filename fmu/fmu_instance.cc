@@ -28,14 +28,16 @@ FmuInstance::FmuInstance(const std::string& resources, const std::string& guid, 
   model_file_ = resources_ + "/" + manifest.model_file;
   built_with_ = manifest.overrides;
   BuildReport report;
-  model_ = BuildModel(LoadModelFile(model_file_), BuiltinLibrary(), BuildOptions(built_with_), &report);
+  model_ =
+      BuildModel(LoadModelFile(model_file_), BuiltinLibrary(), BuildOptions(built_with_), &report);
   built_with_ = report.overrides;
   ModelState defaults(model_);
   defaults.SetParameters(built_with_);
   parameters_ = defaults.parameter_values();
   layout_ = MakeLayout(*model_, parameters_);
   if (layout_.guid != guid) {
-    throw std::runtime_error("the GUID " + guid + " is not that of the model in " + model_file_ + " (" + layout_.guid +
+    throw std::runtime_error("the GUID " + guid + " is not that of the model in " + model_file_ +
+                             " (" + layout_.guid +
                              "): the FMU's modelDescription.xml and its resources disagree");
   }
   options_ = OptionsFromExperiment(model_->experiment);
@@ -45,8 +47,8 @@ FmuInstance::FmuInstance(const std::string& resources, const std::string& guid, 
 
 FmuInstance::~FmuInstance() = default;
 
-void FmuInstance::SetupExperiment(bool tolerance_defined, double tolerance, double start, bool stop_defined,
-                                  double stop) {
+void FmuInstance::SetupExperiment(bool tolerance_defined, double tolerance, double start,
+                                  bool stop_defined, double stop) {
   if (tolerance_defined && tolerance > 0) options_.rtol = tolerance;
   options_.start = start;
   if (stop_defined) options_.stop = stop;
@@ -56,21 +58,25 @@ void FmuInstance::SetupExperiment(bool tolerance_defined, double tolerance, doub
 
 void FmuInstance::CheckParameterValue(const FmuVariable& v, double value) const {
   if (initialized_) {
-    throw std::runtime_error("parameter " + v.name + ": set before initialisation (fmi2EnterInitializationMode); " +
+    throw std::runtime_error("parameter " + v.name +
+                             ": set before initialisation (fmi2EnterInitializationMode); " +
                              "it is fixed during the run");
   }
   if (v.structural && value != v.start) {
     throw std::runtime_error("parameter " + v.name + "=" + NumberText(value) + ": " + v.name +
-                             " shapes the model's structure and the FMU was exported with " + v.name + " = " +
-                             NumberText(v.start) + "; export it again with -p " + v.name + "=" + NumberText(value));
+                             " shapes the model's structure and the FMU was exported with " +
+                             v.name + " = " + NumberText(v.start) + "; export it again with -p " +
+                             v.name + "=" + NumberText(value));
   }
 }
 
 void FmuInstance::SetReal(uint32_t vr, double value) {
-  if (vr >= layout_.variables.size()) throw std::runtime_error("no variable with value reference " + std::to_string(vr));
+  if (vr >= layout_.variables.size())
+    throw std::runtime_error("no variable with value reference " + std::to_string(vr));
   const FmuVariable& v = layout_.variables[vr];
   if (v.kind != VariableKind::kParameter) {
-    throw std::runtime_error(v.name + " is not a parameter: only parameters can be set (value reference " +
+    throw std::runtime_error(v.name +
+                             " is not a parameter: only parameters can be set (value reference " +
                              std::to_string(vr) + ")");
   }
   CheckParameterValue(v, value);
@@ -79,10 +85,13 @@ void FmuInstance::SetReal(uint32_t vr, double value) {
 }
 
 const std::vector<double>& FmuInstance::y() const { return co_simulation_ || !run_ ? y_ : run_->y; }
-const std::vector<double>& FmuInstance::yp() const { return co_simulation_ || !run_ ? yp_ : run_->yp; }
+const std::vector<double>& FmuInstance::yp() const {
+  return co_simulation_ || !run_ ? yp_ : run_->yp;
+}
 
 double FmuInstance::GetReal(uint32_t vr) {
-  if (vr >= layout_.variables.size()) throw std::runtime_error("no variable with value reference " + std::to_string(vr));
+  if (vr >= layout_.variables.size())
+    throw std::runtime_error("no variable with value reference " + std::to_string(vr));
   const FmuVariable& v = layout_.variables[vr];
   if (v.kind == VariableKind::kParameter) return parameters_[v.index];
   if (!initialized_ && !initializing_) {
@@ -92,9 +101,12 @@ double FmuInstance::GetReal(uint32_t vr) {
   if (!co_simulation_) Solve();
   const size_t yk = v.state >= 0 ? model_->state_y[static_cast<size_t>(v.state)] : 0;
   switch (v.kind) {
-    case VariableKind::kState: return y()[yk];
-    case VariableKind::kDerivative: return yp()[yk];
-    default: break;
+    case VariableKind::kState:
+      return y()[yk];
+    case VariableKind::kDerivative:
+      return yp()[yk];
+    default:
+      break;
   }
   outputs_.resize(model_->output_names.size());
   state_->Outputs(t_, y().data(), yp().data(), outputs_.data());
@@ -161,18 +173,23 @@ void FmuInstance::SetTime(double t) {
 }
 
 void FmuInstance::SetContinuousStates(const double* x, size_t n) {
-  if (!run_ || n != model_->num_states()) throw std::runtime_error("fmi2SetContinuousStates: expected " + std::to_string(model_->num_states()) + " states");
+  if (!run_ || n != model_->num_states())
+    throw std::runtime_error("fmi2SetContinuousStates: expected " +
+                             std::to_string(model_->num_states()) + " states");
   for (size_t j = 0; j < n; ++j) run_->y[model_->state_y[j]] = x[j];
   solved_ = false;
 }
 
 void FmuInstance::GetContinuousStates(double* x, size_t n) const {
-  if (!run_ || n != model_->num_states()) throw std::runtime_error("fmi2GetContinuousStates: expected " + std::to_string(model_->num_states()) + " states");
+  if (!run_ || n != model_->num_states())
+    throw std::runtime_error("fmi2GetContinuousStates: expected " +
+                             std::to_string(model_->num_states()) + " states");
   for (size_t j = 0; j < n; ++j) x[j] = run_->y[model_->state_y[j]];
 }
 
 void FmuInstance::GetNominals(double* nominal, size_t n) const {
-  for (size_t j = 0; j < n && j < model_->num_states(); ++j) nominal[j] = model_->nominal[model_->state_y[j]];
+  for (size_t j = 0; j < n && j < model_->num_states(); ++j)
+    nominal[j] = model_->nominal[model_->state_y[j]];
 }
 
 void FmuInstance::Solve() {
@@ -195,15 +212,17 @@ void FmuInstance::Solve() {
 }
 
 void FmuInstance::GetDerivatives(double* dx, size_t n) {
-  if (!run_ || n != model_->num_states()) throw std::runtime_error("fmi2GetDerivatives: expected " + std::to_string(model_->num_states()) + " states");
+  if (!run_ || n != model_->num_states())
+    throw std::runtime_error("fmi2GetDerivatives: expected " +
+                             std::to_string(model_->num_states()) + " states");
   Solve();
   for (size_t j = 0; j < n; ++j) dx[j] = run_->yp[model_->state_y[j]];
 }
 
 void FmuInstance::GetEventIndicators(double* z, size_t n) {
   if (!run_ || n != layout_.num_event_indicators) {
-    throw std::runtime_error("fmi2GetEventIndicators: expected " + std::to_string(layout_.num_event_indicators) +
-                             " event indicators");
+    throw std::runtime_error("fmi2GetEventIndicators: expected " +
+                             std::to_string(layout_.num_event_indicators) + " event indicators");
   }
   Solve();
   const size_t nc = model_->conditions.size();
@@ -228,7 +247,8 @@ bool FmuInstance::EventUpdate(double* next_event) {
   run.t = t_;
   if (run.num_unknowns > 0) {
     if (first_event_) {
-      if (TimeRelationSwitchesAtStart(model, state_.get(), &run)) DoEvent(model, state_.get(), &run, t_, true);
+      if (TimeRelationSwitchesAtStart(model, state_.get(), &run))
+        DoEvent(model, state_.get(), &run, t_, true);
     } else {
       const bool time_event = t_ >= NextTimeEvent(model, state_.get(), &run);
       DoEvent(model, state_.get(), &run, t_, time_event);
@@ -247,7 +267,8 @@ bool FmuInstance::EventUpdate(double* next_event) {
 
 void FmuInstance::DoStep(double t, double h) {
   if (!initialized_) throw std::runtime_error("fmi2DoStep before fmi2ExitInitializationMode");
-  if (!(h > 0)) throw std::runtime_error("fmi2DoStep: the step size " + NumberText(h) + " is not positive");
+  if (!(h > 0))
+    throw std::runtime_error("fmi2DoStep: the step size " + NumberText(h) + " is not positive");
   // A fresh run from the start to the step's end: its events located and its impacts resolved
   // by the solver, the end point consistent.
   auto state = std::make_unique<ModelState>(model_);

@@ -35,7 +35,8 @@ class FmuInstance {
   const FmuLayout& layout() const { return layout_; }
   bool co_simulation() const { return co_simulation_; }
 
-  void SetupExperiment(bool tolerance_defined, double tolerance, double start, bool stop_defined, double stop);
+  void SetupExperiment(bool tolerance_defined, double tolerance, double start, bool stop_defined,
+                       double stop);
   void SetReal(uint32_t vr, double value);
   double GetReal(uint32_t vr);
   void EnterInitialization() { initializing_ = true; }

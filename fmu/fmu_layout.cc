@@ -26,7 +26,8 @@ std::string GuidOf(const std::string& text) {
   char buf[48];
   std::snprintf(buf, sizeof buf, "{%08x-%04x-%04x-%04x-%012llx}", static_cast<unsigned>(a >> 32),
                 static_cast<unsigned>((a >> 16) & 0xffff), static_cast<unsigned>(a & 0xffff),
-                static_cast<unsigned>(b >> 48), static_cast<unsigned long long>(b & 0xffffffffffffull));
+                static_cast<unsigned>(b >> 48),
+                static_cast<unsigned long long>(b & 0xffffffffffffull));
   return buf;
 }
 
@@ -53,7 +54,8 @@ FmuLayout MakeLayout(const CompiledModel& model, const std::vector<double>& para
   }
   // States by name, to find the outputs that are states.
   std::map<std::string, size_t> state_of;
-  for (size_t j = 0; j < model.num_states(); ++j) state_of[flat.VariableName(model.unknowns[model.state_y[j]])] = j;
+  for (size_t j = 0; j < model.num_states(); ++j)
+    state_of[flat.VariableName(model.unknowns[model.state_y[j]])] = j;
   layout.state_refs.assign(model.num_states(), UINT32_MAX);
   const std::vector<std::string> units = OutputUnits(flat, model.output_names);
   for (size_t k = 0; k < model.output_names.size(); ++k) {
@@ -62,7 +64,8 @@ FmuLayout MakeLayout(const CompiledModel& model, const std::vector<double>& para
     v.unit = units[k];
     v.kind = VariableKind::kOutput;
     v.index = k;
-    if (auto it = state_of.find(v.name); it != state_of.end() && layout.state_refs[it->second] == UINT32_MAX) {
+    if (auto it = state_of.find(v.name);
+        it != state_of.end() && layout.state_refs[it->second] == UINT32_MAX) {
       v.state = static_cast<int>(it->second);
       layout.state_refs[it->second] = add(std::move(v));
       continue;
@@ -92,8 +95,9 @@ FmuLayout MakeLayout(const CompiledModel& model, const std::vector<double>& para
   // The GUID: everything above but the values.
   std::string text = "momenta-fmu 1\n" + flat.model_name + "\n";
   for (const FmuVariable& v : layout.variables) {
-    text += std::to_string(static_cast<int>(v.kind)) + " " + std::to_string(v.value_reference) + " " + v.name + " [" +
-            v.unit + "] " + std::to_string(v.state) + (v.structural ? " structural\n" : "\n");
+    text += std::to_string(static_cast<int>(v.kind)) + " " + std::to_string(v.value_reference) +
+            " " + v.name + " [" + v.unit + "] " + std::to_string(v.state) +
+            (v.structural ? " structural\n" : "\n");
   }
   text += "indicators " + std::to_string(layout.num_event_indicators) + "\n";
   layout.guid = GuidOf(text);

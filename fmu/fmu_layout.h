@@ -26,14 +26,14 @@ struct FmuVariable {
   std::string name, unit, description;
   VariableKind kind = VariableKind::kParameter;
   uint32_t value_reference = 0;
-  size_t index = 0;    ///< the parameter's, output's or state's index in the model
-  double start = 0;    ///< parameters: the value the FMU was exported with
+  size_t index = 0;         ///< the parameter's, output's or state's index in the model
+  double start = 0;         ///< parameters: the value the FMU was exported with
   bool structural = false;  ///< a parameter that shaped the structure: fixed at export
-  int state = -1;      ///< outputs and states: the state this variable is (index into state_y), or -1
+  int state = -1;  ///< outputs and states: the state this variable is (index into state_y), or -1
 };
 
 struct FmuLayout {
-  std::vector<FmuVariable> variables;  ///< by value reference
+  std::vector<FmuVariable> variables;                 ///< by value reference
   std::vector<uint32_t> state_refs, derivative_refs;  ///< per state
   size_t num_event_indicators = 0;  ///< the conditions' crossing functions, then one per impact
   std::string guid;

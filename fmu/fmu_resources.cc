@@ -23,7 +23,8 @@ std::string ManifestText(const ResourceManifest& manifest) {
 ResourceManifest ReadManifest(const std::string& resources) {
   const std::string path = resources + "/" + kManifestName;
   std::ifstream in(path);
-  if (!in) throw std::runtime_error("cannot read " + path + " (the FMU's resources are incomplete)");
+  if (!in)
+    throw std::runtime_error("cannot read " + path + " (the FMU's resources are incomplete)");
   ResourceManifest manifest;
   int line_number = 0;
   for (std::string line; std::getline(in, line);) {
@@ -40,7 +41,9 @@ ResourceManifest ReadManifest(const std::string& resources) {
       manifest.overrides[name] = value;
       continue;
     }
-    if (!key.empty()) throw std::runtime_error(path + ":" + std::to_string(line_number) + ": cannot read '" + line + "'");
+    if (!key.empty())
+      throw std::runtime_error(path + ":" + std::to_string(line_number) + ": cannot read '" + line +
+                               "'");
   }
   if (manifest.model_file.empty()) throw std::runtime_error(path + ": no 'model' line");
   return manifest;

@@ -6,6 +6,7 @@
 
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -13,6 +14,7 @@
 #include "core/build.h"
 #include "core/compile/compiled_model.h"
 #include "core/compile/native_code.h"
+#include "solver/linearization.h"
 #include "solver/simulation_options.h"
 
 namespace momenta::python {
@@ -44,7 +46,8 @@ class PythonModel {
   /// Loads the file and builds it with `overrides` (structural parameters too); `codegen` is
   /// auto, native or interp (core/compile/native_code.h). Throws ModelError (file:line:col) for
   /// a wrong model and UsageError for an unknown parameter name or codegen mode.
-  PythonModel(const std::string& path, const ParameterOverrides& overrides, const std::string& codegen);
+  PythonModel(const std::string& path, const ParameterOverrides& overrides,
+              const std::string& codegen);
 
   const std::string& path() const { return path_; }
   const std::string& model_name() const { return model_->flat->model_name; }
@@ -68,7 +71,16 @@ class PythonModel {
   /// With codegen auto, native code if `runs` runs repay it (as `momenta sweep` decides); the
   /// model stays as built when they do not.
   void PrepareForRuns(size_t runs);
-  /// The built model, for RunAll (each caller keeps its own reference: PrepareForRuns may replace it).
+  /// Model.linearize: the model built again as `momenta linearize` builds it (`spec`'s free inputs
+  /// held, its outputs added) with the load's parameters and `params` over them, brought to `at`
+  /// (the start, after the initialisation, when empty; else where a run to it ends) and
+  /// linearised. Throws UsageError for an unknown name or a time outside the experiment,
+  /// ModelError, and SolverError when the run or the linearisation fails.
+  Linearization Linearize(const ParameterOverrides& params, std::optional<double> at,
+                          const LinearizationSpec& spec) const;
+
+  /// The built model, for RunAll (each caller keeps its own reference: PrepareForRuns may replace
+  /// it).
   std::shared_ptr<const CompiledModel> compiled() const { return model_; }
 
  private:
@@ -84,9 +96,10 @@ class PythonModel {
 /// ModelState; `keep_rows` false keeps only each run's last row. The calling thread waits and
 /// calls `poll` about every 50 ms: true stops the runs under way between steps (their records
 /// say so in SolverStats::interrupted) and starts no more. Records come in the runs' order.
-std::vector<RunRecord> RunAll(const std::shared_ptr<const CompiledModel>& model, const std::string& path,
-                              const std::vector<ParameterOverrides>& runs, const SimulationOptions& options,
-                              unsigned jobs, bool keep_rows, const StopPoll& poll);
+std::vector<RunRecord> RunAll(const std::shared_ptr<const CompiledModel>& model,
+                              const std::string& path, const std::vector<ParameterOverrides>& runs,
+                              const SimulationOptions& options, unsigned jobs, bool keep_rows,
+                              const StopPoll& poll);
 
 /// A message from the core as the Python module shows it: the command line's `-p NAME` and
 /// `--stop VALUE:` become `parameter NAME` and `stop=VALUE:`.

@@ -30,7 +30,8 @@ using testing::TempDir;
 class FmuTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    if (FindPlugin("momenta-fmu.so").empty()) GTEST_SKIP() << "no FMU runtime in this build (fmu/CMakeLists.txt)";
+    if (FindPlugin("momenta-fmu.so").empty())
+      GTEST_SKIP() << "no FMU runtime in this build (fmu/CMakeLists.txt)";
   }
 };
 
@@ -46,7 +47,8 @@ std::string Shell(const std::string& command) {
 }
 
 /// Exports `model` (with `extra` arguments) into dir as model.fmu; the path, or "" after a failure.
-std::string Export(const TempDir& dir, const std::string& model, const std::vector<std::string>& extra = {}) {
+std::string Export(const TempDir& dir, const std::string& model,
+                   const std::vector<std::string>& extra = {}) {
   std::vector<std::string> args = {"fmu", SourcePath(model), "-o", dir.File("model.fmu")};
   args.insert(args.end(), extra.begin(), extra.end());
   const CliResult r = RunMomenta(args, dir.path());
@@ -57,7 +59,8 @@ std::string Export(const TempDir& dir, const std::string& model, const std::vect
 /// B's velocity after both impacts of the carrier collision: A (mA, vA0) hits B at rest with
 /// restitution eC, then B hits the suitcase at rest with eS (Newton's law of restitution and
 /// momentum, each impact on its own).
-double CarrierClosedForm(double eC, double eS = 0.3, double mA = 40, double mB = 40, double mS = 15, double v = 5) {
+double CarrierClosedForm(double eC, double eS = 0.3, double mA = 40, double mB = 40, double mS = 15,
+                         double v = 5) {
   const double vB1 = mA * v * (1 + eC) / (mA + mB);
   return vB1 * (mB - mS * eS) / (mB + mS);
 }
@@ -95,13 +98,15 @@ TEST_F(FmuTest, ExportedParameterValueIsTheStartValue) {
   ASSERT_TRUE(cs.ok) << cs.log;
   EXPECT_EQ(cs.final.at("eC"), 0.5);
   EXPECT_NEAR(cs.final.at("B.v"), CarrierClosedForm(0.5), 1e-9);
-  EXPECT_NE(ReadText(dir.File("unpacked/modelDescription.xml")).find("<Real start=\"0.5\"/>"), std::string::npos);
+  EXPECT_NE(ReadText(dir.File("unpacked/modelDescription.xml")).find("<Real start=\"0.5\"/>"),
+            std::string::npos);
 }
 
 /// The last row of `momenta simulate MODEL --stop STOP`.
-std::map<std::string, double> SimulateEnd(const TempDir& dir, const std::string& model, double stop) {
-  const CliResult r = RunMomenta({"simulate", SourcePath(model), "--stop", std::to_string(stop), "-o",
-                                  dir.File("sim.csv"), "--quiet"},
+std::map<std::string, double> SimulateEnd(const TempDir& dir, const std::string& model,
+                                          double stop) {
+  const CliResult r = RunMomenta({"simulate", SourcePath(model), "--stop", std::to_string(stop),
+                                  "-o", dir.File("sim.csv"), "--quiet"},
                                  dir.path());
   EXPECT_EQ(r.exit_code, 0) << r.err;
   const testing::Csv csv = ReadCsv(dir.File("sim.csv"));
@@ -112,8 +117,8 @@ std::map<std::string, double> SimulateEnd(const TempDir& dir, const std::string&
 
 /// Runs `model` in both kinds to `stop` and compares `names` with `momenta simulate` within `tol`.
 /// (Co-Simulation's last step is the simulation's own run to `stop`: it agrees to the last bit.)
-void CompareWithSimulate(const std::string& model, double stop, double step, const std::vector<std::string>& names,
-                         double tol) {
+void CompareWithSimulate(const std::string& model, double stop, double step,
+                         const std::vector<std::string>& names, double tol) {
   TempDir dir;
   const std::string fmu = Export(dir, model);
   ASSERT_FALSE(fmu.empty());
@@ -143,8 +148,8 @@ TEST_F(FmuTest, PlanarDoublePendulumMatchesSimulate) {
   // An index-reduced planar multibody model: the importer integrates the states the build chose
   // and the FMU solves the algebraic part at every derivative. RK4 at 1 ms differs from the
   // simulation (tolerance 1e-10) by 4.3e-10 at most over 1 s (measured); 1e-8 rad and rad/s.
-  CompareWithSimulate("models/double_pendulum.yaml", 1.0, 0.001, {"joint1.phi", "joint2.phi", "joint1.w", "joint2.w"},
-                      1e-8);
+  CompareWithSimulate("models/double_pendulum.yaml", 1.0, 0.001,
+                      {"joint1.phi", "joint2.phi", "joint1.w", "joint2.w"}, 1e-8);
 }
 
 TEST_F(FmuTest, DescriptionIsValidAgainstTheFmi2Schema) {
@@ -153,7 +158,8 @@ TEST_F(FmuTest, DescriptionIsValidAgainstTheFmi2Schema) {
     const std::string fmu = Export(dir, model);
     ASSERT_FALSE(fmu.empty());
     FmuImporter importer(fmu, dir.File("unpacked"));
-    const std::string out = Shell("xmllint --noout --schema '" + SourcePath("tests/data/fmi-schema/fmi2ModelDescription.xsd") +
+    const std::string out = Shell("xmllint --noout --schema '" +
+                                  SourcePath("tests/data/fmi-schema/fmi2ModelDescription.xsd") +
                                   "' '" + dir.File("unpacked/modelDescription.xml") + "' 2>&1");
     EXPECT_NE(out.find("validates"), std::string::npos) << model << ":\n" << out;
   }
@@ -164,18 +170,21 @@ TEST_F(FmuTest, BinaryNeedsOnlyTheCAndCxxRuntime) {
   const std::string fmu = Export(dir, "models/carrier_collision.yaml");
   ASSERT_FALSE(fmu.empty());
   FmuImporter importer(fmu, dir.File("unpacked"));
-  const std::string ldd = Shell("ldd '" + dir.File("unpacked/binaries/linux64/CarrierCollision.so") + "'");
+  const std::string ldd =
+      Shell("ldd '" + dir.File("unpacked/binaries/linux64/CarrierCollision.so") + "'");
   ASSERT_NE(ldd.find("libc.so"), std::string::npos) << ldd;
   std::istringstream lines(ldd);
   for (std::string line; std::getline(lines, line);) {
-    const bool allowed = line.find("linux-vdso") != std::string::npos || line.find("libc.so") != std::string::npos ||
-                         line.find("libm.so") != std::string::npos || line.find("libstdc++") != std::string::npos ||
-                         line.find("libgcc_s") != std::string::npos || line.find("ld-linux") != std::string::npos;
+    const bool allowed =
+        line.find("linux-vdso") != std::string::npos || line.find("libc.so") != std::string::npos ||
+        line.find("libm.so") != std::string::npos || line.find("libstdc++") != std::string::npos ||
+        line.find("libgcc_s") != std::string::npos || line.find("ld-linux") != std::string::npos;
     EXPECT_TRUE(allowed) << "a dependency beyond the C and C++ runtime: " << line;
   }
   // Only the FMI functions are exported.
-  const std::string symbols = Shell("nm -D --defined-only '" + dir.File("unpacked/binaries/linux64/CarrierCollision.so") +
-                                    "' | awk '{print $3}' | grep -v '^fmi2' | grep -c .");
+  const std::string symbols =
+      Shell("nm -D --defined-only '" + dir.File("unpacked/binaries/linux64/CarrierCollision.so") +
+            "' | awk '{print $3}' | grep -v '^fmi2' | grep -c .");
   EXPECT_EQ(std::stoi(symbols), 0) << symbols;
 }
 
@@ -184,11 +193,13 @@ TEST_F(FmuTest, GuidChangesWithTheStructureNotWithValues) {
   const std::string model = ReadText(SourcePath("models/carrier_collision.yaml"));
   int unpacked = 0;
   auto guid = [&](const std::string& file, const std::vector<std::string>& extra) {
-    const CliResult r = RunMomenta([&] {
-      std::vector<std::string> a = {"fmu", file, "-o", dir.File("g.fmu")};
-      a.insert(a.end(), extra.begin(), extra.end());
-      return a;
-    }(), dir.path());
+    const CliResult r = RunMomenta(
+        [&] {
+          std::vector<std::string> a = {"fmu", file, "-o", dir.File("g.fmu")};
+          a.insert(a.end(), extra.begin(), extra.end());
+          return a;
+        }(),
+        dir.path());
     EXPECT_EQ(r.exit_code, 0) << r.err;
     FmuImporter importer(dir.File("g.fmu"), dir.File("g" + std::to_string(++unpacked)));
     return importer.guid();
@@ -211,18 +222,25 @@ TEST_F(FmuTest, WrongGuidAndLateParameterAreRefusedWithMessages) {
   ASSERT_FALSE(fmu.empty());
   FmuImporter importer(fmu, dir.File("unpacked"));
   testing::TakeFmuLog();
-  EXPECT_EQ(importer.Instantiate(fmi2CoSimulation, "{00000000-0000-0000-0000-000000000000}"), nullptr);
-  EXPECT_NE(testing::TakeFmuLog().find("the GUID {00000000-0000-0000-0000-000000000000} is not that of the model"),
+  EXPECT_EQ(importer.Instantiate(fmi2CoSimulation, "{00000000-0000-0000-0000-000000000000}"),
+            nullptr);
+  EXPECT_NE(testing::TakeFmuLog().find(
+                "the GUID {00000000-0000-0000-0000-000000000000} is not that of the model"),
             std::string::npos);
   // A parameter set after the initialisation.
   fmi2Component c = importer.Instantiate(fmi2CoSimulation, importer.guid());
   ASSERT_NE(c, nullptr);
-  ASSERT_EQ(importer.Function<decltype(&fmi2EnterInitializationMode)>("fmi2EnterInitializationMode")(c), fmi2OK);
-  ASSERT_EQ(importer.Function<decltype(&fmi2ExitInitializationMode)>("fmi2ExitInitializationMode")(c), fmi2OK);
+  ASSERT_EQ(
+      importer.Function<decltype(&fmi2EnterInitializationMode)>("fmi2EnterInitializationMode")(c),
+      fmi2OK);
+  ASSERT_EQ(
+      importer.Function<decltype(&fmi2ExitInitializationMode)>("fmi2ExitInitializationMode")(c),
+      fmi2OK);
   const fmi2ValueReference vr = importer.ValueReference("eC");
   const double half = 0.5;
   EXPECT_EQ(importer.Function<decltype(&fmi2SetReal)>("fmi2SetReal")(c, &vr, 1, &half), fmi2Error);
-  EXPECT_NE(testing::TakeFmuLog().find("parameter eC: set before initialisation"), std::string::npos);
+  EXPECT_NE(testing::TakeFmuLog().find("parameter eC: set before initialisation"),
+            std::string::npos);
   importer.Free(c);
 }
 
@@ -234,12 +252,14 @@ TEST_F(FmuTest, CommandErrorsNameTheOption) {
   EXPECT_NE(r.err.find("eX"), std::string::npos) << r.err;
   r = RunMomenta({"fmu", model, "--kind", "hybrid", "-o", dir.File("a.fmu")}, dir.path());
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_NE(r.err.find("--kind hybrid: the choices are me (Model Exchange), cs (Co-Simulation) and both"),
-            std::string::npos)
+  EXPECT_NE(
+      r.err.find("--kind hybrid: the choices are me (Model Exchange), cs (Co-Simulation) and both"),
+      std::string::npos)
       << r.err;
   r = RunMomenta({"fmu", model, "-o", dir.File("no/such/folder/a.fmu")}, dir.path());
   EXPECT_EQ(r.exit_code, 3);
-  EXPECT_NE(r.err.find("cannot write " + dir.File("no/such/folder/a.fmu")), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("cannot write " + dir.File("no/such/folder/a.fmu")), std::string::npos)
+      << r.err;
   // A kind alone: the description has that element only.
   r = RunMomenta({"fmu", model, "--kind", "cs", "-o", dir.File("cs.fmu")}, dir.path());
   ASSERT_EQ(r.exit_code, 0) << r.err;

@@ -29,8 +29,8 @@ void Logger(fmi2ComponentEnvironment, fmi2String instance, fmi2Status status, fm
   va_start(args, message);
   std::vsnprintf(buf, sizeof buf, message, args);
   va_end(args);
-  LogText() += std::string(instance ? instance : "") + " [" + (category ? category : "") + ", status " +
-               std::to_string(static_cast<int>(status)) + "] " + buf + "\n";
+  LogText() += std::string(instance ? instance : "") + " [" + (category ? category : "") +
+               ", status " + std::to_string(static_cast<int>(status)) + "] " + buf + "\n";
 }
 
 const fmi2CallbackFunctions kCallbacks = {Logger, std::calloc, std::free, nullptr, nullptr};
@@ -63,13 +63,15 @@ FmuImporter::FmuImporter(const std::string& fmu, const std::string& dir) : dir_(
   id_ = Attribute(xml, "modelIdentifier");
   num_indicators_ = std::strtoul(Attribute(xml, "numberOfEventIndicators").c_str(), nullptr, 10);
   const std::regex variable("<ScalarVariable name=\"([^\"]*)\" valueReference=\"([0-9]+)\"");
-  for (auto it = std::sregex_iterator(xml.begin(), xml.end(), variable); it != std::sregex_iterator(); ++it) {
+  for (auto it = std::sregex_iterator(xml.begin(), xml.end(), variable);
+       it != std::sregex_iterator(); ++it) {
     refs_[(*it)[1]] = static_cast<unsigned>(std::stoul((*it)[2]));
   }
   const size_t derivatives = xml.find("<Derivatives>"), end = xml.find("</Derivatives>");
   if (derivatives != std::string::npos) {
     const std::string part = xml.substr(derivatives, end - derivatives);
-    num_states_ = static_cast<size_t>(std::count(part.begin(), part.end(), 'U'));  // one <Unknown per state
+    num_states_ =
+        static_cast<size_t>(std::count(part.begin(), part.end(), 'U'));  // one <Unknown per state
   }
   resources_uri_ = "file://" + dir + "/resources";
   const std::string binary = dir + "/binaries/linux64/" + id_ + ".so";
@@ -97,7 +99,8 @@ void* FmuImporter::Symbol(const char* name) const {
 
 fmi2Component FmuImporter::Instantiate(fmi2Type type, const std::string& guid) {
   auto instantiate = Function<decltype(&fmi2Instantiate)>("fmi2Instantiate");
-  return instantiate("test", type, guid.c_str(), resources_uri_.c_str(), &kCallbacks, fmi2False, fmi2False);
+  return instantiate("test", type, guid.c_str(), resources_uri_.c_str(), &kCallbacks, fmi2False,
+                     fmi2False);
 }
 
 void FmuImporter::Free(fmi2Component c) {
@@ -106,7 +109,8 @@ void FmuImporter::Free(fmi2Component c) {
 
 bool FmuImporter::Start(fmi2Component c, const std::map<std::string, double>& params, double stop,
                         std::string* log) {
-  if (Function<decltype(&fmi2SetupExperiment)>("fmi2SetupExperiment")(c, fmi2False, 0, 0, fmi2True, stop) != fmi2OK) {
+  if (Function<decltype(&fmi2SetupExperiment)>("fmi2SetupExperiment")(c, fmi2False, 0, 0, fmi2True,
+                                                                      stop) != fmi2OK) {
     *log += "fmi2SetupExperiment failed\n";
     return false;
   }
@@ -118,7 +122,8 @@ bool FmuImporter::Start(fmi2Component c, const std::map<std::string, double>& pa
       return false;
     }
   }
-  if (Function<decltype(&fmi2EnterInitializationMode)>("fmi2EnterInitializationMode")(c) != fmi2OK ||
+  if (Function<decltype(&fmi2EnterInitializationMode)>("fmi2EnterInitializationMode")(c) !=
+          fmi2OK ||
       Function<decltype(&fmi2ExitInitializationMode)>("fmi2ExitInitializationMode")(c) != fmi2OK) {
     *log += "the initialisation failed\n";
     return false;
@@ -126,8 +131,8 @@ bool FmuImporter::Start(fmi2Component c, const std::map<std::string, double>& pa
   return true;
 }
 
-FmuRunResult FmuImporter::RunCoSimulation(const std::map<std::string, double>& params, double stop, double step,
-                                          const std::vector<std::string>& names) {
+FmuRunResult FmuImporter::RunCoSimulation(const std::map<std::string, double>& params, double stop,
+                                          double step, const std::vector<std::string>& names) {
   FmuRunResult r;
   fmi2Component c = Instantiate(fmi2CoSimulation, guid_);
   if (c == nullptr) {
@@ -196,8 +201,8 @@ bool SignChanged(const std::vector<double>& before, const std::vector<double>& a
 
 }  // namespace
 
-FmuRunResult FmuImporter::RunModelExchange(const std::map<std::string, double>& params, double stop, double step,
-                                           const std::vector<std::string>& names) {
+FmuRunResult FmuImporter::RunModelExchange(const std::map<std::string, double>& params, double stop,
+                                           double step, const std::vector<std::string>& names) {
   FmuRunResult r;
   fmi2Component c = Instantiate(fmi2ModelExchange, guid_);
   if (c == nullptr) {
@@ -210,7 +215,8 @@ FmuRunResult FmuImporter::RunModelExchange(const std::map<std::string, double>& 
                       Function<decltype(&fmi2GetEventIndicators)>("fmi2GetEventIndicators")};
   auto new_discrete = Function<decltype(&fmi2NewDiscreteStates)>("fmi2NewDiscreteStates");
   auto enter_event = Function<decltype(&fmi2EnterEventMode)>("fmi2EnterEventMode");
-  auto enter_continuous = Function<decltype(&fmi2EnterContinuousTimeMode)>("fmi2EnterContinuousTimeMode");
+  auto enter_continuous =
+      Function<decltype(&fmi2EnterContinuousTimeMode)>("fmi2EnterContinuousTimeMode");
   auto get_states = Function<decltype(&fmi2GetContinuousStates)>("fmi2GetContinuousStates");
   auto completed = Function<decltype(&fmi2CompletedIntegratorStep)>("fmi2CompletedIntegratorStep");
   const size_t n = num_states_, nz = num_indicators_;
@@ -226,8 +232,8 @@ FmuRunResult FmuImporter::RunModelExchange(const std::map<std::string, double>& 
     }
     return enter_continuous(c) == fmi2OK && (!changed || get_states(c, x.data(), n) == fmi2OK);
   };
-  bool ok = Start(c, params, stop, &r.log) && event_iteration() && get_states(c, x.data(), n) == fmi2OK &&
-            f.indicators(c, z.data(), nz) == fmi2OK;
+  bool ok = Start(c, params, stop, &r.log) && event_iteration() &&
+            get_states(c, x.data(), n) == fmi2OK && f.indicators(c, z.data(), nz) == fmi2OK;
   double t = 0;
   while (ok && t < stop - 1e-12) {
     double h = std::min(step, stop - t);

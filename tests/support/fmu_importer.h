@@ -37,12 +37,13 @@ class FmuImporter {
   /// The value reference of `name`; UINT32_MAX when there is none.
   unsigned ValueReference(const std::string& name) const;
 
-  FmuRunResult RunCoSimulation(const std::map<std::string, double>& params, double stop, double step,
-                               const std::vector<std::string>& names);
-  FmuRunResult RunModelExchange(const std::map<std::string, double>& params, double stop, double step,
-                                const std::vector<std::string>& names);
+  FmuRunResult RunCoSimulation(const std::map<std::string, double>& params, double stop,
+                               double step, const std::vector<std::string>& names);
+  FmuRunResult RunModelExchange(const std::map<std::string, double>& params, double stop,
+                                double step, const std::vector<std::string>& names);
 
-  /// Instantiates with `guid` (a wrong one for the tests of the check); returns the instance or null.
+  /// Instantiates with `guid` (a wrong one for the tests of the check); returns the instance or
+  /// null.
   fmi2Component Instantiate(fmi2Type type, const std::string& guid);
   void Free(fmi2Component c);
   /// The functions, looked up by name.
@@ -51,7 +52,8 @@ class FmuImporter {
 
  private:
   void* Symbol(const char* name) const;
-  bool Start(fmi2Component c, const std::map<std::string, double>& params, double stop, std::string* log);
+  bool Start(fmi2Component c, const std::map<std::string, double>& params, double stop,
+             std::string* log);
 
   std::string dir_, error_, guid_, id_, resources_uri_;
   size_t num_states_ = 0, num_indicators_ = 0;
