@@ -90,8 +90,8 @@ SimulateOverrides OverridesFrom(const py::dict& options) {
 
 /// Runs every set of overrides with the GIL released; Ctrl-C (a pending KeyboardInterrupt)
 /// stops them and is raised.
-py::list Run(PythonModel& model, const std::vector<ParameterOverrides>& runs,
-             const py::dict& options, unsigned jobs, bool keep_rows) {
+py::list Run(PythonModel& model, const std::vector<ParameterOverrides>& runs, const py::dict& options,
+             unsigned jobs, bool keep_rows) {
   const SimulationOptions resolved = model.ResolveOptions(OverridesFrom(options));
   const std::vector<ParameterOverrides> overrides = model.RunOverrides(runs);
   model.PrepareForRuns(runs.size());
@@ -111,10 +111,9 @@ py::list Run(PythonModel& model, const std::vector<ParameterOverrides>& runs,
 }
 
 /// Model.linearize's answer: names, the operating point, the matrices as lists of rows and the
-/// eigenvalues as complex numbers (__init__.py makes numpy arrays of them). Solver failures are
-/// ModelErrors here, as the message says what failed and where.
-py::dict LinearizeDict(const PythonModel& model, const ParameterOverrides& params,
-                       std::optional<double> at,
+/// eigenvalues as complex numbers (__init__.py makes numpy arrays of them). A solver failure is a
+/// ModelError here: its message says what failed and at which time.
+py::dict LinearizeDict(const PythonModel& model, const ParameterOverrides& params, std::optional<double> at,
                        const std::vector<std::pair<std::string, double>>& inputs,
                        const std::vector<std::string>& outputs) {
   Linearization lin;
@@ -158,8 +157,7 @@ py::dict LinearizeDict(const PythonModel& model, const ParameterOverrides& param
 PYBIND11_MODULE(_momenta, m) {
   using namespace momenta;
   using namespace momenta::python;
-  m.doc() =
-      "momenta's compiled core; use the momenta package (momenta.load) rather than this module.";
+  m.doc() = "momenta's compiled core; use the momenta package (momenta.load) rather than this module.";
 
   m.def("_set_exceptions", [](py::object model_error, py::object usage_error) {
     g_model_error = model_error.release().ptr();
@@ -170,17 +168,14 @@ PYBIND11_MODULE(_momenta, m) {
     try {
       if (p) std::rethrow_exception(p);
     } catch (const UsageError& e) {
-      PyErr_SetString(g_usage_error ? g_usage_error : PyExc_ValueError,
-                      PythonText(e.what()).c_str());
+      PyErr_SetString(g_usage_error ? g_usage_error : PyExc_ValueError, PythonText(e.what()).c_str());
     } catch (const ModelError& e) {
-      PyErr_SetString(g_model_error ? g_model_error : PyExc_RuntimeError,
-                      PythonText(e.what()).c_str());
+      PyErr_SetString(g_model_error ? g_model_error : PyExc_RuntimeError, PythonText(e.what()).c_str());
     }
   });
 
   py::class_<PythonModel>(m, "Model")
-      .def(py::init([](const std::string& path, const ParameterOverrides& params,
-                       const std::string& codegen) {
+      .def(py::init([](const std::string& path, const ParameterOverrides& params, const std::string& codegen) {
              py::gil_scoped_release release;
              return std::make_unique<PythonModel>(path, params, codegen);
            }),

@@ -39,16 +39,14 @@ std::string OptionText(std::string message) {
     }
   }
   for (size_t at = message.find(" --"); at != std::string::npos; at = message.find(" --", at + 1)) {
-    if (at + 3 < message.size() && std::islower(static_cast<unsigned char>(message[at + 3])))
-      message.erase(at + 1, 2);
+    if (at + 3 < message.size() && std::islower(static_cast<unsigned char>(message[at + 3]))) message.erase(at + 1, 2);
   }
   return message;
 }
 
 /// One run on a fresh state: nothing of one run reaches the next, whichever thread runs it.
 RunRecord RunOne(const std::shared_ptr<const CompiledModel>& model, const std::string& path,
-                 const ParameterOverrides& overrides, const SimulationOptions& options,
-                 bool keep_rows) {
+                 const ParameterOverrides& overrides, const SimulationOptions& options, bool keep_rows) {
   RunRecord r;
   ModelState state(model);
   try {
@@ -61,18 +59,15 @@ RunRecord RunOne(const std::shared_ptr<const CompiledModel>& model, const std::s
   // The rows as they come (only the last one when the trajectory is not kept).
   const size_t width = model->output_names.size();
   try {
-    Simulate(
-        &state, options,
-        [&](double t, const std::vector<double>& v) {
-          if (!keep_rows && !r.time.empty()) {
-            r.time.back() = t;
-            std::copy(v.begin(), v.end(), r.values.end() - static_cast<std::ptrdiff_t>(width));
-            return;
-          }
-          r.time.push_back(t);
-          r.values.insert(r.values.end(), v.begin(), v.end());
-        },
-        &r.stats);
+    Simulate(&state, options, [&](double t, const std::vector<double>& v) {
+      if (!keep_rows && !r.time.empty()) {
+        r.time.back() = t;
+        std::copy(v.begin(), v.end(), r.values.end() - static_cast<std::ptrdiff_t>(width));
+        return;
+      }
+      r.time.push_back(t);
+      r.values.insert(r.values.end(), v.begin(), v.end());
+    }, &r.stats);
   } catch (const SolverError& e) {
     r.status = 3;
     r.message = path + ": simulation failed " + e.what();
@@ -100,8 +95,7 @@ std::string PythonText(const std::string& message) {
   return text;
 }
 
-PythonModel::PythonModel(const std::string& path, const ParameterOverrides& overrides,
-                         const std::string& codegen)
+PythonModel::PythonModel(const std::string& path, const ParameterOverrides& overrides, const std::string& codegen)
     : path_(path) {
   if (!ParseCodegenMode(codegen, &codegen_.mode)) {
     throw UsageError("codegen=" + codegen + ": the choices are auto, native and interp");
@@ -120,9 +114,7 @@ PythonModel::PythonModel(const std::string& path, const ParameterOverrides& over
   if (!codegen_report_.note.empty()) warnings_.push_back(path + ": note: " + codegen_report_.note);
 }
 
-std::vector<std::string> PythonModel::output_units() const {
-  return OutputUnits(*model_->flat, model_->output_names);
-}
+std::vector<std::string> PythonModel::output_units() const { return OutputUnits(*model_->flat, model_->output_names); }
 
 std::vector<ParameterInfo> PythonModel::Parameters() const {
   // The values as a run without overrides sets them.
@@ -143,15 +135,12 @@ std::vector<ParameterInfo> PythonModel::Parameters() const {
   return out;
 }
 
-SimulationOptions PythonModel::experiment_options() const {
-  return OptionsFromExperiment(model_->experiment);
-}
+SimulationOptions PythonModel::experiment_options() const { return OptionsFromExperiment(model_->experiment); }
 
 SimulationOptions PythonModel::ResolveOptions(const SimulateOverrides& overrides) const {
-  if (!overrides.linear_solver.empty() && overrides.linear_solver != "auto" &&
-      overrides.linear_solver != "dense" && overrides.linear_solver != "klu") {
-    throw UsageError("linear_solver=" + overrides.linear_solver +
-                     ": the choices are auto, dense and klu");
+  if (!overrides.linear_solver.empty() && overrides.linear_solver != "auto" && overrides.linear_solver != "dense" &&
+      overrides.linear_solver != "klu") {
+    throw UsageError("linear_solver=" + overrides.linear_solver + ": the choices are auto, dense and klu");
   }
   try {
     return ResolveSimulationOptions(model_->experiment, overrides);
@@ -160,8 +149,7 @@ SimulationOptions PythonModel::ResolveOptions(const SimulateOverrides& overrides
   }
 }
 
-std::vector<ParameterOverrides> PythonModel::RunOverrides(
-    const std::vector<ParameterOverrides>& runs) const {
+std::vector<ParameterOverrides> PythonModel::RunOverrides(const std::vector<ParameterOverrides>& runs) const {
   const FlatSystem& flat = *model_->flat;
   std::vector<ParameterOverrides> out;
   out.reserve(runs.size());
@@ -171,23 +159,18 @@ std::vector<ParameterOverrides> PythonModel::RunOverrides(
       // An unknown name, with the closest ones.
       if (!flat.FindParameter(name)) {
         std::vector<std::string> all;
-        for (uint32_t k = 0; k < flat.parameters.size(); ++k)
-          all.push_back(flat.ParameterName(ParamId(k)));
+        for (uint32_t k = 0; k < flat.parameters.size(); ++k) all.push_back(flat.ParameterName(ParamId(k)));
         const std::vector<std::string> close = ClosestNames(name, all);
-        throw UsageError(path_ + ": parameter " + name + ": no parameter of that name in " +
-                         flat.model_name +
+        throw UsageError(path_ + ": parameter " + name + ": no parameter of that name in " + flat.model_name +
                          (close.empty() ? "" : " (did you mean " + JoinNames(close) + "?)") +
                          "; Model.parameters lists them");
       }
       // A structural parameter keeps the value the model was built with.
-      if (auto it = flat.structural.find(name);
-          it != flat.structural.end() && it->second != value) {
-        throw UsageError(
-            path_ + ": parameter " + name + "=" + NumberText(value) + ": " + name +
-            " shapes the model's structure (a count, a connection index or a Boolean or Integer "
-            "if-condition) and the model was built with " +
-            name + " = " + NumberText(it->second) + "; load the model again with params={\"" +
-            name + "\": " + NumberText(value) + "}");
+      if (auto it = flat.structural.find(name); it != flat.structural.end() && it->second != value) {
+        throw UsageError(path_ + ": parameter " + name + "=" + NumberText(value) + ": " + name +
+                         " shapes the model's structure (a count, a connection index or a Boolean or Integer "
+                         "if-condition) and the model was built with " + name + " = " + NumberText(it->second) +
+                         "; load the model again with params={\"" + name + "\": " + NumberText(value) + "}");
       }
       merged[name] = value;
     }
@@ -213,14 +196,12 @@ Linearization PythonModel::Linearize(const ParameterOverrides& params, std::opti
   const SimulationOptions run = OptionsFromExperiment(model->experiment);
   const double t = at.value_or(run.start);
   if (!(std::isfinite(t) && t >= run.start && t <= run.stop)) {
-    throw UsageError("at=" + NumberText(t) + ": linearise at a time from " + NumberText(run.start) +
-                     " to " + NumberText(run.stop) + " s (the experiment's start and stop)");
+    throw UsageError("at=" + NumberText(t) + ": linearise at a time from " + NumberText(run.start) + " to " +
+                     NumberText(run.stop) + " s (the experiment's start and stop)");
   }
   SolverStats stats;
-  const RunPoint point = SimulateTo(
-      &state, run, t, [](double, const std::vector<double>&) {}, &stats);
-  return momenta::Linearize(state, point.t, point.y, point.yp,
-                            ResolveLinearizationColumns(*model, report, spec));
+  const RunPoint point = SimulateTo(&state, run, t, [](double, const std::vector<double>&) {}, &stats);
+  return momenta::Linearize(state, point.t, point.y, point.yp, ResolveLinearizationColumns(*model, report, spec));
 }
 
 void PythonModel::PrepareForRuns(size_t runs) {
@@ -232,10 +213,9 @@ void PythonModel::PrepareForRuns(size_t runs) {
   if (model_->native) codegen_report_ = report;
 }
 
-std::vector<RunRecord> RunAll(const std::shared_ptr<const CompiledModel>& model,
-                              const std::string& path, const std::vector<ParameterOverrides>& runs,
-                              const SimulationOptions& options, unsigned jobs, bool keep_rows,
-                              const StopPoll& poll) {
+std::vector<RunRecord> RunAll(const std::shared_ptr<const CompiledModel>& model, const std::string& path,
+                              const std::vector<ParameterOverrides>& runs, const SimulationOptions& options,
+                              unsigned jobs, bool keep_rows, const StopPoll& poll) {
   std::vector<RunRecord> records(runs.size());
   std::atomic<bool> stop{false};
   SimulationOptions run_options = options;
@@ -244,8 +224,7 @@ std::vector<RunRecord> RunAll(const std::shared_ptr<const CompiledModel>& model,
   std::atomic<size_t> next{0};
   std::mutex mutex;
   std::condition_variable finished;
-  unsigned active =
-      static_cast<unsigned>(std::clamp<size_t>(jobs, 1, std::max<size_t>(runs.size(), 1)));
+  unsigned active = static_cast<unsigned>(std::clamp<size_t>(jobs, 1, std::max<size_t>(runs.size(), 1)));
   std::vector<std::thread> threads;
   for (unsigned w = 0, n = active; w < n; ++w) {
     threads.emplace_back([&] {
@@ -263,8 +242,7 @@ std::vector<RunRecord> RunAll(const std::shared_ptr<const CompiledModel>& model,
   {
     std::unique_lock<std::mutex> lock(mutex);
     while (active > 0) {
-      if (finished.wait_for(lock, std::chrono::milliseconds(50), [&] { return active == 0; }))
-        break;
+      if (finished.wait_for(lock, std::chrono::milliseconds(50), [&] { return active == 0; })) break;
       lock.unlock();
       if (poll && poll()) stop = true;
       lock.lock();

@@ -5,8 +5,8 @@
 /// (docs/ARCHITECTURE.md); python/module.cc binds it to Python and converts the rows to numpy.
 
 #include <functional>
-#include <memory>
 #include <optional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -46,8 +46,7 @@ class PythonModel {
   /// Loads the file and builds it with `overrides` (structural parameters too); `codegen` is
   /// auto, native or interp (core/compile/native_code.h). Throws ModelError (file:line:col) for
   /// a wrong model and UsageError for an unknown parameter name or codegen mode.
-  PythonModel(const std::string& path, const ParameterOverrides& overrides,
-              const std::string& codegen);
+  PythonModel(const std::string& path, const ParameterOverrides& overrides, const std::string& codegen);
 
   const std::string& path() const { return path_; }
   const std::string& model_name() const { return model_->flat->model_name; }
@@ -79,8 +78,7 @@ class PythonModel {
   Linearization Linearize(const ParameterOverrides& params, std::optional<double> at,
                           const LinearizationSpec& spec) const;
 
-  /// The built model, for RunAll (each caller keeps its own reference: PrepareForRuns may replace
-  /// it).
+  /// The built model, for RunAll (each caller keeps its own reference: PrepareForRuns may replace it).
   std::shared_ptr<const CompiledModel> compiled() const { return model_; }
 
  private:
@@ -96,10 +94,9 @@ class PythonModel {
 /// ModelState; `keep_rows` false keeps only each run's last row. The calling thread waits and
 /// calls `poll` about every 50 ms: true stops the runs under way between steps (their records
 /// say so in SolverStats::interrupted) and starts no more. Records come in the runs' order.
-std::vector<RunRecord> RunAll(const std::shared_ptr<const CompiledModel>& model,
-                              const std::string& path, const std::vector<ParameterOverrides>& runs,
-                              const SimulationOptions& options, unsigned jobs, bool keep_rows,
-                              const StopPoll& poll);
+std::vector<RunRecord> RunAll(const std::shared_ptr<const CompiledModel>& model, const std::string& path,
+                              const std::vector<ParameterOverrides>& runs, const SimulationOptions& options,
+                              unsigned jobs, bool keep_rows, const StopPoll& poll);
 
 /// A message from the core as the Python module shows it: the command line's `-p NAME` and
 /// `--stop VALUE:` become `parameter NAME` and `stop=VALUE:`.
