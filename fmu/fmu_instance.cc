@@ -227,6 +227,10 @@ void FmuInstance::GetEventIndicators(double* z, size_t n) {
   Solve();
   const size_t nc = model_->conditions.size();
   if (nc > 0) state_->ZeroCrossings(t_, run_->y.data(), run_->yp.data(), z);
+  // A relation of time alone, affine in it, is a time event (nextEventTime), not a crossing.
+  for (size_t i = 0; i < nc && i < run_->affine_in_time.size(); ++i) {
+    if (model_->conditions[i].time_only && run_->affine_in_time[i]) z[i] = 1.0;
+  }
   if (model_->impacts.empty()) return;
   // An open contact's gap (it closes where the gap reaches zero); a closed one is no crossing.
   run_->contacts.Evaluate(state_.get(), t_, run_->y.data(), run_->yp.data());

@@ -152,6 +152,25 @@ TEST_F(FmuTest, PlanarDoublePendulumMatchesSimulate) {
                       {"joint1.phi", "joint2.phi", "joint1.w", "joint2.w"}, 1e-8);
 }
 
+TEST_F(FmuTest, TimeEventsComeFromNextEventTime) {
+  // MSL's Blocks.Examples.Filter: a step at 0.1 s (a time event: no event indicator crosses, the
+  // FMU gives its time as nextEventTime) into low-pass filters of order 3.
+  TempDir dir;
+  const std::string model = "models/msl/Blocks/Examples/Filter.yaml";
+  const std::string fmu = Export(dir, model);
+  ASSERT_FALSE(fmu.empty());
+  FmuImporter importer(fmu, dir.File("unpacked"));
+  ASSERT_EQ(importer.error(), "");
+  const std::vector<std::string> names = {"Bessel.x[1]", "Butterworth.x[3]"};
+  const std::map<std::string, double> sim = SimulateEnd(dir, model, 0.3);
+  const FmuRunResult me = importer.RunModelExchange({}, 0.3, 0.001, names);
+  ASSERT_TRUE(me.ok) << me.log;
+  EXPECT_EQ(me.events, 1);
+  for (const std::string& name : names) {
+    EXPECT_NEAR(me.final.at(name), sim.at(name), 1e-6) << name;
+  }
+}
+
 TEST_F(FmuTest, DescriptionIsValidAgainstTheFmi2Schema) {
   TempDir dir;
   for (const char* model : {"models/carrier_collision.yaml", "models/double_pendulum.yaml"}) {
