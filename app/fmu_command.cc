@@ -194,8 +194,9 @@ int RunFmu(const FmuArgs& args) {
   const std::string runtime = FindPlugin("momenta-fmu.so");
   if (runtime.empty()) {
     std::cerr
-        << "momenta: the FMU runtime momenta-fmu.so is not in this build (build/lib/momenta/); "
-        << "its static libraries are missing: run scripts/setup.sh and build again\n";
+        << "momenta: the FMU runtime momenta-fmu.so is not in this build (lib/momenta/ beside the "
+        << "binary): sanitizer builds leave it out, and so does a build without a position-independent "
+        << "yaml-cpp (scripts/setup.sh builds one; then configure and build again)\n";
     return kExitSolver;
   }
   LoadedModel loaded;
