@@ -152,6 +152,7 @@ void FmuInstance::StartModelExchange() {
   t_ = options_.start;
   solved_ = true;
   first_event_ = true;
+  next_time_event_ = HUGE_VAL;
 }
 
 void FmuInstance::Reset() {
@@ -249,19 +250,18 @@ bool FmuInstance::EventUpdate(double* next_event) {
   std::vector<double> before(model.num_states());
   GetContinuousStates(before.data(), before.size());
   run.t = t_;
-  if (run.num_unknowns > 0) {
-    if (first_event_) {
-      if (TimeRelationSwitchesAtStart(model, state_.get(), &run))
-        DoEvent(model, state_.get(), &run, t_, true);
-    } else {
-      const bool time_event = t_ >= NextTimeEvent(model, state_.get(), &run);
-      DoEvent(model, state_.get(), &run, t_, time_event);
-    }
+  if (first_event_) {
+    if (TimeRelationSwitchesAtStart(model, state_.get(), &run))
+      DoEvent(model, state_.get(), &run, t_, true);
+  } else {
+    // A time event when the time is the one the last event update gave (or past it).
+    DoEvent(model, state_.get(), &run, t_, t_ >= next_time_event_);
   }
   first_event_ = false;
   run.t = t_;
   solved_ = true;
-  *next_event = NextTimeEvent(model, state_.get(), &run);
+  next_time_event_ = NextTimeEvent(model, state_.get(), &run);
+  *next_event = next_time_event_;
   std::vector<double> after(model.num_states());
   GetContinuousStates(after.data(), after.size());
   return after != before;

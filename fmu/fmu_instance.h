@@ -14,6 +14,7 @@
 /// Errors are thrown as std::exception; fmi2_functions.cc turns them into the logger's message
 /// and fmi2Error.
 
+#include <cmath>
 #include <memory>
 #include <string>
 #include <vector>
@@ -78,6 +79,7 @@ class FmuInstance {
   double t_ = 0;
   std::vector<double> y_, yp_, outputs_;
   bool solved_ = false, first_event_ = true;
+  double next_time_event_ = HUGE_VAL;  ///< Model Exchange: as the last event update gave it
   // Model Exchange: the solver's run record, with IDA started for the restarts of events.
   RowCallback row_;
   SolverStats stats_;
