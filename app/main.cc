@@ -7,6 +7,7 @@
 
 #include "app/accuracy_command.h"
 #include "app/commands.h"
+#include "app/fmu_command.h"
 #include "app/linearize_command.h"
 #include "app/huge_pages.h"
 #include "app/mat_file.h"
@@ -162,16 +163,25 @@ CLI::App* AddAccuracy(CLI::App* app, AccuracyArgs* acc) {
   return accuracy;
 }
 
+CLI::App* AddFmu(CLI::App* app, FmuArgs* fmu) {
+  auto* cmd = app->add_subcommand("fmu", "export the model as an FMI 2.0 FMU (Model Exchange and Co-Simulation)");
+  cmd->add_option("model", fmu->model, "model file (YAML)")->required();
+  cmd->add_option("-p,--param", fmu->params, "override a parameter: NAME=VALUE (repeatable); the FMU's start value");
+  cmd->add_option("-o,--out", fmu->out, "the FMU (default: <model stem>.fmu)");
+  cmd->add_option("--kind", fmu->kind, "me (Model Exchange), cs (Co-Simulation) or both (default)");
+  return cmd;
+}
+
 /// An unknown command is named (CLI11 would only say that a subcommand is required).
 bool KnownCommand(int argc, char** argv) {
   if (argc <= 1 || argv[1][0] == '-') return true;
   const std::string cmd = argv[1];
   if (cmd == "simulate" || cmd == "check" || cmd == "list" || cmd == "sweep" || cmd == "report" || cmd == "plot" ||
-      cmd == "linearize" || cmd == "accuracy") {
+      cmd == "linearize" || cmd == "accuracy" || cmd == "fmu") {
     return true;
   }
   std::cerr << "momenta: unknown command '" << cmd
-            << "' (valid commands: simulate, sweep, linearize, accuracy, report, plot, check, list; see momenta "
+            << "' (valid commands: simulate, sweep, linearize, accuracy, fmu, report, plot, check, list; see momenta "
                "--help)\n";
   return false;
 }
@@ -195,6 +205,7 @@ int main(int argc, char** argv) {
   SweepArgs swp;
   LinearizeArgs lin;
   AccuracyArgs acc;
+  FmuArgs fmu;
   std::string list_name;
   CLI::App* simulate = AddSimulate(&app, &sim);
   CLI::App* report = AddReport(&app, &rep);
@@ -203,6 +214,7 @@ int main(int argc, char** argv) {
   CLI::App* sweep = AddSweep(&app, &swp);
   CLI::App* linearize = AddLinearize(&app, &lin);
   CLI::App* accuracy = AddAccuracy(&app, &acc);
+  CLI::App* fmu_cmd = AddFmu(&app, &fmu);
   CLI::App* list = app.add_subcommand("list", "list the component library, or describe one component");
   list->add_option("name", list_name, "component or connector type");
 
@@ -218,6 +230,7 @@ int main(int argc, char** argv) {
     if (*sweep) return RunSweep(swp);
     if (*linearize) return RunLinearize(lin);
     if (*accuracy) return RunAccuracy(acc);
+    if (*fmu_cmd) return RunFmu(fmu);
     if (*report) return RunReport(rep);
     if (*plot) return RunPlot(plt);
     if (*check) return RunCheck(chk);

@@ -3,6 +3,7 @@
 // stops them; their rows come back as numpy arrays. The API users call (momenta.load, Result,
 // SweepResult, the exception classes) is python/momenta/__init__.py, over this module.
 
+#include <pybind11/complex.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -113,6 +114,46 @@ py::list Run(PythonModel& model, const std::vector<ParameterOverrides>& runs, co
   return out;
 }
 
+/// Model.linearize's answer: names, the operating point, the matrices as lists of rows and the
+/// eigenvalues as complex numbers (__init__.py makes numpy arrays of them). A solver failure is a
+/// ModelError here: its message says what failed and at which time.
+py::dict LinearizeDict(const PythonModel& model, const ParameterOverrides& params, std::optional<double> at,
+                       const std::vector<std::pair<std::string, double>>& inputs,
+                       const std::vector<std::string>& outputs) {
+  Linearization lin;
+  {
+    py::gil_scoped_release release;
+    try {
+      lin = model.Linearize(params, at, LinearizationSpec{inputs, outputs});
+    } catch (const SolverError& e) {
+      throw ModelError(model.path() + ": linearisation failed " + e.what());
+    }
+  }
+  auto rows = [](const DenseMatrix& m) {
+    py::list out;
+    for (size_t r = 0; r < m.rows; ++r) {
+      py::list row;
+      for (size_t c = 0; c < m.cols; ++c) row.append(m(r, c));
+      out.append(row);
+    }
+    return out;
+  };
+  py::dict d;
+  d["time"] = lin.t;
+  d["states"] = lin.states;
+  d["inputs"] = lin.inputs;
+  d["outputs"] = lin.outputs;
+  d["x0"] = lin.x;
+  d["u0"] = lin.u;
+  d["y0"] = lin.y;
+  d["A"] = rows(lin.A);
+  d["B"] = rows(lin.B);
+  d["C"] = rows(lin.C);
+  d["D"] = rows(lin.D);
+  d["eigenvalues"] = lin.eigenvalues;
+  return d;
+}
+
 }  // namespace
 
 }  // namespace momenta::python
@@ -168,5 +209,7 @@ PYBIND11_MODULE(_momenta, m) {
              d["interval"] = o.interval > 0 ? o.interval : (o.stop - o.start) / 500;
              return d;
            })
+      .def("linearize", &LinearizeDict, py::arg("params"), py::arg("at"), py::arg("inputs"),
+           py::arg("outputs"))
       .def("run", &Run, py::arg("runs"), py::arg("options"), py::arg("jobs"), py::arg("keep_rows"));
 }

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cctype>
 #include <chrono>
+#include <cmath>
 #include <condition_variable>
 #include <mutex>
 #include <thread>
@@ -176,6 +177,31 @@ std::vector<ParameterOverrides> PythonModel::RunOverrides(const std::vector<Para
     out.push_back(std::move(merged));
   }
   return out;
+}
+
+Linearization PythonModel::Linearize(const ParameterOverrides& params, std::optional<double> at,
+                                     const LinearizationSpec& spec) const {
+  ParameterOverrides overrides = built_with_;
+  for (const auto& [name, value] : params) overrides[name] = value;
+  BuildOptions options(overrides);
+  PrepareLinearizationBuild(spec, &options);
+  BuildReport report;
+  std::shared_ptr<const CompiledModel> model;
+  {
+    std::lock_guard<std::mutex> lock(BuildMutex());
+    model = BuildModel(LoadModelFile(path_), BuiltinLibrary(), options, &report);
+  }
+  ModelState state(model);
+  state.SetParameters(report.overrides);
+  const SimulationOptions run = OptionsFromExperiment(model->experiment);
+  const double t = at.value_or(run.start);
+  if (!(std::isfinite(t) && t >= run.start && t <= run.stop)) {
+    throw UsageError("at=" + NumberText(t) + ": linearise at a time from " + NumberText(run.start) + " to " +
+                     NumberText(run.stop) + " s (the experiment's start and stop)");
+  }
+  SolverStats stats;
+  const RunPoint point = SimulateTo(&state, run, t, [](double, const std::vector<double>&) {}, &stats);
+  return momenta::Linearize(state, point.t, point.y, point.yp, ResolveLinearizationColumns(*model, report, spec));
 }
 
 void PythonModel::PrepareForRuns(size_t runs) {

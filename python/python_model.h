@@ -5,6 +5,7 @@
 /// (docs/ARCHITECTURE.md); python/module.cc binds it to Python and converts the rows to numpy.
 
 #include <functional>
+#include <optional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -13,6 +14,7 @@
 #include "core/build.h"
 #include "core/compile/compiled_model.h"
 #include "core/compile/native_code.h"
+#include "solver/linearization.h"
 #include "solver/simulation_options.h"
 
 namespace momenta::python {
@@ -68,6 +70,14 @@ class PythonModel {
   /// With codegen auto, native code if `runs` runs repay it (as `momenta sweep` decides); the
   /// model stays as built when they do not.
   void PrepareForRuns(size_t runs);
+  /// Model.linearize: the model built again as `momenta linearize` builds it (`spec`'s free inputs
+  /// held, its outputs added) with the load's parameters and `params` over them, brought to `at`
+  /// (the start, after the initialisation, when empty; else where a run to it ends) and
+  /// linearised. Throws UsageError for an unknown name or a time outside the experiment,
+  /// ModelError, and SolverError when the run or the linearisation fails.
+  Linearization Linearize(const ParameterOverrides& params, std::optional<double> at,
+                          const LinearizationSpec& spec) const;
+
   /// The built model, for RunAll (each caller keeps its own reference: PrepareForRuns may replace it).
   std::shared_ptr<const CompiledModel> compiled() const { return model_; }
 

@@ -8,6 +8,10 @@
 #      ${MOMENTA_DEPS_DIR:-/opt/momenta-deps}/sundials-6.4.1, skipped when a stamp file says the
 #      install there is complete. Debian's libsundials is built without optimisation, and IDA
 #      runs 2-3x faster with an -O2 build.
+#   2b. build yaml-cpp 0.7.0 from Debian's source package, static and position-independent, into
+#      ${MOMENTA_DEPS_DIR:-/opt/momenta-deps}/yaml-cpp-0.7.0-pic (stamp as for SUNDIALS): the FMU
+#      runtime (fmu/) links it into a self-contained shared object, and Debian's libyaml-cpp.a is
+#      not position-independent. Without it `momenta fmu` is not built (a warning).
 #   3. fetch uPlot (the report's plots) from the npm registry with `npm pack` at a pinned version,
 #      check its SHA-256 and unpack its dist files into third_party/uplot/ (git-ignored); the
 #      build inlines them into momenta's reports. Skipped when third_party/uplot/VERSION already
@@ -63,6 +67,8 @@ PACKAGES=(
   clang libclang-rt-14-dev
   chromium gnuplot-nox libpng-dev
   python3-dev python3-pybind11 python3-numpy python3-pytest
+  # `momenta fmu` packs FMUs with libzip; its tests unpack them and validate their description
+  libzip-dev libxml2-utils unzip
 )
 # The report's uPlot comes from the npm registry: npm (Debian's, unless an npm is already there,
 # as a Node.js distribution's own npm would conflict with Debian's package).
@@ -206,6 +212,47 @@ else
     warn "building SUNDIALS ${SUNDIALS_VERSION} from source FAILED after $(since "$t0")."
     warn "Falling back to Debian's libsundials-dev (unoptimised, slower); the build still works."
   fi
+fi
+
+# ---------------------------------------------------------------------------------------------
+# 2b. yaml-cpp, static and position-independent, for the FMU runtime (fmu/CMakeLists.txt).
+# ---------------------------------------------------------------------------------------------
+YAMLCPP_PREFIX="${DEPS_DIR}/yaml-cpp-0.7.0-pic"
+YAMLCPP_STAMP="${YAMLCPP_PREFIX}/.momenta-yaml-cpp-stamp"
+YAMLCPP_STAMP_CONTENT="yaml-cpp 0.7.0 momenta-config 1 (Release -O2, static+PIC)"
+
+build_yamlcpp() {
+  local work src
+  work=$(mktemp -d /tmp/momenta-yaml-cpp.XXXXXX)
+  chmod 755 "$work"
+  # shellcheck disable=SC2064
+  trap "rm -rf '$work'" EXIT
+  ensure_deb_src || { warn "no deb-src entries"; return 1; }
+  (cd "$work" && apt-get source -q yaml-cpp) >"$work/fetch.log" 2>&1 || { tail -n 20 "$work/fetch.log" >&2; return 1; }
+  src=$(find "$work" -maxdepth 1 -mindepth 1 -type d -name 'yaml-cpp-*' | head -n1)
+  [[ -n "$src" && -f "$src/CMakeLists.txt" ]] || { warn "unpacked yaml-cpp source not found in $work"; return 1; }
+  rm -rf "$YAMLCPP_PREFIX"
+  cmake -S "$src" -B "$work/build" -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS_RELEASE="-O2 -DNDEBUG" \
+    -DCMAKE_POSITION_INDEPENDENT_CODE=ON -DYAML_BUILD_SHARED_LIBS=OFF -DYAML_CPP_BUILD_TESTS=OFF \
+    -DYAML_CPP_BUILD_TOOLS=OFF -DYAML_CPP_BUILD_CONTRIB=OFF -DCMAKE_INSTALL_PREFIX="$YAMLCPP_PREFIX" \
+    -DCMAKE_INSTALL_LIBDIR=lib >"$work/configure.log" 2>&1 || { tail -n 30 "$work/configure.log" >&2; return 1; }
+  cmake --build "$work/build" -j "$JOBS" >"$work/build.log" 2>&1 || { tail -n 30 "$work/build.log" >&2; return 1; }
+  cmake --install "$work/build" >"$work/install.log" 2>&1 || { tail -n 30 "$work/install.log" >&2; return 1; }
+  [[ -f "$YAMLCPP_PREFIX/lib/libyaml-cpp.a" ]] || { warn "missing libyaml-cpp.a"; return 1; }
+  echo "$YAMLCPP_STAMP_CONTENT" >"$YAMLCPP_STAMP"
+}
+
+if [[ -f "$YAMLCPP_STAMP" && "$(cat "$YAMLCPP_STAMP")" == "$YAMLCPP_STAMP_CONTENT" ]]; then
+  log "position-independent yaml-cpp already installed in $YAMLCPP_PREFIX (stamp ok): skipping build"
+else
+  begin "yaml-cpp 0.7.0, static and position-independent, for the FMU runtime (apt-get source yaml-cpp)"
+  if (build_yamlcpp); then
+    log "yaml-cpp installed in $YAMLCPP_PREFIX"
+  else
+    rm -rf "$YAMLCPP_PREFIX"
+    warn "building yaml-cpp FAILED: the build leaves out the FMU runtime (momenta fmu)"
+  fi
+  end
 fi
 
 # ---------------------------------------------------------------------------------------------

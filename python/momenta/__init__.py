@@ -170,6 +170,47 @@ class Model:
         return SweepResult(names, [Result(rec, self, run) for rec, run in zip(records, runs)])
 
 
+    def linearize(self, params=None, *, at=None, inputs=None, outputs=None):
+        """The model's state-space form dx/dt = A dx + B du, dy = C dx + D du at time `at`
+        (default: the start, after the initialisation; else where a run to `at` ends), as
+        `momenta linearize` computes it: over the states the build chose (after index reduction),
+        the free signal inputs `inputs` (names, or name -> operating value; default: all of them
+        at 0) and the outputs `outputs` (variable names; default: the model's outputs). The model
+        is built again for it (inputs held, outputs added), with `params` over the load's.
+        Returns a Linearization. Raises UsageError for an unknown name or a time outside the
+        experiment, ModelError when the model or the linearisation fails."""
+        if inputs is None:
+            inputs = []
+        elif isinstance(inputs, collections.abc.Mapping):
+            inputs = list(_numbers(inputs, "inputs").items())
+        else:
+            inputs = [(str(name), 0.0) for name in inputs]
+        outputs = [] if outputs is None else [str(name) for name in outputs]
+        d = self._model.linearize(_numbers(params), None if at is None else float(at), inputs, outputs)
+        return Linearization(d)
+
+
+class Linearization:
+    """A linearisation (Model.linearize): `states`, `inputs`, `outputs` (names), `A`, `B`, `C`,
+    `D` (numpy arrays, n x n, n x m, p x n, p x m), the operating point `x0`, `u0`, `y0`, the
+    `time`, and `eigenvalues` of A (by increasing real part)."""
+
+    def __init__(self, d):
+        self.time = d["time"]
+        self.states, self.inputs, self.outputs = list(d["states"]), list(d["inputs"]), list(d["outputs"])
+        n, m, p = len(self.states), len(self.inputs), len(self.outputs)
+        self.A = np.array(d["A"], dtype=float).reshape(n, n)
+        self.B = np.array(d["B"], dtype=float).reshape(n, m)
+        self.C = np.array(d["C"], dtype=float).reshape(p, n)
+        self.D = np.array(d["D"], dtype=float).reshape(p, m)
+        self.x0, self.u0, self.y0 = (np.array(d[k], dtype=float) for k in ("x0", "u0", "y0"))
+        self.eigenvalues = np.array(d["eigenvalues"], dtype=complex)
+
+    def __repr__(self):
+        return "<momenta.Linearization at t = %g: %d states, %d inputs, %d outputs>" % (
+            self.time, len(self.states), len(self.inputs), len(self.outputs))
+
+
 class Result:
     """One run: `time` and `r[name]` (every output, and "time") as numpy arrays, a row per
     output time plus a left and a right limit at each event that changes an output; `names`
