@@ -3,8 +3,6 @@
 
 #include "app/fmu_command.h"
 
-#include <zip.h>
-
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -12,6 +10,7 @@
 
 #include "app/commands.h"
 #include "app/plugin.h"
+#include "app/zip_plugin.h"
 #include "core/base/messages.h"
 #include "core/lang/yaml_loader.h"
 #include "fmu/fmu_resources.h"
@@ -88,51 +87,22 @@ std::string UnknownsXml(const char* element, const std::vector<uint32_t>& refs) 
   return xml + "    </" + element + ">\n";
 }
 
-/// Adds `data` (kept alive by the caller until zip_close) as `name`; false on failure.
-bool AddBuffer(zip_t* zip, const std::string& name, const std::string& data) {
-  zip_source_t* source = zip_source_buffer(zip, data.data(), data.size(), 0);
-  if (source == nullptr) return false;
-  if (zip_file_add(zip, name.c_str(), source, ZIP_FL_OVERWRITE | ZIP_FL_ENC_UTF_8) < 0) {
-    zip_source_free(source);
-    return false;
-  }
-  return true;
-}
-
-bool AddFile(zip_t* zip, const std::string& name, const std::string& path) {
-  zip_source_t* source = zip_source_file(zip, path.c_str(), 0, -1);
-  if (source == nullptr) return false;
-  if (zip_file_add(zip, name.c_str(), source, ZIP_FL_OVERWRITE | ZIP_FL_ENC_UTF_8) < 0) {
-    zip_source_free(source);
-    return false;
-  }
-  return true;
-}
-
 /// The FMU's files: name in the archive -> (text, or the path of a file to copy).
 struct FmuContents {
   std::vector<std::pair<std::string, std::string>> texts, files;
 };
 
-/// Writes `contents` to `path`; returns "" or what went wrong.
+/// Writes `contents` to `path` through the zip plugin; returns "" or what went wrong.
 std::string WriteZip(const std::string& path, const FmuContents& contents) {
-  int error = 0;
-  zip_t* zip = zip_open(path.c_str(), ZIP_CREATE | ZIP_TRUNCATE, &error);
-  if (zip == nullptr) {
-    zip_error_t e;
-    zip_error_init_with_code(&e, error);
-    std::string why = zip_error_strerror(&e);
-    zip_error_fini(&e);
-    return why;
-  }
-  bool ok = true;
-  for (const auto& [name, text] : contents.texts) ok = ok && AddBuffer(zip, name, text);
-  for (const auto& [name, file] : contents.files) ok = ok && AddFile(zip, name, file);
-  if (!ok || zip_close(zip) < 0) {
-    std::string why = zip_strerror(zip);
-    zip_discard(zip);
-    return why;
-  }
+  std::string why;
+  const auto* zip =
+      static_cast<const ZipPluginTable*>(LoadPlugin("momenta-zip.so", "momenta_zip_plugin", false, &why));
+  if (zip == nullptr) return "the zip plugin is not available (" + why + ")";
+  std::vector<ZipEntry> entries;
+  for (const auto& [name, text] : contents.texts) entries.push_back({name.c_str(), text.data(), text.size(), nullptr});
+  for (const auto& [name, file] : contents.files) entries.push_back({name.c_str(), nullptr, 0, file.c_str()});
+  char reason[512] = "";
+  if (zip->write(path.c_str(), entries.data(), entries.size(), reason, sizeof reason) != 0) return reason;
   return "";
 }
 

@@ -34,6 +34,7 @@ std::string VersionText() {
   };
   feature("MAT result files", "momenta-mat.so", HaveMat());
   feature("sweeps under mpirun", "momenta-mpi.so", HaveMpi());
+  feature("FMU export", "momenta-fmu.so", !FindPlugin("momenta-fmu.so").empty() && !FindPlugin("momenta-zip.so").empty());
   return text;
 }
 
