@@ -6,10 +6,9 @@
 /// the states' rates and the algebraic unknowns with the states given (Newton on the matrix
 /// [dF/dx' | dF/dz] of solver/mixed_jacobian.h); an event (fmi2NewDiscreteStates) is the
 /// solver's own DoEvent on those values (impacts change the states there), and nextEventTime is
-/// the solver's next time event. Co-Simulation: DoStep runs momenta's integration (IDA, exact
-/// event location and impacts) from the start time to the step's end (solver/simulator.h's
-/// SimulateTo), so a step over an impact ends on the exact post-impact values; a step costs a
-/// run from the start (the solver has no run to resume).
+/// the solver's next time event. Co-Simulation: DoStep carries momenta's integration (IDA, exact
+/// event location and impacts) on from the last step's end to this one's (solver/simulator.h's
+/// Simulation), so a step over an impact ends on the exact post-impact values.
 ///
 /// Errors are thrown as std::exception; fmi2_functions.cc turns them into the logger's message
 /// and fmi2Error.
@@ -23,6 +22,7 @@
 #include "fmu/fmu_layout.h"
 #include "solver/integration_state.h"
 #include "solver/simulation_options.h"
+#include "solver/simulator.h"
 
 namespace momenta::fmu {
 
@@ -84,6 +84,8 @@ class FmuInstance {
   RowCallback row_;
   SolverStats stats_;
   std::unique_ptr<IntegrationState> run_;
+  // Co-Simulation: the run that each step carries on (over state_, so declared after it).
+  std::unique_ptr<Simulation> simulation_;
 };
 
 }  // namespace momenta::fmu

@@ -61,10 +61,11 @@ void PrepareRun(const CompiledModel& model, IntegrationState* run) {
 /// run (a 1000 s run would otherwise start with a 1 s step, whatever the model's dynamics).
 double StepTarget(const IntegrationState& run, double tstop) { return std::min(run.t + run.interval, tstop); }
 
-/// One step at a time to the stop time (the steps IDA_NORMAL would take to each output time),
-/// the output rows interpolated within each step, so an interrupt is seen after every step.
-void RunWithoutEvents(const CompiledModel& model, ModelState* state, IntegrationState* run) {
-  const double stop = run->options.stop;
+/// One step at a time to `until` (the steps IDA_NORMAL would take to each output time), the
+/// output rows interpolated within each step, so an interrupt is seen after every step.
+void RunWithoutEvents(const CompiledModel& model, ModelState* state, IntegrationState* run, double until) {
+  const double stop = until;
+  SetStopTime(run, stop);
   long steps_since_row = 0;
   while (run->t < stop && !Interrupted(run, run->t)) {
     const IdaStepEnd step = StepIda(model, run, StepTarget(*run, stop));
@@ -81,11 +82,16 @@ void RunWithoutEvents(const CompiledModel& model, ModelState* state, Integration
 /// relation that keeps switching back and forth is then reported as chattering).
 constexpr int kQuietPerStep = 100;
 
-/// IDA's steps one at a time, each searched for crossings; time events as IDA stop times.
-void RunWithEvents(const CompiledModel& model, ModelState* state, IntegrationState* run) {
-  const double stop = run->options.stop;
+/// What a run with events does once, before its first step.
+void BeginWithEvents(const CompiledModel& model, ModelState* state, IntegrationState* run) {
   PrepareQuietCrossings(model, run);
   if (TimeRelationSwitchesAtStart(model, state, run)) DoEvent(model, state, run, run->t, true);
+}
+
+/// IDA's steps one at a time to `until`, each searched for crossings; time events as IDA stop
+/// times.
+void RunWithEvents(const CompiledModel& model, ModelState* state, IntegrationState* run, double until) {
+  const double stop = until;
   long steps_since_row = 0;
   while (run->t < stop && !Interrupted(run, run->t)) {
     const double t_event = NextTimeEvent(model, state, run);
@@ -129,14 +135,12 @@ void RunWithEvents(const CompiledModel& model, ModelState* state, IntegrationSta
   }
 }
 
-/// Models without unknowns: time advances in sub-steps of the output interval, each checked for
-/// crossings like an IDA step (everything is a function of time and the discrete values).
-void RunStateless(const CompiledModel& model, ModelState* state, IntegrationState* run) {
-  const double stop = run->options.stop;
-  run->t = run->options.start;
-  run->next_grid_row = 1;
+/// Models without unknowns: time advances to `until` in sub-steps of the output interval, each
+/// checked for crossings like an IDA step (everything is a function of time and the discrete
+/// values).
+void RunStateless(const CompiledModel& model, ModelState* state, IntegrationState* run, double until) {
+  const double stop = until;
   const double h = run->interval / 8;
-  if (TimeRelationSwitchesAtStart(model, state, run)) DoEvent(model, state, run, run->t, true);
   while (run->t < stop && !Interrupted(run, run->t)) {
     const double t_event = NextTimeEvent(model, state, run);
     const double t_next = std::min({stop, t_event, run->t + h});
@@ -156,17 +160,18 @@ void RunStateless(const CompiledModel& model, ModelState* state, IntegrationStat
   }
 }
 
-/// Nothing to integrate: the outputs are functions of time and of the discrete values.
-void RunWithoutUnknowns(const CompiledModel& model, ModelState* state, IntegrationState* run) {
-  run->integration_started = std::chrono::steady_clock::now();
+/// Nothing to integrate, to `until`: the outputs are functions of time and of the discrete values.
+void RunWithoutUnknowns(const CompiledModel& model, ModelState* state, IntegrationState* run, double until) {
   if (run->has_events) {
-    RunStateless(model, state, run);
-  } else {
-    for (long k = 1; k <= run->num_intervals && !Interrupted(run, GridTime(*run, k - 1)); ++k) {
-      Emit(state, run, GridTime(*run, k), nullptr, nullptr);
-    }
+    RunStateless(model, state, run, until);
+    return;
   }
-  run->stats->integrate_seconds = SecondsSince(run->integration_started);
+  for (long& k = run->next_grid_row; k <= run->num_intervals && GridTime(*run, k) <= until &&
+                                     !Interrupted(run, GridTime(*run, k - 1));
+       ++k) {
+    Emit(state, run, GridTime(*run, k), nullptr, nullptr);
+  }
+  run->t = std::max(run->t, until);
 }
 
 }  // namespace
@@ -184,39 +189,80 @@ SimulationOptions OptionsFromExperiment(const ExperimentSpec& e) {
 
 namespace {
 
+/// A run in pieces: Start once, then Advance to later and later times, then Finish.
+class RunInPieces {
+ public:
+  RunInPieces(ModelState* state, const SimulationOptions& options, const RowCallback& row, SolverStats* stats)
+      : model_(state->model()), state_(state), options_(options), row_(row), run_(options_, row_, stats) {}
+
+  /// The initialisation, the first row and IDA's start (with the initial event).
+  void Start() {
+    PrepareRun(model_, &run_);
+    InitializeRun(model_, state_, &run_);
+    run_.t = options_.start;
+    run_.next_grid_row = 1;
+    if (run_.num_unknowns > 0) {
+      PolishConsistentValues(model_, state_, &run_, options_.start);
+      StartIda(model_, state_, &run_);
+      run_.t = options_.start;
+      run_.next_grid_row = 1;
+    }
+    run_.integration_started = std::chrono::steady_clock::now();
+    if (run_.has_events) {
+      if (run_.num_unknowns == 0) {
+        if (TimeRelationSwitchesAtStart(model_, state_, &run_)) DoEvent(model_, state_, &run_, run_.t, true);
+      } else {
+        BeginWithEvents(model_, state_, &run_);
+      }
+    }
+  }
+
+  /// On to `until` (at most the options' stop time).
+  void Advance(double until) {
+    until = std::min(until, options_.stop);
+    if (run_.num_unknowns == 0) {
+      RunWithoutUnknowns(model_, state_, &run_, until);
+    } else if (!run_.has_events) {
+      RunWithoutEvents(model_, state_, &run_, until);
+    } else {
+      RunWithEvents(model_, state_, &run_, until);
+    }
+  }
+
+  /// The statistics and, at the stop time, the cost note.
+  void Finish() {
+    SolverStats* stats = run_.stats;
+    if (run_.num_unknowns > 0) CollectIdaStats(&run_);
+    stats->integrate_seconds = SecondsSince(run_.integration_started);
+    if (run_.num_unknowns > 0 && !stats->interrupted) {
+      stats->cost_note = StepCostNote(*state_, run_.t, run_.y, run_.yp, run_.interval, stats->steps, run_.num_intervals);
+    }
+  }
+
+  /// Where the run stands, its rates and algebraic unknowns made consistent with the states (the
+  /// last row's values are IDA's interpolant).
+  RunPoint Point() {
+    if (run_.num_unknowns == 0) return {run_.t, {}, {}};
+    PolishConsistentValues(model_, state_, &run_, run_.t);
+    return {run_.t, run_.y, run_.yp};
+  }
+
+ private:
+  const CompiledModel& model_;
+  ModelState* state_;
+  SimulationOptions options_;
+  RowCallback row_;
+  IntegrationState run_;
+};
+
 /// The run itself; `end`, when given, receives where it stands at its end.
 void Run(ModelState* state, const SimulationOptions& options, const RowCallback& row, SolverStats* stats,
          RunPoint* end) {
-  const CompiledModel& model = state->model();
-  IntegrationState run(options, row, stats);
-  PrepareRun(model, &run);
-  InitializeRun(model, state, &run);
-  if (run.num_unknowns == 0) {
-    RunWithoutUnknowns(model, state, &run);
-    if (end) *end = {options.stop, {}, {}};
-    return;
-  }
-  PolishConsistentValues(model, state, &run, options.start);
-  StartIda(model, state, &run);
-  run.t = options.start;
-  run.next_grid_row = 1;
-  run.integration_started = std::chrono::steady_clock::now();
-  if (!run.has_events) {
-    RunWithoutEvents(model, state, &run);
-  } else {
-    RunWithEvents(model, state, &run);
-  }
-  CollectIdaStats(&run);
-  stats->integrate_seconds = SecondsSince(run.integration_started);
-  if (!stats->interrupted) {
-    stats->cost_note = StepCostNote(*state, run.t, run.y, run.yp, run.interval, stats->steps, run.num_intervals);
-  }
-  if (end) {
-    // The last row's values are IDA's interpolant: the rates and algebraic unknowns are made
-    // consistent with the states again.
-    PolishConsistentValues(model, state, &run, run.t);
-    *end = {run.t, run.y, run.yp};
-  }
+  RunInPieces run(state, options, row, stats);
+  run.Start();
+  run.Advance(options.stop);
+  run.Finish();
+  if (end) *end = run.Point();
 }
 
 }  // namespace
@@ -224,6 +270,27 @@ void Run(ModelState* state, const SimulationOptions& options, const RowCallback&
 void Simulate(ModelState* state, const SimulationOptions& options, const RowCallback& row,
               SolverStats* stats) {
   Run(state, options, row, stats, nullptr);
+}
+
+struct Simulation::Pieces : RunInPieces {
+  using RunInPieces::RunInPieces;
+};
+
+Simulation::Simulation(ModelState* state, const SimulationOptions& options, const RowCallback& row,
+                       SolverStats* stats)
+    : pieces_(std::make_unique<Pieces>(state, options, row, stats)), stop_(options.stop) {
+  pieces_->Start();
+}
+
+Simulation::~Simulation() = default;
+
+RunPoint Simulation::AdvanceTo(double t) {
+  if (!(t <= stop_)) {
+    throw std::invalid_argument("the time " + NumberText(t) + " is past the run's stop time " + NumberText(stop_));
+  }
+  pieces_->Advance(t);
+  pieces_->Finish();
+  return pieces_->Point();
 }
 
 RunPoint SimulateTo(ModelState* state, SimulationOptions options, double t, const RowCallback& row,

@@ -23,6 +23,7 @@
 /// Without events, RunWithoutEvents takes IDA's steps one at a time to the stop time and writes
 /// the grid rows within each.
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -51,6 +52,26 @@ struct RunPoint {
 /// std::invalid_argument for a t before the start or not finite.
 RunPoint SimulateTo(ModelState* state, SimulationOptions options, double t, const RowCallback& row,
                     SolverStats* stats);
+
+/// A run that goes on in pieces (Co-Simulation's steps, fmu/): initialised and IDA started when
+/// made; AdvanceTo(t) integrates on from where the last piece ended to t, with the events and
+/// impacts on the way, its rows to `row` and `stats` updated, and gives the values there,
+/// consistent. One run in one piece is Simulate's. Throws as Simulate does, and
+/// std::invalid_argument for a t past options.stop.
+class Simulation {
+ public:
+  Simulation(ModelState* state, const SimulationOptions& options, const RowCallback& row, SolverStats* stats);
+  ~Simulation();
+  Simulation(const Simulation&) = delete;
+  Simulation& operator=(const Simulation&) = delete;
+  RunPoint AdvanceTo(double t);
+  double stop() const { return stop_; }
+
+ private:
+  struct Pieces;
+  std::unique_ptr<Pieces> pieces_;
+  double stop_;
+};
 
 /// The options a model's experiment section asks for.
 SimulationOptions OptionsFromExperiment(const ExperimentSpec& e);

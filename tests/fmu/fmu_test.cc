@@ -116,7 +116,7 @@ std::map<std::string, double> SimulateEnd(const TempDir& dir, const std::string&
 }
 
 /// Runs `model` in both kinds to `stop` and compares `names` with `momenta simulate` within `tol`.
-/// (Co-Simulation's last step is the simulation's own run to `stop`: it agrees to the last bit.)
+/// (Co-Simulation's run stops at every step's end, so its steps are not quite the simulation's.)
 void CompareWithSimulate(const std::string& model, double stop, double step,
                          const std::vector<std::string>& names, double tol) {
   TempDir dir;
