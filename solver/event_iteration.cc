@@ -171,12 +171,16 @@ bool TryOtherBranches(const CompiledModel& model, ModelState* state, Integration
   constexpr size_t kMaxMoved = 16;
   const std::vector<size_t> moved = MovedConditions(*run, visits);
   if (moved.empty() || moved.size() > kMaxMoved) return false;
-  const std::vector<double> y = run->y, yp = run->yp;
+  // A branch that is tried and left leaves no trace: not in the values, nor in the crossing
+  // functions' scales (which set the rounding band of later crossings).
+  const std::vector<double> y = run->y, yp = run->yp, z = run->crossing_values, scale = run->crossing_scale;
   const std::vector<double> saved(state->event_values(), state->event_values() + state->num_event_values());
   const std::vector<double> base(state->conditions(), state->conditions() + run->num_conditions);
   auto restore = [&] {
     run->y = y;
     run->yp = yp;
+    run->crossing_values = z;
+    run->crossing_scale = scale;
     std::copy(saved.begin(), saved.end(), state->mutable_event_values());
   };
   int trials = 0;
