@@ -9,7 +9,8 @@
 //       if round > 0: Restart (consistent y, y' for the discrete values so far)
 //       conditions := their values at (t, y, y') (SetConditions)
 //       the discrete equations evaluated; if a condition or discrete value changed:
-//         SettleMixedSystem (the continuous unknowns and the discrete equations until they agree)
+//         SettleMixedSystem (the continuous unknowns and the discrete equations until they agree;
+//         when the rounds come back to conditions already solved with, TryOtherBranches)
 //       closed contacts whose release condition holds open (ReleaseContacts)
 //       when-clauses whose condition has become true run: assignments and reinit() (FireWhens)
 //       nothing changed or fired: done;  otherwise pre() := the new values
@@ -35,6 +36,7 @@
 #include "solver/event_iteration.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -134,17 +136,105 @@ bool FireWhens(const CompiledModel& model, ModelState* state, IntegrationState* 
   return fired;
 }
 
+/// One round of the mixed system: the conditions it solved with, and the zero-crossing functions
+/// at that solution.
+struct Visit {
+  std::vector<double> conditions, z;
+};
+
+/// The conditions whose zero-crossing functions differ between the visited solutions: those that
+/// read what the branches change. At an event the states and time stay, so relations of them alone
+/// are not among them; the difference may be tiny (the branches' solutions meet at the crossing
+/// that caused the event), so any is taken.
+std::vector<size_t> MovedConditions(const IntegrationState& run, const std::vector<Visit>& visits) {
+  std::vector<size_t> moved;
+  for (size_t i = 0; i < run.num_conditions; ++i) {
+    for (const Visit& v : visits) {
+      if (v.z[i] != visits[0].z[i] || v.conditions[i] != visits[0].conditions[i]) {
+        moved.push_back(i);
+        break;
+      }
+    }
+  }
+  return moved;
+}
+
+/// The mixed system came back to conditions it had solved with: each branch it follows puts its
+/// solution in the other (a saturated amplifier with positive feedback, whose saturated solution
+/// has ceased to exist, flips between that branch and the linear one). Tries the other values of
+/// the conditions the visits moved, nearest first (one flipped, then two, …; at most kTrials
+/// restarts), and keeps the first branch whose solution gives back its own conditions: true.
+/// Otherwise leaves the values as they were and returns false.
+bool TryOtherBranches(const CompiledModel& model, ModelState* state, IntegrationState* run, double t,
+                      const std::vector<Visit>& visits) {
+  constexpr int kTrials = 64;
+  constexpr size_t kMaxMoved = 16;
+  const std::vector<size_t> moved = MovedConditions(*run, visits);
+  if (moved.empty() || moved.size() > kMaxMoved) return false;
+  // A branch that is tried and left leaves no trace: not in the values, nor in the crossing
+  // functions' scales (which set the rounding band of later crossings).
+  const std::vector<double> y = run->y, yp = run->yp, z = run->crossing_values, scale = run->crossing_scale;
+  const std::vector<double> saved(state->event_values(), state->event_values() + state->num_event_values());
+  const std::vector<double> base(state->conditions(), state->conditions() + run->num_conditions);
+  auto restore = [&] {
+    run->y = y;
+    run->yp = yp;
+    run->crossing_values = z;
+    run->crossing_scale = scale;
+    std::copy(saved.begin(), saved.end(), state->mutable_event_values());
+  };
+  int trials = 0;
+  const uint32_t all = 1u << moved.size();
+  for (size_t flipped = 1; flipped <= moved.size() && trials < kTrials; ++flipped) {
+    for (uint32_t mask = 1; mask < all && trials < kTrials; ++mask) {
+      if (static_cast<size_t>(std::popcount(mask)) != flipped) continue;
+      std::vector<double> candidate = base;
+      for (size_t j = 0; j < moved.size(); ++j) {
+        if (mask & (1u << j)) candidate[moved[j]] = 1.0 - candidate[moved[j]];
+      }
+      if (std::any_of(visits.begin(), visits.end(), [&](const Visit& v) { return v.conditions == candidate; })) continue;
+      ++trials;
+      restore();
+      std::copy(candidate.begin(), candidate.end(), state->mutable_conditions());
+      UpdateDiscrete(state, run, t);
+      try {
+        Restart(model, state, run, t);
+      } catch (const SolverError&) {
+        continue;  // no consistent values in this branch
+      }
+      bool changed = SetConditions(model, state, run, t, kHoldAtZero);
+      changed = UpdateDiscrete(state, run, t) || changed;
+      if (!changed) return true;
+    }
+  }
+  restore();
+  return false;
+}
+
 /// With the pre-values fixed, solves the continuous unknowns for the new discrete values and
 /// evaluates the discrete equations again until the two agree: Modelica's mixed
 /// continuous/discrete systems. A friction element that stops decides whether it stays stuck
 /// from the force that holds it (sa while locked), not from the force of the sliding mode it
-/// just left. Gives up after 20 rounds; the event iteration goes on from there.
+/// just left. When the rounds come back to conditions already solved with, the other branches
+/// are tried (TryOtherBranches). Gives up after 20 rounds; the event iteration goes on from there.
 void SettleMixedSystem(const CompiledModel& model, ModelState* state, IntegrationState* run, double t) {
+  std::vector<Visit> visits;
+  bool tried = false;
   for (int round = 0; round < 20; ++round) {
+    Visit visit{{state->conditions(), state->conditions() + run->num_conditions}, {}};
     Restart(model, state, run, t);
     bool again = SetConditions(model, state, run, t, kHoldAtZero);
     again = UpdateDiscrete(state, run, t) || again;
     if (!again) return;
+    visit.z = run->crossing_values;
+    visits.push_back(std::move(visit));
+    const std::vector<double> next(state->conditions(), state->conditions() + run->num_conditions);
+    const bool cycle =
+        std::any_of(visits.begin(), visits.end(), [&](const Visit& v) { return v.conditions == next; });
+    if (cycle && !tried) {
+      tried = true;
+      if (TryOtherBranches(model, state, run, t, visits)) return;
+    }
   }
 }
 

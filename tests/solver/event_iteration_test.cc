@@ -120,5 +120,41 @@ outputs: [a, b]
   EXPECT_EQ(tr.Column("b", tr.t.size() - 1), -1.0);
 }
 
+TEST(EventIterationTest, ABranchThatCeasesToExistGivesWayToTheOneThatDoes) {
+  // A Schmitt trigger: an amplifier limited to +-Vps with positive feedback through R2/R1, its
+  // input u ramped from 5 V down to -5 V. It starts saturated high; when u passes
+  // u* = (Vps/V0*(R1 + R2) - Vps*R1)/R2 (about -1 V) the high solution ceases to exist. The
+  // iteration's first guesses flip between the high branch (whose solution has V0*x < Vps) and
+  // the linear one (whose solution has V0*x > Vps): only the low branch, which neither visits,
+  // is consistent, and it must be found rather than reported as chattering.
+  Built b = testing::BuildYaml(R"yaml(
+model: SchmittLoop
+parameters: {V0: 15000, Vps: 15, R1: 1000, R2: 15000}
+variables:
+  u: {}
+  x: {}
+  v: {}
+equations:
+  - u = 5 - 10*time
+  - x = (u*R2 + v*R1)/(R1 + R2)
+  - v = if V0*x > Vps then Vps elseif V0*x < -Vps then -Vps else V0*x
+experiment: {stop: 1, tolerance: 1e-8, interval: 0.01}
+outputs: [u, x, v]
+)yaml");
+  Trajectory tr = testing::RunDefault(b);
+  const double V0 = 15000, Vps = 15, R1 = 1000, R2 = 15000;
+  const double u_switch = (Vps / V0 * (R1 + R2) - Vps * R1) / R2, t_switch = (5 - u_switch) / 10;
+  auto rows = EventRows(tr);
+  ASSERT_EQ(rows.size(), 1u);
+  // The crossing is located to its search's precision (1e-12 s here), far inside 1e-9 s.
+  EXPECT_NEAR(tr.t[rows[0]], t_switch, 1e-9);
+  EXPECT_EQ(tr.Column("v", rows[0]), Vps);
+  EXPECT_EQ(tr.Column("v", rows[0] + 1), -Vps);
+  // Low for the rest of the run, the input where the divider puts it: x = (u*R2 - Vps*R1)/(R1 + R2).
+  const size_t last = tr.t.size() - 1;
+  EXPECT_EQ(tr.Column("v", last), -Vps);
+  EXPECT_NEAR(tr.Column("x", last), (-5 * R2 - Vps * R1) / (R1 + R2), 1e-9);
+}
+
 }  // namespace
 }  // namespace momenta
