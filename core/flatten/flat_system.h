@@ -89,6 +89,7 @@ struct FlatParameter {
   ExprId binding;    ///< an expression of other parameters and constants
   InstanceId instance; ///< invalid for model parameters
   ValueType type = ValueType::kReal;
+  bool evaluate = false;  ///< declared `evaluate: true` (FoldStructuralConditions folds it)
 };
 
 enum class EquationOrigin : uint8_t { kComponent, kModel, kConnection, kUnconnectedFlow, kFixedStart, kInitial };

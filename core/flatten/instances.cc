@@ -351,6 +351,7 @@ void InstanceBuilder::AddParameters(const NewInstance& instance, const std::vect
     const TextRef local{TextRef::kType, instance.id.value(), static_cast<uint32_t>(k)};
     fp.name = local;
     fp.type = decl.type;
+    fp.evaluate = decl.evaluate;
     if (decl.min) fp.min = *decl.min;
     if (decl.max) fp.max = *decl.max;
     if (!decl.unit.empty()) fp.unit = local;

@@ -22,6 +22,7 @@ void ModelScope::DeclareParameters() {
     FlatParameter fp;
     fp.name = flat.Own(p.name);
     fp.type = p.type;
+    fp.evaluate = p.evaluate;
     if (p.min) fp.min = *p.min;
     if (p.max) fp.max = *p.max;
     fp.unit = flat.Own(p.unit);

@@ -41,6 +41,7 @@ struct ParameterDecl {
   std::optional<double> min, max;
   ValueType type = ValueType::kReal;
   Shape shape;  ///< declared `shape:`; empty for a scalar
+  bool evaluate = false;  ///< `evaluate: true`: its value is fixed when the model is built
   SourceLoc loc;
 };
 

@@ -19,7 +19,7 @@ ParameterDecl ReadParameter(const ValueReader& reader, const std::string& name, 
   std::string value_unit;
   if (n.IsMap()) {
     reader.CheckKeys(n, "parameter " + what,
-                     {"value", "unit", "doc", "min", "max", "type", "shape"});
+                     {"value", "unit", "doc", "min", "max", "type", "shape", "evaluate"});
     if (!n["value"]) reader.Fail(n, "parameter " + what + " needs a value");
     p.value_text = reader.ValueText(n["value"], "value of " + what);
     p.value = reader.ValueExpression(n["value"], p.value_text, "value of " + what, &value_unit);
@@ -30,6 +30,7 @@ ParameterDecl ReadParameter(const ValueReader& reader, const std::string& name, 
     p.min = reader.OptionalNumber(n, "min", what);
     p.max = reader.OptionalNumber(n, "max", what);
     if (n["type"]) p.type = reader.Type(n["type"], what);
+    if (n["evaluate"]) p.evaluate = reader.Bool(n["evaluate"], what + ".evaluate");
   } else {
     p.value_text = reader.ValueText(n, "value of " + what);
     p.value = reader.ValueExpression(n, p.value_text, "value of " + what, &value_unit);

@@ -1,5 +1,6 @@
 #include "core/passes/structural_conditions.h"
 
+#include <functional>
 #include <unordered_map>
 
 #include "core/expr/expr_eval.h"
@@ -27,6 +28,37 @@ bool OnlyDiscreteParameters(const FlatSystem& flat, ExprId e, std::vector<uint32
     }
   }
   return true;
+}
+
+/// The parameters fixed when the model is built, as Modelica evaluates a parameter with
+/// `Evaluate = true` and those bound to it: the ones declared `evaluate: true` and the ones whose
+/// binding is an expression of such parameters alone (`C: CapVal`; a binding without parameters is
+/// an ordinary value). Each leaf maps to its value in `fixed`; `structural` collects them.
+size_t EvaluatedParameters(const FlatSystem& flat, ExprPool* pool, const std::vector<double>& params,
+                           std::unordered_map<uint32_t, ExprId>* fixed, std::vector<uint32_t>* structural) {
+  enum : uint8_t { kUnknown, kVisiting, kYes, kNo };
+  std::vector<uint8_t> state(flat.parameters.size(), kUnknown);
+  // Depth-first over the bindings (a binding names other parameters; bindings have no cycles).
+  std::function<bool(uint32_t)> evaluated = [&](uint32_t q) {
+    if (state[q] == kYes || state[q] == kNo || state[q] == kVisiting) return state[q] == kYes;
+    state[q] = kVisiting;
+    const FlatParameter& fp = flat.parameters[q];
+    bool yes = fp.evaluate;
+    if (!yes && fp.binding.valid() && (pool->mask(fp.binding) & kHasParam)) {
+      yes = true;
+      for (ExprId leaf : CollectLeaves(*pool, fp.binding, kHasParam)) yes = yes && evaluated(pool->node(leaf).a);
+    }
+    state[q] = yes ? kYes : kNo;
+    return yes;
+  };
+  size_t count = 0;
+  for (uint32_t q = 0; q < flat.parameters.size(); ++q) {
+    if (!evaluated(q)) continue;
+    fixed->emplace(pool->Param(ParamId(q)).value(), pool->Const(params[q]));
+    structural->push_back(q);
+    ++count;
+  }
+  return count;
 }
 
 }  // namespace
@@ -63,6 +95,8 @@ size_t FoldStructuralConditions(EquationSystem* sys, const std::vector<double>& 
   for (const auto& e : sys->equations) scan(e.residual);
   for (const auto& e : sys->initial) scan(e.residual);
   for (ExprId o : sys->outputs) scan(o);
+  const size_t conditions = fixed.size();
+  const size_t evaluated = EvaluatedParameters(flat, &p, params, &fixed, &structural);
   if (fixed.empty()) return 0;
 
   // Rewrite (an if on a constant condition is its branch), dropping initial equations that are
@@ -78,7 +112,7 @@ size_t FoldStructuralConditions(EquationSystem* sys, const std::vector<double>& 
   for (auto& o : sys->outputs) o = fold(o);
   FlatSystem& f = sys->MutableFlat();
   for (uint32_t q : structural) f.structural[f.ParameterName(ParamId(q))] = params[q];
-  return fixed.size();
+  return conditions + evaluated;
 }
 
 }  // namespace momenta

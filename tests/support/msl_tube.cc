@@ -72,21 +72,26 @@ double DistanceToReference(const Csv& ref, size_t c, double t, double v, double 
 void Compare(const std::string& model, const Trajectory& ours, const Csv& ref, double interval,
              const std::function<double(double, double)>& tube, Worst* worst, bool single_precision,
              const std::string& settle_column, double settle_until) {
-  // Match each reference row to our row at the same time. Reference times are printed to 17
-  // digits and ours are start + k*interval, so a match is within 1e-9 of an interval (far below
-  // the grid step); a single-precision reference's times are off by up to 2^-24 of their value
-  // (6e-8 s at t = 1 s), matched within 1e-7 of the largest time (still 1e-4 of a 5e-4 step at
-  // t = 1 s). At a time listed more than once (an event: left and right limits), the
-  // first reference row goes with our first row there and the last with our last. A reference
-  // event off our grid must have an event of ours within kEventTimeWindow; its rows are not
-  // paired (the two events' times differ), our rows there are checked against the reference's
-  // curve below instead.
-  // Rows within 1e-11 of the time's magnitude are at the same time: an event that both tools put
-  // on a grid time (the Brake's stop at t = 1.1, ours 1e-12 s later) is located by each to its
-  // own resolution; two events 7e-11 s apart (Friction's breakaway and mode = Forward) stay two.
-  const double eps = single_precision ? 1e-7 * std::max(1.0, std::fabs(ref.rows.back()[0])) : 1e-9 * interval;
-  auto eps_at = [&](double t) { return std::max(eps, 1e-11 * std::max(1.0, std::fabs(t))); };
-  const double window = kEventTimeWindow * (ref.rows.back()[0] - ref.rows.front()[0]);
+  // Match each reference row to our rows at the same time. Rows within 1e-11 of the time's
+  // magnitude are at the same time: grid times (start + k*interval in both tools, printed to 17
+  // digits) agree to < 1e-15 of t; an event that both tools put on a grid time (the Brake's stop
+  // at t = 1.1, ours 1e-12 s later) is located by each to its own resolution; two events 7e-11 s
+  // apart (Friction's breakaway and mode = Forward) stay two. Near t = 0 the time's magnitude
+  // gives no scale and the run's does: the output interval, a fixed fraction of the run (1/500
+  // by the MSL's default, 1/5000 in the finest references), so the window never exceeds 1e-11
+  // of an output interval there. An absolute floor (it was 1e-11 s) merges a 1e-7 s run's events
+  // with grid rows 4e-12 s away (NandGate's grid is 2e-11 s) and an event 5e-13 s after the
+  // start with the start (LossyGearDemo1). A single-precision reference's times are off by up to
+  // 2^-24 of their value (6e-8 s at t = 1 s), matched within 1e-7 of the largest time (still
+  // 1e-4 of a 5e-4 step at t = 1 s). At a time listed more than once (an event: left and right
+  // limits), the first reference row goes with our first row there and the last with our last.
+  // A reference event off our grid must have an event of ours within kEventTimeWindow; its rows
+  // are not paired (the two events' times differ), our rows there are checked against the
+  // reference's curve below instead.
+  const double span = ref.rows.back()[0] - ref.rows.front()[0];
+  const double eps = single_precision ? 1e-7 * std::max(1.0, std::fabs(ref.rows.back()[0])) : 0.0;
+  auto eps_at = [&](double t) { return std::max(eps, 1e-11 * std::max(interval, std::fabs(t))); };
+  const double window = kEventTimeWindow * span;
   constexpr size_t kUnpaired = static_cast<size_t>(-1);
   std::vector<size_t> row_of(ref.rows.size(), kUnpaired);
   std::vector<std::pair<size_t, size_t>> instant_of(ref.rows.size(), {0, 0});  // a middle row's
