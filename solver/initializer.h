@@ -2,7 +2,9 @@
 /// Consistent initial values for IDA: Newton's method (KINSOL, with line search and an exact
 /// sparse Jacobian every iteration) on the initialisation system [F(t0, y, y') = 0; G = 0], whose
 /// unknowns are y and the states' y' and whose G holds the fixed start values and initial
-/// equations. Start values of the other variables are the first guess. InitializeRun starts a
+/// equations. Start values of the other variables are the first guess; where KINSOL's LU meets a
+/// singular system that holds (some unknowns left free), Newton steps of least norm (Eigen's
+/// complete orthogonal decomposition) pick the solution nearest the guesses. InitializeRun starts a
 /// run from it: discrete and continuous values iterate until they agree.
 
 #include <string>

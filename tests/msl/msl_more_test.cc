@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <ostream>
 #include <string>
@@ -113,6 +114,28 @@ std::string ModelFile(const std::string& name) {
   return "models/msl/" + rest + ".yaml";
 }
 
+/// `t` rounded to `digits` significant decimal digits.
+double Rounded(double t, int digits) {
+  char text[40];
+  std::snprintf(text, sizeof text, "%.*g", digits, t);
+  return std::strtod(text, nullptr);
+}
+
+/// Whether the reference's times were written in single precision, as the EddyCurrentBrake's are
+/// (0.0044999998 for 0.0045, no row of ours there): every time has at most 9 significant digits
+/// (a float's), and some differ from their 7-digit rounding (the float's noise). A double-precision
+/// reference's event times have 17 digits (0.37588609721210020); one whose every time is a short
+/// decimal of the grid (0.0015) has no noise, and is matched as it always was.
+bool SinglePrecisionTimes(const testing::Csv& ref) {
+  bool noisy = false;
+  for (const auto& row : ref.rows) {
+    const double t = row[0];
+    if (Rounded(t, 9) != t) return false;
+    noisy = noisy || Rounded(t, 7) != t;
+  }
+  return noisy;
+}
+
 bool Exists(const std::string& relative) { return std::filesystem::exists(testing::SourcePath(relative)); }
 
 class MslMoreTest : public ::testing::TestWithParam<MoreExample> {};
@@ -124,6 +147,7 @@ TEST_P(MslMoreTest, WithinTheMslTube) {
   testing::TubeCheck check;
   check.rtol = 0;  // the example's own (1e-6 unless it says otherwise)
   const testing::Csv ref = testing::ReadCsv(testing::SourcePath(std::string("tests/data/msl/") + e.name + ".csv"));
+  check.single_precision = SinglePrecisionTimes(ref);
   SolverStats stats;
   testing::CheckAgainstReference(e.name, model, ref, check, &stats);
   std::printf("[   INFO   ] %s: %ld steps, %ld state events, %ld time events (Dymola: %ld, %d, %d)\n", e.name,
