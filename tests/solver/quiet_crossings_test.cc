@@ -3,7 +3,7 @@
 // breakaway test while it slides) is a quiet crossing: the condition is set, no restart. Event
 // counts and steps against Dymola's logs of the MSL examples (tests/data/msl/MODELS.md,
 // ../shared/reference/msl-more/README.md): Friction 18 state events / 1 079 steps, HeatLosses
-// 41 / 1 308, PreLoad 7 / 708. IDA's error test covers the states (SimulationOptions::
+// 41 / 1 308, PreLoad 7 / 708, CoupledClutches 9 + 2 time / 515. IDA's error test covers the states (SimulationOptions::
 // test_algebraic). The results stay within the MSL tube
 // (tests/msl/msl_conformance_test.cc runs the same models).
 
@@ -71,6 +71,13 @@ TEST(QuietCrossingsTest, PreLoadWithinOneAndAHalfOfDymola) {
   const Counts c = RunMsl("PreLoad");
   EXPECT_LE(c.events, 10);  // 1.5 x 7
   EXPECT_LE(c.steps, 1062);  // 1.5 x 708
+}
+
+// The MSL's drive train with three clutches: Dymola 9 state + 2 time events, 515 steps.
+TEST(QuietCrossingsTest, CoupledClutchesWithinOneAndAHalfOfDymola) {
+  const Counts c = RunMsl("Mechanics/Rotational/Examples/CoupledClutches");
+  EXPECT_LE(c.events, 16);   // 1.5 x 11
+  EXPECT_LE(c.steps, 772);   // 1.5 x 515
 }
 
 // x = sin t crosses 0.5 upward at pi/6 and 13 pi/6 and downward at 5 pi/6 and 17 pi/6 in 10 s.
