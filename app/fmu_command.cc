@@ -61,8 +61,10 @@ std::string VariableXml(const fmu::FmuVariable& v, const fmu::FmuLayout& layout)
   std::string real = "<Real";
   switch (v.kind) {
     case fmu::VariableKind::kParameter:
-      // Set before the initialisation (as -p); fixed during a run.
-      xml += " causality=\"parameter\" variability=\"fixed\" initial=\"exact\"";
+      // Set before the initialisation (as -p), or during the run (tunable: Model Exchange in event
+      // mode, Co-Simulation between steps); one that shaped the structure is fixed at export.
+      xml += std::string(" causality=\"parameter\" variability=\"") + (v.structural ? "fixed" : "tunable") +
+             "\" initial=\"exact\"";
       real += " start=\"" + Number(v.start) + "\"";
       break;
     case fmu::VariableKind::kOutput:

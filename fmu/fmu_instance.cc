@@ -57,11 +57,6 @@ void FmuInstance::SetupExperiment(bool tolerance_defined, double tolerance, doub
 }
 
 void FmuInstance::CheckParameterValue(const FmuVariable& v, double value) const {
-  if (initialized_) {
-    throw std::runtime_error("parameter " + v.name +
-                             ": set before initialisation (fmi2EnterInitializationMode); " +
-                             "it is fixed during the run");
-  }
   if (v.structural && value != v.start) {
     throw std::runtime_error("parameter " + v.name + "=" + NumberText(value) + ": " + v.name +
                              " shapes the model's structure and the FMU was exported with " +
@@ -82,6 +77,17 @@ void FmuInstance::SetReal(uint32_t vr, double value) {
   CheckParameterValue(v, value);
   parameters_[v.index] = value;
   built_with_[v.name] = value;
+  if (!initialized_) return;
+  // A tunable parameter set during the run: from now on (Co-Simulation: from the next step's
+  // start, where the run restarts; Model Exchange: at once, the importer being in event mode).
+  state_->SetParameters(built_with_);
+  parameters_ = state_->parameter_values();
+  if (co_simulation_) {
+    changes_.emplace_back(t_, built_with_);
+    parameters_changed_ = true;
+  } else {
+    solved_ = false;
+  }
 }
 
 const std::vector<double>& FmuInstance::y() const { return co_simulation_ || !run_ ? y_ : run_->y; }
@@ -119,6 +125,7 @@ void FmuInstance::ExitInitialization() {
   state_ = std::make_unique<ModelState>(model_);
   state_->SetParameters(built_with_);
   parameters_ = state_->parameter_values();
+  initial_parameters_ = built_with_;
   initialized_ = true;
   if (co_simulation_) {
     const RunPoint at = SimulateTo(state_.get(), options_, options_.start, row_, &stats_);
@@ -278,17 +285,28 @@ void FmuInstance::DoStep(double t, double h) {
   // not start where the last one ended, or that goes past the run's stop time (the experiment's
   // when the importer gives none), starts a run from the start time again, to twice as far: the
   // cost stays linear in the number of steps.
+  // Parameters set between steps take effect at the step's start: the run restarts there. A run
+  // made again replays them at the times they were set.
   const double end_time = t + h;
   if (!simulation_ || t != t_ || end_time > simulation_->stop()) {
     simulation_.reset();
     state_ = std::make_unique<ModelState>(model_);
-    state_->SetParameters(built_with_);
+    state_->SetParameters(initial_parameters_);
     SimulationOptions options = options_;
     options.interval = 0;
     if (end_time > options.stop) options.stop = options.start + 2 * (end_time - options.start);
     simulation_ = std::make_unique<Simulation>(state_.get(), options, row_, &stats_);
+    for (const auto& [at, values] : changes_) {
+      if (at > t) break;
+      if (at > options.start) simulation_->AdvanceTo(at);
+      state_->SetParameters(values);
+      simulation_->ParametersChanged();
+    }
     if (t > options.start) simulation_->AdvanceTo(t);
+  } else if (parameters_changed_) {
+    simulation_->ParametersChanged();
   }
+  parameters_changed_ = false;
   const RunPoint end = simulation_->AdvanceTo(end_time);
   t_ = end.t;
   y_ = end.y;

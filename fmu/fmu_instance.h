@@ -72,6 +72,11 @@ class FmuInstance {
   std::shared_ptr<const CompiledModel> model_;
   std::unique_ptr<ModelState> state_;
   ParameterOverrides built_with_;
+  ParameterOverrides initial_parameters_;  ///< as at the initialisation
+  /// Co-Simulation: parameters set during the run, with the time each was set at (a run made
+  /// again replays them), and whether the last is not yet in the run.
+  std::vector<std::pair<double, ParameterOverrides>> changes_;
+  bool parameters_changed_ = false;
   std::vector<double> parameters_;  ///< by parameter index, as set
   FmuLayout layout_;
   bool co_simulation_ = false, initializing_ = false, initialized_ = false;

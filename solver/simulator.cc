@@ -229,6 +229,15 @@ class RunInPieces {
     }
   }
 
+  /// New parameter values where the run stands: a restart, as after an event, and the time
+  /// events sought again.
+  void ParametersChanged() {
+    run_.time_events_stale = true;
+    if (run_.num_unknowns == 0) return;
+    run_.restarted_at = NAN;  // (a restart at the same time and values is otherwise skipped)
+    Restart(model_, state_, &run_, run_.t);
+  }
+
   /// The statistics and, at the stop time, the cost note.
   void Finish() {
     SolverStats* stats = run_.stats;
@@ -292,6 +301,8 @@ RunPoint Simulation::AdvanceTo(double t) {
   pieces_->Finish();
   return pieces_->Point();
 }
+
+void Simulation::ParametersChanged() { pieces_->ParametersChanged(); }
 
 RunPoint SimulateTo(ModelState* state, SimulationOptions options, double t, const RowCallback& row,
                     SolverStats* stats) {

@@ -65,6 +65,9 @@ class Simulation {
   Simulation(const Simulation&) = delete;
   Simulation& operator=(const Simulation&) = delete;
   RunPoint AdvanceTo(double t);
+  /// The state's parameters were set anew (ModelState::SetParameters) where the run stands: IDA
+  /// restarts there from values made consistent with them (the states kept), as after an event.
+  void ParametersChanged();
   double stop() const { return stop_; }
 
  private:
