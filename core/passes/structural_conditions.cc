@@ -1,6 +1,6 @@
 #include "core/passes/structural_conditions.h"
 
-#include <functional>
+#include <algorithm>
 #include <unordered_map>
 
 #include "core/expr/expr_eval.h"
@@ -36,25 +36,22 @@ bool OnlyDiscreteParameters(const FlatSystem& flat, ExprId e, std::vector<uint32
 /// an ordinary value). Each leaf maps to its value in `fixed`; `structural` collects them.
 size_t EvaluatedParameters(const FlatSystem& flat, ExprPool* pool, const std::vector<double>& params,
                            std::unordered_map<uint32_t, ExprId>* fixed, std::vector<uint32_t>* structural) {
-  enum : uint8_t { kUnknown, kVisiting, kYes, kNo };
-  std::vector<uint8_t> state(flat.parameters.size(), kUnknown);
-  // Depth-first over the bindings (a binding names other parameters; bindings have no cycles).
-  std::function<bool(uint32_t)> evaluated = [&](uint32_t q) {
-    if (state[q] == kYes || state[q] == kNo || state[q] == kVisiting) return state[q] == kYes;
-    state[q] = kVisiting;
-    const FlatParameter& fp = flat.parameters[q];
+  const auto& all = flat.parameters;
+  if (std::none_of(all.begin(), all.end(), [](const FlatParameter& fp) { return fp.evaluate; })) return 0;
+  // In the parameters' evaluation order (a binding's parameters before it), so one pass decides.
+  std::vector<bool> evaluated(all.size(), false);
+  size_t count = 0;
+  for (ParamId id : flat.parameter_order) {
+    const uint32_t q = id.value();
+    const FlatParameter& fp = all[q];
     bool yes = fp.evaluate;
     if (!yes && fp.binding.valid() && (pool->mask(fp.binding) & kHasParam)) {
       yes = true;
-      for (ExprId leaf : CollectLeaves(*pool, fp.binding, kHasParam)) yes = yes && evaluated(pool->node(leaf).a);
+      for (ExprId leaf : CollectLeaves(*pool, fp.binding, kHasParam)) yes = yes && evaluated[pool->node(leaf).a];
     }
-    state[q] = yes ? kYes : kNo;
-    return yes;
-  };
-  size_t count = 0;
-  for (uint32_t q = 0; q < flat.parameters.size(); ++q) {
-    if (!evaluated(q)) continue;
-    fixed->emplace(pool->Param(ParamId(q)).value(), pool->Const(params[q]));
+    if (!yes) continue;
+    evaluated[q] = true;
+    fixed->emplace(pool->Param(id).value(), pool->Const(params[q]));
     structural->push_back(q);
     ++count;
   }
