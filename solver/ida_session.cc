@@ -95,9 +95,9 @@ class IdaSession {
   ContextPtr context;
   VectorPtr y, yp;
   VectorPtr differential;  ///< IDASetId: 1 for a state, 0 for an algebraic unknown
-  /// The error test's mask while IDA steps (IDASetSuppressAlg): 1 for the unknowns whose local
-  /// error is tested; null when every unknown is.
-  VectorPtr error_mask;
+  /// The algebraic unknowns are out of IDA's error test (IDASetSuppressAlg, masked by
+  /// `differential`): see SuppressAlgebraicErrors.
+  bool algebraic_untested = false;
   /// The matrix that solves for the untested unknowns between IDA's steps (SolveUntestedAt),
   /// factored once per step: at IDA's time interpolated_at.
   std::unique_ptr<MixedJacobian> interpolation_matrix;
@@ -266,34 +266,20 @@ int CalcConsistentValues(IntegrationState* run, double t, bool line_search) {
   if (tout1 <= t) tout1 = t + std::max(1e-6, 1e-6 * std::fabs(t));
   if (ida.restart_abstol) CheckFlag(IDASVtolerances(mem, run->options.rtol, ida.restart_abstol.get()), "IDASVtolerances");
   CheckFlag(IDASetLineSearchOffIC(mem, line_search ? SUNFALSE : SUNTRUE), "IDASetLineSearchOffIC");
-  if (!ida.error_mask) return IDACalcIC(mem, IDA_YA_YDP_INIT, tout1);
-  // IDACalcIC reads the id vector as which unknowns are states; stepping reads it as the mask.
-  CheckFlag(IDASetId(mem, ida.differential.get()), "IDASetId");
-  const int flag = IDACalcIC(mem, IDA_YA_YDP_INIT, tout1);
-  CheckFlag(IDASetId(mem, ida.error_mask.get()), "IDASetId");
-  return flag;
+  return IDACalcIC(mem, IDA_YA_YDP_INIT, tout1);
 }
 
-/// Which unknowns IDA's error test leaves out: the algebraic unknowns that follow from the states
+/// Whether IDA's error test leaves out the algebraic unknowns, which follow from the states
 /// within a step (forces, accelerations, currents), as an ODE solver such as DASSL in Dymola's
 /// ODE form never tests them. Not in a model that index reduction differentiated: there the
 /// algebraic unknowns hold the constraint forces and the dummy states, and untested they let the
 /// solution leave the constraints (the MSL double pendulum's Newton failures went from at most 6
 /// to 97 at rtol 1e-10, its energy drift up fivefold).
-void SetErrorMask(const CompiledModel& model, IntegrationState* run) {
-  IdaSession& ida = *run->ida;
-  const size_t n = run->num_unknowns;
-  if (run->options.test_algebraic || n == 0) return;
+bool SuppressAlgebraicErrors(const CompiledModel& model, const SimulationOptions& options) {
   const auto& equations = model.flat->equations;
-  if (std::any_of(equations.begin(), equations.end(), [](const FlatEquation& e) { return e.differentiations > 0; })) {
-    return;
-  }
-  std::vector<char> tested(n, 0);
-  for (size_t k = 0; k < n; ++k) tested[k] = model.is_state[k];
-  if (std::all_of(tested.begin(), tested.end(), [](char t) { return t != 0; })) return;
-  ida.error_mask.reset(N_VClone(ida.differential.get()));
-  double* mask = N_VGetArrayPointer(ida.error_mask.get());
-  for (size_t k = 0; k < n; ++k) mask[k] = tested[k] ? 1.0 : 0.0;
+  const auto& is_state = model.is_state;
+  return !options.test_algebraic && !std::all_of(is_state.begin(), is_state.end(), [](bool s) { return s; }) &&
+         std::none_of(equations.begin(), equations.end(), [](const FlatEquation& e) { return e.differentiations > 0; });
 }
 
 }  // namespace
@@ -324,11 +310,8 @@ void StartIda(const CompiledModel& model, ModelState* state, IntegrationState* r
   CheckFlag(IDASetErrHandlerFn(mem, IdaMessage, &ida.callback_data), "IDASetErrHandlerFn");
   CheckFlag(IDASVtolerances(mem, options.rtol, ida.abstol.get()), "IDASVtolerances");
   CheckFlag(IDASetId(mem, ida.differential.get()), "IDASetId");
-  SetErrorMask(model, run);
-  if (ida.error_mask) {
-    CheckFlag(IDASetId(mem, ida.error_mask.get()), "IDASetId");
-    CheckFlag(IDASetSuppressAlg(mem, SUNTRUE), "IDASetSuppressAlg");
-  }
+  ida.algebraic_untested = SuppressAlgebraicErrors(model, options);
+  if (ida.algebraic_untested) CheckFlag(IDASetSuppressAlg(mem, SUNTRUE), "IDASetSuppressAlg");
   ida.linear_system = MakeLinearSystem(ida.y.get(), n, static_cast<sunindextype>(model.jacobian_pattern.nnz()),
                                        run->sparse, context);
   CheckFlag(IDASetLinearSolver(mem, ida.linear_system.solver.get(), ida.linear_system.matrix.get()),
@@ -420,7 +403,7 @@ void Interpolate(IntegrationState* run, double t) {
   const double* yp = N_VGetArrayPointer(ida.interpolated_yp.get());
   run->y.assign(y, y + run->num_unknowns);
   run->yp.assign(yp, yp + run->num_unknowns);
-  if (ida.error_mask) SolveUntestedAt(run, t);
+  if (ida.algebraic_untested) SolveUntestedAt(run, t);
 }
 
 void Restart(const CompiledModel& model, ModelState* state, IntegrationState* run, double t) {

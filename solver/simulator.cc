@@ -199,14 +199,12 @@ class RunInPieces {
   void Start() {
     PrepareRun(model_, &run_);
     InitializeRun(model_, state_, &run_);
-    run_.t = options_.start;
-    run_.next_grid_row = 1;
     if (run_.num_unknowns > 0) {
       PolishConsistentValues(model_, state_, &run_, options_.start);
       StartIda(model_, state_, &run_);
-      run_.t = options_.start;
-      run_.next_grid_row = 1;
     }
+    run_.t = options_.start;
+    run_.next_grid_row = 1;
     run_.integration_started = std::chrono::steady_clock::now();
     if (run_.has_events) {
       if (run_.num_unknowns == 0) {

@@ -131,6 +131,19 @@ bool FmuImporter::Start(fmi2Component c, const std::map<std::string, double>& pa
   return true;
 }
 
+void FmuImporter::Finish(fmi2Component c, const std::vector<std::string>& names, bool ok, FmuRunResult* r) {
+  auto get = Function<decltype(&fmi2GetReal)>("fmi2GetReal");
+  for (const std::string& name : names) {
+    const fmi2ValueReference vr = ValueReference(name);
+    double v = NAN;
+    ok = ok && get(c, &vr, 1, &v) == fmi2OK;
+    r->final[name] = v;
+  }
+  r->ok = ok;
+  Free(c);
+  r->log = TakeFmuLog() + r->log;
+}
+
 FmuRunResult FmuImporter::RunCoSimulation(const std::map<std::string, double>& params, double stop,
                                           double step, const std::vector<std::string>& names) {
   FmuRunResult r;
@@ -147,16 +160,7 @@ FmuRunResult FmuImporter::RunCoSimulation(const std::map<std::string, double>& p
     ok = do_step(c, t, h, fmi2True) == fmi2OK;
     if (!ok) r.log += "fmi2DoStep at t = " + std::to_string(t) + " failed\n";
   }
-  auto get = Function<decltype(&fmi2GetReal)>("fmi2GetReal");
-  for (const std::string& name : names) {
-    const fmi2ValueReference vr = ValueReference(name);
-    double v = NAN;
-    ok = ok && get(c, &vr, 1, &v) == fmi2OK;
-    r.final[name] = v;
-  }
-  r.ok = ok;
-  Free(c);
-  r.log = TakeFmuLog() + r.log;
+  Finish(c, names, ok, &r);
   return r;
 }
 
@@ -266,16 +270,7 @@ FmuRunResult FmuImporter::RunModelExchange(const std::map<std::string, double>& 
     ok = ok && f.indicators(c, z.data(), nz) == fmi2OK;
   }
   if (!ok) r.log += "the Model Exchange run failed at t = " + std::to_string(t) + "\n";
-  auto get = Function<decltype(&fmi2GetReal)>("fmi2GetReal");
-  for (const std::string& name : names) {
-    const fmi2ValueReference vr = ValueReference(name);
-    double v = NAN;
-    ok = ok && get(c, &vr, 1, &v) == fmi2OK;
-    r.final[name] = v;
-  }
-  r.ok = ok;
-  Free(c);
-  r.log = TakeFmuLog() + r.log;
+  Finish(c, names, ok, &r);
   return r;
 }
 

@@ -54,6 +54,9 @@ class FmuImporter {
   void* Symbol(const char* name) const;
   bool Start(fmi2Component c, const std::map<std::string, double>& params, double stop,
              std::string* log);
+  /// Reads `names` into r->final (r->ok when the run and every read succeeded), frees `c` and puts
+  /// the FMU's log before the run's own.
+  void Finish(fmi2Component c, const std::vector<std::string>& names, bool ok, FmuRunResult* r);
 
   std::string dir_, error_, guid_, id_, resources_uri_;
   size_t num_states_ = 0, num_indicators_ = 0;
