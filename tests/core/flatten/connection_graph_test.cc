@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -72,6 +73,56 @@ TEST(ConnectionGraphTest, PendulumOnARevoluteJointFollowsThePlanarEquation) {
   }
   // rtol 1e-8 over 5 s (about three swings): 1e-5 rad bounds the integration error.
   EXPECT_LT(worst, 1e-5);
+}
+
+// A free body is a potential root: it integrates its orientation as a quaternion (3 of the 4
+// chosen during the run). Torque-free, its angular momentum in the world frame is constant and
+// its kinetic energy too; its centre of mass falls with g.
+TEST(ConnectionGraphTest, FreeBodyIntegratesItsQuaternion) {
+  Library lib = TestLibrary();
+  Built b = BuildWith(lib, ReadText("tests/data/multibody-language/free_body.yaml"));
+  Trajectory tr = RunDefault(b);
+  ASSERT_GT(tr.t.size(), 10u);
+  const double g = 9.80665, I[3] = {0.1, 0.2, 0.3};
+  auto col = [&](const std::string& name) {
+    for (size_t k = 0; k < tr.names.size(); ++k) {
+      if (tr.names[k] == name) return k;
+    }
+    ADD_FAILURE() << "no output " << name;
+    return size_t{0};
+  };
+  // World-frame angular momentum T' I w from the quaternion (MSL's from_Q), and the energy.
+  auto momentum = [&](size_t row) {
+    const auto& v = tr.values[row];
+    const double q1 = v[col("body.Q[1]")], q2 = v[col("body.Q[2]")], q3 = v[col("body.Q[3]")], q4 = v[col("body.Q[4]")];
+    const double T[3][3] = {{2 * (q1 * q1 + q4 * q4) - 1, 2 * (q1 * q2 + q3 * q4), 2 * (q1 * q3 - q2 * q4)},
+                            {2 * (q2 * q1 - q3 * q4), 2 * (q2 * q2 + q4 * q4) - 1, 2 * (q2 * q3 + q1 * q4)},
+                            {2 * (q3 * q1 + q2 * q4), 2 * (q3 * q2 - q1 * q4), 2 * (q3 * q3 + q4 * q4) - 1}};
+    std::array<double, 4> out{};
+    for (int i = 0; i < 3; ++i) {
+      const double w = v[col("body.w_a[" + std::to_string(i + 1) + "]")];
+      for (int j = 0; j < 3; ++j) out[j] += T[i][j] * I[i] * w;
+      out[3] += 0.5 * I[i] * w * w;
+    }
+    return out;
+  };
+  const auto first = momentum(0);
+  double worst = 0;
+  for (size_t row = 0; row < tr.t.size(); ++row) {
+    const auto now = momentum(row);
+    for (int j = 0; j < 4; ++j) worst = std::max(worst, std::fabs(now[j] - first[j]));
+    // The quaternion stays of unit length (its constraint is among the equations).
+    const auto& v = tr.values[row];
+    double qq = 0;
+    for (int j = 1; j <= 4; ++j) qq += std::pow(v[col("body.Q[" + std::to_string(j) + "]")], 2);
+    EXPECT_NEAR(qq, 1.0, 1e-7);  // solved by IDA's Newton iteration to within its tolerance (rtol 1e-8)
+  }
+  // rtol 1e-8 over 2 s: momentum and energy (about 0.6 and 0.9) to 1e-6.
+  EXPECT_LT(worst, 1e-6);
+  EXPECT_NEAR(first[1], 0.6, 1e-12);
+  const auto& last = tr.values.back();
+  EXPECT_NEAR(last[col("body.frame_a.r_0[2]")], 2 * 2 - 0.5 * g * 4, 1e-6);
+  EXPECT_NEAR(last[col("body.v_0[2]")], 2 - g * 2, 1e-6);
 }
 
 }  // namespace
