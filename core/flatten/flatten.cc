@@ -21,6 +21,7 @@
 #include "core/flatten/instances.h"
 #include "core/flatten/model_connections.h"
 #include "core/flatten/model_scope.h"
+#include "core/flatten/outers.h"
 #include "core/flatten/type_layout.h"
 #include "core/lang/arrays.h"
 #include "core/lang/parser.h"
@@ -48,6 +49,7 @@ class Flattener {
     scope_.DeclareParameters();
     scope_.DeclareVariables();
     instances_.Components();
+    flatten_internal::ResolveOuters(&context_);
     ModelConnections(&context_, &scope_).Run();
     ModelEquations();
     Outputs();

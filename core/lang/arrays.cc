@@ -144,7 +144,7 @@ ComponentType ScalarForm(const ComponentType& source, const Library& library) {
   const ComponentType expanded = records ? ExpandRecordDeclarations(source, library) : ComponentType();
   const ComponentType& type = records ? expanded : source;
   ComponentType out = type;
-  out.arrays.clear();
+  out.arrays = records ? expanded.arrays : ArrayShapes();  // an outer's arrays (core/lang/records.h)
   ArrayShapes& table = out.arrays;
   // Shaped signal connectors become one connector per element; the arrays of a connector type
   // are seen as `c.r`.

@@ -254,6 +254,9 @@ struct ComponentType {
   std::vector<ComponentSpec> components;
   std::vector<ConnectionSpec> connections;
   ArrayShapes arrays;  ///< in its scalar form: the arrays it was declared with (core/lang/arrays.h)
+  /// `outer: {world: World}`: the names under `world.` are the parameters of the model's
+  /// component `world` (Modelica's inner/outer; core/lang/records.h declares them).
+  std::map<std::string, std::string> outers;
   /// The connection graph's declarations (core/flatten/connection_graph.h).
   std::vector<GraphDecl> roots, potential_roots, branches;
   /// Conditional equation blocks: where each is written (EquationDecl::blocks indexes it).

@@ -3,6 +3,7 @@
 
 #include "core/lang/records.h"
 
+#include <algorithm>
 #include <functional>
 #include <map>
 #include <set>
@@ -71,6 +72,55 @@ AstPtr ReplacePredicates(const AstPtr& a, std::set<std::string>* found, const Co
   return n;
 }
 
+/// `name` with every name that is a parameter of `inner` prefixed by `prefix.`.
+AstPtr Prefixed(const AstPtr& a, const std::string& prefix, const ComponentType& inner) {
+  if (!a) return a;
+  if (a->kind == Ast::Kind::kName) {
+    const std::string first = a->path[0].name;
+    const bool own = std::any_of(inner.parameters.begin(), inner.parameters.end(), [&](const ParameterDecl& p) {
+      return p.name == first || p.name.rfind(first + "[", 0) == 0;
+    });
+    if (!own) return a;
+    auto n = std::make_shared<Ast>(*a);
+    n->path.insert(n->path.begin(), NameSegment{prefix, nullptr, nullptr});
+    return n;
+  }
+  bool changed = false;
+  std::vector<AstPtr> args;
+  for (const AstPtr& x : a->args) {
+    args.push_back(Prefixed(x, prefix, inner));
+    changed = changed || args.back() != x;
+  }
+  if (!changed) return a;
+  auto n = std::make_shared<Ast>(*a);
+  n->args = std::move(args);
+  return n;
+}
+
+/// An outer component's parameters as the type's own, named `world.g`, `world.n[1]` …, with the
+/// outer type's defaults; the flattener binds them to the model's component (flatten's
+/// ResolveOuters). Its arrays are seen whole (`world.n`).
+void DeclareOuters(const ComponentType& type, const Library& library, ComponentType* out) {
+  for (const auto& [prefix, type_name] : type.outers) {
+    const ComponentType* inner = library.FindComponent(type_name);
+    if (!inner) {
+      throw ModelError(type.loc, "the outer " + prefix + " of " + type.name + " is of the unknown type '" + type_name + "'");
+    }
+    for (const ParameterDecl& p : inner->parameters) {
+      ParameterDecl q = p;
+      q.name = prefix + "." + p.name;
+      q.value = Prefixed(p.value, prefix, *inner);
+      q.doc = "the parameter " + p.name + " of the model's " + prefix + " (" + type_name + ")";
+      out->parameters.push_back(std::move(q));
+    }
+    for (const auto& [name, shape] : inner->arrays) {
+      const bool parameter = std::any_of(inner->parameters.begin(), inner->parameters.end(),
+                                         [&](const ParameterDecl& p) { return p.name.rfind(name + "[", 0) == 0; });
+      if (parameter) out->arrays[prefix + "." + name] = shape;
+    }
+  }
+}
+
 }  // namespace
 
 std::string PredicateName(const std::string& predicate, const std::string& record) {
@@ -78,7 +128,7 @@ std::string PredicateName(const std::string& predicate, const std::string& recor
 }
 
 bool UsesRecordsOrBlocks(const ComponentType& type, const Library& library) {
-  if (!type.blocks.empty() || !type.roots.empty() || !type.potential_roots.empty() || !type.branches.empty()) return true;
+  if (!type.outers.empty() || !type.blocks.empty() || !type.roots.empty() || !type.potential_roots.empty() || !type.branches.empty()) return true;
   for (const auto& v : type.variables) {
     if (!v.record.empty()) return true;
   }
@@ -147,6 +197,7 @@ ComponentType ExpandRecordDeclarations(const ComponentType& type, const Library&
       out.variables.push_back(std::move(e));
     }
   }
+  DeclareOuters(type, library, &out);
   // The graph's predicates: hidden Boolean parameters, false until the graph sets them.
   std::set<std::string> predicates;
   for (auto* list : {&out.equations, &out.initial_equations}) {

@@ -108,7 +108,7 @@ ComponentType ReadComponentType(const ValueReader& reader, const std::string& na
       n, "component type " + name,
       {"kind", "doc", "parameters", "connectors", "variables", "equations", "initial_equations",
        "when", "impact", "animation", "components", "connections", "roots", "potential_roots",
-       "branches"});
+       "branches", "outer"});
   if (n["doc"]) t.doc = reader.Scalar(n["doc"], name + ".doc");
   if (n["parameters"] && !n["parameters"].IsNull()) {
     reader.ExpectMap(n["parameters"], "parameters of " + name);
@@ -134,6 +134,12 @@ ComponentType ReadComponentType(const ValueReader& reader, const std::string& na
         ReadEquations(reader, n["initial_equations"], "initial equations of " + name, &t.blocks);
   }
   ReadGraphDecls(reader, n, name, &t);
+  if (n["outer"] && !n["outer"].IsNull()) {
+    reader.ExpectMap(n["outer"], "outer of " + name);
+    for (auto it = n["outer"].begin(); it != n["outer"].end(); ++it) {
+      t.outers[reader.Name(it->first, "outer of " + name)] = reader.Scalar(it->second, "type of an outer of " + name);
+    }
+  }
   if (n["when"]) t.whens = ReadWhens(reader, n["when"], name);
   if (n["impact"]) t.impacts.push_back(ReadImpact(reader, n["impact"], name));
   if (n["animation"]) t.animation = ReadAnimation(reader, n["animation"], name);

@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <fstream>
+#include <functional>
 #include <sstream>
 
 #include "core/build.h"
@@ -123,6 +124,83 @@ TEST(ConnectionGraphTest, FreeBodyIntegratesItsQuaternion) {
   const auto& last = tr.values.back();
   EXPECT_NEAR(last[col("body.frame_a.r_0[2]")], 2 * 2 - 0.5 * g * 4, 1e-6);
   EXPECT_NEAR(last[col("body.v_0[2]")], 2 - g * 2, 1e-6);
+}
+
+// The bodies read gravity from the model's component `world` (outer: {world: World3}); without
+// one they keep the world's defaults. A free body with a world of g = 2 along -z.
+TEST(ConnectionGraphTest, BodiesReadGravityFromTheModelsWorld) {
+  Library lib = TestLibrary();
+  std::string text = ReadText("tests/data/multibody-language/free_body.yaml");
+  text.replace(text.find("components:\n"), 12, "components:\n  world: {type: World3, g: 2, n: [0, 0, -1]}\n");
+  Built b = BuildWith(lib, text);
+  Trajectory tr = RunDefault(b);
+  const auto& last = tr.values.back();
+  EXPECT_NEAR(last[2], -0.5 * 2 * 4, 1e-6);  // body.frame_a.r_0[3] after 2 s
+  EXPECT_NEAR(last[1], 2 * 2, 1e-6);         // no gravity along y
+  // -p on the world's parameter reaches the body.
+  tr = testing::Run(b, OptionsFromExperiment(b.model->experiment), {{"world.g", 4}});
+  EXPECT_NEAR(tr.values.back()[2], -0.5 * 4 * 4, 1e-6);
+  // A component named world of another type is an error naming both.
+  std::string wrong = ReadText("tests/data/multibody-language/free_body.yaml");
+  wrong.replace(wrong.find("components:\n"), 12, "components:\n  world: {type: FixedTranslation3}\n");
+  try {
+    BuildWith(lib, wrong);
+    ADD_FAILURE() << "no error";
+  } catch (const ModelError& e) {
+    EXPECT_NE(std::string(e.what()).find("world is a FixedTranslation3, but body (Body3) needs the model's world to be a World3"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+std::string Error(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const ModelError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+// What the graph and the blocks refuse, by their messages.
+TEST(ConnectionGraphTest, RefusesTwoRootsALoopNoRootAndUnequalBranches) {
+  Library lib = TestLibrary();
+  auto model = [](const std::string& components, const std::string& connections) {
+    return "model: M\ncomponents:\n" + components + "connections:\n" + connections;
+  };
+  // Two worlds joined by a rigid part: the orientation is defined twice.
+  EXPECT_NE(Error([&] {
+              BuildWith(lib, model("  w1: {type: World3}\n  w2: {type: World3}\n  bar: {type: FixedTranslation3}\n",
+                                   "  - [w1.frame_b, bar.frame_a]\n  - [bar.frame_b, w2.frame_b]\n"));
+            }).find("w2.frame_b.R (World3) and w1.frame_b.R (World3) are both roots of one connected set of frames"),
+            std::string::npos);
+  // A chain of two rigid parts closed on itself, with a body to root it: a loop.
+  EXPECT_NE(Error([&] {
+              BuildWith(lib, model("  a: {type: FixedTranslation3}\n  b: {type: FixedTranslation3}\n  body: {type: Body3}\n",
+                                   "  - [a.frame_b, b.frame_a]\n  - [b.frame_b, a.frame_a]\n  - [body.frame_a, a.frame_a]\n"));
+            }).find("closes a kinematic loop"),
+            std::string::npos);
+  // Rigid parts alone: nothing defines the orientation.
+  EXPECT_NE(Error([&] { BuildWith(lib, model("  bar: {type: FixedTranslation3}\n", "  []\n")); })
+                .find("the orientation of bar.frame_a.R (FixedTranslation3) is defined by nothing"),
+            std::string::npos);
+  // A block whose branches determine different numbers of unknowns, refused at the block.
+  Library bad = TestLibrary();
+  EXPECT_NE(Error([&] {
+              LoadLibraryString(R"y(
+Lopsided:
+  parameters: {p: true}
+  variables: {x: {}, y: {}}
+  equations:
+    - x = 1
+    - if: p
+      then: [y = 2]
+      else: []
+)y", "lopsided.yaml", &bad);
+              bad.FindComponent("Lopsided");
+            }).find("lopsided.yaml:7:7: the branches of this conditional block of Lopsided determine different numbers of "
+                    "unknowns: then 1 equation, else 0 equations"),
+            std::string::npos);
 }
 
 }  // namespace
