@@ -110,16 +110,8 @@ TEST_P(MslMultiBodyTest, WithinTheMslTube) {
   const MultiBodyExample& e = GetParam();
   const std::string model = testing::MslModelFile(e.name);
   if (!testing::SourceExists(model)) GTEST_SKIP() << "no model yet: " << model;
-  testing::TubeCheck check;
-  check.rtol = 0;  // the example's own (1e-6 unless it says otherwise)
-  check.tube = testing::RangeTube;
-  const testing::Csv ref = testing::ReadCsv(testing::SourcePath(std::string(kReferences) + e.name + ".csv"));
-  check.single_precision = testing::SinglePrecisionTimes(ref);
-  SolverStats stats;
-  testing::CheckAgainstReference(e.name, model, ref, check, &stats);
-  std::printf("[   INFO   ] %s: %ld steps, %ld state events, %ld time events (Dymola: %ld, %d, %d)\n", e.name,
-              stats.steps, stats.events - stats.time_events, stats.time_events, e.dymola_steps,
-              e.dymola_state_events, e.dymola_time_events);
+  testing::CheckMslExample(e.name, model, std::string(kReferences) + e.name + ".csv", testing::RangeTube,
+                           {e.dymola_steps, e.dymola_state_events, e.dymola_time_events});
 }
 
 std::string ExampleName(const ::testing::TestParamInfo<MultiBodyExample>& info) {

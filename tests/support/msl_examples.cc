@@ -44,4 +44,18 @@ bool SinglePrecisionTimes(const Csv& ref) {
   return noisy;
 }
 
+void CheckMslExample(const std::string& name, const std::string& model, const std::string& reference_csv,
+                     TubeWidth tube, const DymolaFigures& dymola) {
+  TubeCheck check;
+  check.rtol = 0;  // the example's own (1e-6 unless it says otherwise)
+  check.tube = tube;
+  const Csv ref = ReadCsv(SourcePath(reference_csv));
+  check.single_precision = SinglePrecisionTimes(ref);
+  SolverStats stats;
+  CheckAgainstReference(name, model, ref, check, &stats);
+  std::printf("[   INFO   ] %s: %ld steps, %ld state events, %ld time events (Dymola: %ld, %d, %d)\n", name.c_str(),
+              stats.steps, stats.events - stats.time_events, stats.time_events, dymola.steps, dymola.state_events,
+              dymola.time_events);
+}
+
 }  // namespace momenta::testing

@@ -4,6 +4,7 @@
 
 #include <string>
 
+#include "tests/support/msl_tube.h"
 #include "tests/support/test_models.h"
 
 namespace momenta::testing {
@@ -26,5 +27,16 @@ bool SourceExists(const std::string& relative);
 /// reference's event times have 17 digits (0.37588609721210020); one whose every time is a short
 /// decimal of the grid (0.0015) has no noise, and is matched as it always was.
 bool SinglePrecisionTimes(const Csv& ref);
+
+/// Dymola's accepted steps, state events and time events in the reference run.
+struct DymolaFigures {
+  long steps;
+  int state_events, time_events;
+};
+
+/// Runs the example's model (models/msl/...) with its own experiment against `reference_csv`
+/// (relative to the source tree) in `tube`, and prints its steps and events beside Dymola's.
+void CheckMslExample(const std::string& name, const std::string& model, const std::string& reference_csv,
+                     TubeWidth tube, const DymolaFigures& dymola);
 
 }  // namespace momenta::testing
