@@ -107,6 +107,7 @@ void AdoptPartTemplates(TypeLayout* layout, const PartPlan& plan) {
   };
   for (const Template& t : part.param_defaults) layout->param_defaults.push_back(rebase(t));
   for (const Template& t : part.starts) layout->starts.push_back(t.root >= 0 ? rebase(t) : Template());
+  layout->uncounted_equations += part.uncounted_equations;
   for (size_t k = 0; k < part.equations.size(); ++k) {
     layout->equations.push_back(rebase(part.equations[k]));
     layout->equation_info.push_back(remap(part.equation_info[k]));

@@ -104,6 +104,9 @@ struct FlatEquation {
   /// How many times the written equation was differentiated (at most kMaxDifferentiations).
   uint16_t differentiations = 0;
   EquationOrigin origin = EquationOrigin::kComponent;
+  /// Of a conditional block (`0 = if guard then lhs - rhs else 0`): dropped when its guard folds
+  /// to false (core/passes/structural_conditions.h).
+  bool guarded = false;
 };
 static_assert(sizeof(FlatEquation) == 40, "a flat equation is 40 bytes");
 

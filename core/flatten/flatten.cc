@@ -15,6 +15,7 @@
 #include "core/base/messages.h"
 #include "core/expr/expr_eval.h"
 #include "core/flatten/build_time_values.h"
+#include "core/flatten/connection_graph.h"
 #include "core/flatten/deferred_aliases.h"
 #include "core/flatten/flatten_context.h"
 #include "core/flatten/instances.h"
@@ -52,6 +53,7 @@ class Flattener {
     Outputs();
     OrderParameters();
     CheckOverrides();
+    flatten_internal::ResolveConnectionGraph(&context_);
     CheckBuildTimeValues(context_.flat);
     CheckWhenConditions(context_.flat);
     FlatSystem& flat = context_.flat;

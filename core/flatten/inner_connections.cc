@@ -240,6 +240,8 @@ void InnerConnectionSets::Equal(uint32_t slot, uint32_t to, uint32_t k, const So
                                         ct.potentials[k].name + " (connection)";
   Add({{slots_[slot].first_var + k, false}, {slots_[to].first_var + k, true}}, std::move(text), loc,
       EquationOrigin::kConnection);
+  // An overdetermined record's elements beyond its residues: the equality is not counted.
+  if (!ct.is_signal && !ct.potentials[k].counted) ++layout_.uncounted_equations;
 }
 
 void InnerConnectionSets::FlowSum(const std::vector<uint32_t>& set, uint32_t flow, const SourceLoc& loc) {

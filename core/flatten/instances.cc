@@ -415,6 +415,7 @@ void InstanceBuilder::AddEquations(const NewInstance& instance, const std::vecto
       eq.residual = Instantiate(instance, templates[k], part_info.text, instance.component.loc);
     }
     eq.origin = part_info.origin;
+    eq.guarded = part_info.guarded;
     eq.instance = part_info.origin == EquationOrigin::kConnection ? InstanceId() : instance.InstanceOf(part_info.sub);
     eq.text = {TextRef::kType, instance.id.value(), first_text + static_cast<uint32_t>(k)};
     eq.loc = part_info.loc;

@@ -61,6 +61,7 @@ void LayoutOwnVariables(const Library& library, TypeLayout* layout) {
         LocalVar lv;
         lv.name = c.name + "." + pv.name;
         lv.unit = pv.unit;
+        lv.counted = pv.counted;
         layout->vars.push_back(lv);
       }
       for (const auto& fv : ct->flows) {
@@ -82,6 +83,7 @@ void LayoutOwnVariables(const Library& library, TypeLayout* layout) {
     lv.decl = &v;
     lv.type = v.type;
     lv.unit = v.unit;
+    lv.counted = v.counted;
     layout->vars.push_back(lv);
   }
 }
@@ -151,7 +153,7 @@ void LayoutOwnTemplates(TypeLayout* layout, size_t own_vars) {
   }
   for (const auto& e : type->equations) {
     layout->equations.push_back(EquationTemplate(*layout, e));
-    layout->equation_info.push_back({e.text, e.loc, -1, EquationOrigin::kComponent});
+    layout->equation_info.push_back({e.text, e.loc, -1, EquationOrigin::kComponent, e.guard != nullptr});
   }
   for (const auto& e : type->initial_equations) {
     layout->initial_equations.push_back(EquationTemplate(*layout, e));
@@ -238,7 +240,7 @@ void CheckLocalBalance(const TypeLayout& layout, const ComponentSpec* user) {
   // flows and inputs are the type's unknowns, which its connections determine.
   auto outside = [&](const LocalVar& v) { return v.sub < 0 && (v.is_flow || v.is_input); };
   size_t unknowns = 0;
-  for (const LocalVar& v : layout.vars) unknowns += !outside(v);
+  for (const LocalVar& v : layout.vars) unknowns += !outside(v) && v.counted;
   std::vector<bool> assigned(layout.vars.size(), false);
   for (const auto& w : layout.whens) {
     for (const auto& a : w.assigns) assigned[a.first] = true;
@@ -247,7 +249,7 @@ void CheckLocalBalance(const TypeLayout& layout, const ComponentSpec* user) {
   for (size_t k = 0; k < layout.vars.size(); ++k) {
     if (assigned[k] && !outside(layout.vars[k])) --unknowns;
   }
-  size_t equations = layout.equations.size() + layout.impacts.size();
+  size_t equations = layout.equations.size() + layout.impacts.size() - layout.uncounted_equations;
   size_t flows = 0, inputs = 0, set = 0;
   for (size_t k = 0; k < layout.vars.size(); ++k) {
     flows += layout.vars[k].sub < 0 && layout.vars[k].is_flow;
@@ -290,6 +292,7 @@ const TypeLayout& TypeLayoutBuilder::Layout(const ComponentType* type, const Com
   for (const ConnectorSlot& cs : layout->connectors) CheckCondition(*layout, *cs.decl);
   std::vector<PartPlan> parts = LayoutPartNames(layout.get(), this, &context_);
   LayoutOwnTemplates(layout.get(), own_vars);
+  layout->uncounted_equations = type->uncounted_equations;
   LayoutEvents(layout.get(), parts);
   CheckTypeUnits(*layout);
   LayoutPartTemplates(layout.get(), parts);

@@ -32,6 +32,7 @@ struct LocalVar {
   std::optional<int> state_priority;  ///< stateSelect, set by a composite's modifier
   std::optional<double> nominal;      ///< set by a composite's modifier
   SourceLoc loc;               ///< a composite's modifier, if one sets it
+  bool counted = true;         ///< by the local balance (an overdetermined record's residues only)
 };
 
 struct LocalParam {
@@ -61,6 +62,7 @@ struct PartInfo {
   SourceLoc loc;
   int32_t sub = -1;
   EquationOrigin origin = EquationOrigin::kComponent;
+  bool guarded = false;  ///< of a conditional block (FlatEquation::guarded)
 };
 
 struct TypeLayout {
@@ -95,6 +97,9 @@ struct TypeLayout {
   std::vector<ImpactTemplate> impacts;
   std::vector<bool> discrete;  ///< by local variable
   std::vector<SubInstance> subs;
+  /// Equations the local balance does not count (ComponentType::uncounted_equations, its parts'
+  /// and the connections' equalities of uncounted record elements).
+  size_t uncounted_equations = 0;
   /// The parts' connectors that a connection inside the type names, by the local index of the
   /// connector's first variable (at any depth): where the first such connection is written.
   std::unordered_map<uint32_t, SourceLoc> connected;

@@ -113,6 +113,10 @@ std::vector<EquationDecl> DeclarationScalariser::Equations(const std::vector<Equ
   out.reserve(eqs.size());
   for (const auto& e : eqs) {
     ArrayEvaluator ev(scope_, e.text, e.loc);
+    if (ev.IsRecord(e.ast.lhs) || ev.IsRecord(e.ast.rhs)) {
+      RecordEquation(&ev, e, &out);
+      continue;
+    }
     ArrayValue l = ev.Eval(e.ast.lhs), r = ev.Eval(e.ast.rhs);
     if (l.shape != r.shape) {
       ev.Fail(e.ast.rhs->column, "the two sides of the equation have different shapes: " +
@@ -124,12 +128,32 @@ std::vector<EquationDecl> DeclarationScalariser::Equations(const std::vector<Equ
       continue;
     }
     for (size_t i = 0; i < l.elements.size(); ++i) {
-      out.push_back({e.text + " (element " + SubscriptText(l.shape, i) + ")",
-                     {l.elements[i], r.elements[i]},
-                     e.loc});
+      EquationDecl d = e;
+      d.text = e.text + " (element " + SubscriptText(l.shape, i) + ")";
+      d.ast = {l.elements[i], r.elements[i]};
+      out.push_back(std::move(d));
     }
   }
   return out;
+}
+
+void DeclarationScalariser::RecordEquation(ArrayEvaluator* ev, const EquationDecl& e, std::vector<EquationDecl>* out) {
+  ArrayEvaluator::RecordValue l = ev->EvalRecord(e.ast.lhs), r = ev->EvalRecord(e.ast.rhs);
+  if (l.type != r.type) {
+    ev->Fail(e.ast.rhs->column, "the two sides of the equation are different records: " + l.type->name + " and " + r.type->name);
+  }
+  // An overdetermined record's equation counts as its residues (docs/FORMAT.md, "Records").
+  size_t counted = 0;
+  for (size_t j = 0; j < l.type->fields.size(); ++j) {
+    const ConnectorVariable& field = l.type->fields[j];
+    for (size_t i = 0; i < l.fields[j].elements.size(); ++i) {
+      EquationDecl d = e;
+      d.text = e.text + " (" + field.name + (field.shape.empty() ? "" : "[" + SubscriptText(field.shape, i) + "]") + ")";
+      d.ast = {l.fields[j].elements[i], r.fields[j].elements[i]};
+      d.counted = e.counted && (l.type->residues == 0 || counted++ < static_cast<size_t>(l.type->residues));
+      out->push_back(std::move(d));
+    }
+  }
 }
 
 std::vector<WhenDecl> DeclarationScalariser::Whens(const std::vector<WhenDecl>& whens) {

@@ -46,6 +46,10 @@ class DeclarationScalariser {
   std::string Who(const std::string& name) const { return who_.empty() ? name : who_ + "." + name; }
 
  private:
+  /// A record equation (`frame_b.R = absoluteRotation(frame_a.R, R_rel)`): one equation per
+  /// field element, of which an overdetermined record's first `residues` are counted.
+  void RecordEquation(ArrayEvaluator* ev, const EquationDecl& e, std::vector<EquationDecl>* out);
+
   ArrayScope scope_;
   ArrayShapes* table_;
   std::string who_;

@@ -217,6 +217,13 @@ ArrayValue ArrayEvaluator::EvalNode(const AstPtr& p) {
     }
     case Ast::Kind::kCall:
       if (IsArrayFunction(a.op)) return ArrayFunction(a);
+      if (const FunctionDecl* f = LibraryFunction(a)) {
+        if (!f->record.empty()) {
+          Fail(a.column, a.op + "() returns a record (" + f->record +
+                             "): use it in a record equation or as a function's record argument");
+        }
+        return CallFunction(a, *f);
+      }
       return Elementwise(p, Operands(a), a.op + "()", true);
   }
   return {{}, {p}};
@@ -279,6 +286,11 @@ ArrayValue ArrayEvaluator::Elementwise(const AstPtr& p, std::vector<ArrayValue> 
 ArrayValue ArrayEvaluator::Name(const AstPtr& p) {
   const Ast& a = *p;
   const NameSegment& last = a.path.back();
+  if (!bound_.empty()) {
+    std::string joined;
+    for (const NameSegment& s : a.path) joined += (joined.empty() ? "" : ".") + s.name;
+    if (auto b = bound_.find(joined); b != bound_.end()) return Pick(b->second, a);
+  }
   const Shape* shape = scope_.shape_of(a);
   if (!shape) {
     const bool component_element = scope_.component_arrays && a.path.size() == 1 && !last.index2;
@@ -491,6 +503,142 @@ int ArrayEvaluator::Size(const Ast& x, const std::string& f) {
                        std::to_string(kMaxArrayElements));
   }
   return static_cast<int>(*v);
+}
+
+}  // namespace momenta
+
+namespace momenta {
+
+namespace {
+
+/// Functions inline functions at most this deep (a function that calls itself is an error).
+constexpr int kMaxInlineDepth = 32;
+
+std::string JoinedPath(const Ast& a) {
+  std::string joined;
+  for (const NameSegment& s : a.path) joined += (joined.empty() ? "" : ".") + s.name;
+  return joined;
+}
+
+bool HasSubscripts(const Ast& a) {
+  for (const NameSegment& s : a.path) {
+    if (s.index) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+const FunctionDecl* ArrayEvaluator::LibraryFunction(const Ast& a) const {
+  if (!scope_.library || a.kind != Ast::Kind::kCall || IsBuiltinFunction(a.op)) return nullptr;
+  return scope_.library->FindFunction(a.op);
+}
+
+ArrayValue ArrayEvaluator::Pick(const ArrayValue& v, const Ast& a) {
+  const NameSegment& last = a.path.back();
+  if (!last.index) return v;
+  if (v.scalar()) Fail(a.column, "'" + a.PathText() + "': " + last.name + " is a scalar, so it has no elements");
+  if (last.index2 && v.shape.size() != 2) {
+    Fail(a.column, "'" + a.PathText() + "' has two subscripts, but " + last.name + " has shape " + ShapeText(v.shape));
+  }
+  const size_t i = Subscript(a, *last.index, v.shape[0]);
+  if (v.shape.size() == 1) return {{}, {v.elements[i]}};
+  const size_t cols = static_cast<size_t>(v.shape[1]);
+  if (last.index2) return {{}, {v.elements[i * cols + Subscript(a, *last.index2, v.shape[1])]}};
+  ArrayValue row{{v.shape[1]}, {}};
+  for (size_t j = 0; j < cols; ++j) row.elements.push_back(v.elements[i * cols + j]);
+  return row;
+}
+
+bool ArrayEvaluator::IsRecord(const AstPtr& p) const {
+  const Ast& a = *p;
+  if (a.kind == Ast::Kind::kName) {
+    if (HasSubscripts(a)) return false;
+    const std::string name = JoinedPath(a);
+    return bound_records_.count(name) || (scope_.records && scope_.records->count(name));
+  }
+  const FunctionDecl* f = LibraryFunction(a);
+  return f && !f->record.empty();
+}
+
+ArrayEvaluator::RecordValue ArrayEvaluator::EvalRecord(const AstPtr& p) {
+  const Ast& a = *p;
+  if (a.kind == Ast::Kind::kName && !HasSubscripts(a)) {
+    const std::string name = JoinedPath(a);
+    if (auto b = bound_records_.find(name); b != bound_records_.end()) return b->second;
+    if (scope_.records && scope_.library) {
+      if (auto r = scope_.records->find(name); r != scope_.records->end()) {
+        RecordValue v;
+        v.type = scope_.library->FindRecord(r->second);
+        if (!v.type) Fail(a.column, "unknown record type '" + r->second + "' of " + name);
+        for (const ConnectorVariable& f : v.type->fields) {
+          auto field = std::make_shared<Ast>(a);
+          field->path.push_back({f.name, nullptr, nullptr});
+          v.fields.push_back(Eval(field));
+          if (v.fields.back().shape != f.shape) {
+            Fail(a.column, "'" + name + "." + f.name + "' has shape " + ShapeText(v.fields.back().shape) + ", but the field " +
+                               v.type->name + "." + f.name + " has shape " + ShapeText(f.shape));
+          }
+        }
+        return v;
+      }
+    }
+  }
+  if (const FunctionDecl* f = LibraryFunction(a); f && !f->record.empty()) return CallRecordFunction(a, *f);
+  Fail(a.column, "expected a record here (a record variable, a connector's record potential or a function returning a record)");
+}
+
+void ArrayEvaluator::BindInputs(const Ast& a, const FunctionDecl& f, ArrayEvaluator* inner) {
+  if (++inner->depth_ > kMaxInlineDepth) {
+    Fail(a.column, a.op + "(): functions call each other more than " + std::to_string(kMaxInlineDepth) +
+                       " deep (does a function call itself?)");
+  }
+  if (a.args.size() != f.inputs.size()) {
+    Fail(a.column, a.op + "() takes " + std::to_string(f.inputs.size()) + " arguments, found " + std::to_string(a.args.size()));
+  }
+  for (size_t k = 0; k < f.inputs.size(); ++k) {
+    const FunctionDecl::Input& in = f.inputs[k];
+    if (!in.record.empty()) {
+      if (!IsRecord(a.args[k])) Fail(a.args[k]->column, "argument " + std::to_string(k + 1) + " of " + a.op + "() must be a record (" + in.record + ")");
+      RecordValue r = EvalRecord(a.args[k]);
+      for (size_t j = 0; j < r.type->fields.size(); ++j) inner->bound_[in.name + "." + r.type->fields[j].name] = r.fields[j];
+      inner->bound_records_[in.name] = std::move(r);
+      continue;
+    }
+    ArrayValue v = Eval(a.args[k]);
+    if (v.shape != in.shape) {
+      Fail(a.args[k]->column, "argument " + std::to_string(k + 1) + " (" + in.name + ") of " + a.op + "() has shape " +
+                                  ShapeText(v.shape) + ", but the function takes " + ShapeText(in.shape));
+    }
+    inner->bound_[in.name] = std::move(v);
+  }
+}
+
+ArrayValue ArrayEvaluator::CallFunction(const Ast& a, const FunctionDecl& f) {
+  ArrayEvaluator inner(scope_, f.value_text, f.loc);
+  inner.depth_ = depth_;
+  BindInputs(a, f, &inner);
+  return inner.Eval(f.value);
+}
+
+ArrayEvaluator::RecordValue ArrayEvaluator::CallRecordFunction(const Ast& a, const FunctionDecl& f) {
+  RecordValue out;
+  out.type = scope_.library->FindRecord(f.record);
+  if (!out.type) Fail(a.column, a.op + "() returns '" + f.record + "', which is no record type of the library");
+  for (const ConnectorVariable& field : out.type->fields) {
+    size_t k = 0;
+    while (k < f.fields.size() && f.fields[k].first != field.name) ++k;
+    if (k == f.fields.size()) Fail(a.column, a.op + "() gives no value for the field " + field.name + " of " + f.record);
+    ArrayEvaluator inner(scope_, f.field_texts[k], f.loc);
+    inner.depth_ = depth_;
+    BindInputs(a, f, &inner);
+    out.fields.push_back(inner.Eval(f.fields[k].second));
+    if (out.fields.back().shape != field.shape) {
+      Fail(a.column, a.op + "() gives " + f.record + "." + field.name + " shape " + ShapeText(out.fields.back().shape) +
+                         ", but the field has shape " + ShapeText(field.shape));
+    }
+  }
+  return out;
 }
 
 }  // namespace momenta

@@ -7,6 +7,7 @@
 /// (ArrayEvaluator::Name), so that one scope abstraction can take its place.
 
 #include <cstddef>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -54,7 +55,28 @@ class ArrayEvaluator {
   /// Throws ModelError at column `column` of the statement, quoting it and the scope's owner.
   [[noreturn]] void Fail(int column, const std::string& what) const;
 
+  /// A record's value: its type and each field's value, in the type's field order.
+  struct RecordValue {
+    const RecordType* type = nullptr;
+    std::vector<ArrayValue> fields;
+  };
+  /// Whether `p` is record-valued: a record name of the scope (`frame_a.R`, `R_rel`), a record
+  /// input of the function being inlined, or a call of a function that returns a record.
+  bool IsRecord(const AstPtr& p) const;
+  /// The value of a record-valued tree (IsRecord).
+  RecordValue EvalRecord(const AstPtr& p);
+
  private:
+  /// A library function inlined (docs/FORMAT.md, "Functions"): its inputs bound to the
+  /// arguments' values, its body evaluated in a nested evaluator.
+  ArrayValue CallFunction(const Ast& a, const FunctionDecl& f);
+  RecordValue CallRecordFunction(const Ast& a, const FunctionDecl& f);
+  void BindInputs(const Ast& a, const FunctionDecl& f, ArrayEvaluator* inner);
+  /// The element, row or whole of value `v` that name `a`'s last subscripts pick.
+  ArrayValue Pick(const ArrayValue& v, const Ast& a);
+  /// The function `a` calls, if it is a library's.
+  const FunctionDecl* LibraryFunction(const Ast& a) const;
+
   /// Stops when the nodes made so far exceed kMaxArrayNodes.
   void CheckBudget(int column) const;
   void CheckSize(const Shape& shape, int column) const;
@@ -74,6 +96,9 @@ class ArrayEvaluator {
   const ArrayScope& scope_;
   std::string text_;
   SourceLoc loc_;
+  std::map<std::string, ArrayValue> bound_;            ///< a function's inputs (`v`, `R.T`)
+  std::map<std::string, RecordValue> bound_records_;  ///< its record inputs
+  int depth_ = 0;                                      ///< nesting of inlined functions
 };
 
 }  // namespace momenta

@@ -11,6 +11,7 @@
 
 #include "core/lang/array_declarations.h"
 #include "core/lang/array_expression.h"
+#include "core/lang/records.h"
 
 namespace momenta {
 
@@ -115,6 +116,7 @@ ArrayScope ScopeOf(const ComponentType& type) { return TypeScope(&type.arrays, t
 
 bool NeedsScalarForm(const ComponentType& type, const Library& library) {
   if (ConnectorHasArrays(type, library)) return true;
+  if (UsesRecordsOrBlocks(type, library)) return true;
   for (const auto& p : type.parameters) {
     if (!p.shape.empty() || UsesArraySyntax(p.value, true)) return true;
   }
@@ -135,8 +137,12 @@ bool NeedsScalarForm(const ComponentType& type, const Library& library) {
   return false;
 }
 
-ComponentType ScalarForm(const ComponentType& type, const Library& library) {
+ComponentType ScalarForm(const ComponentType& source, const Library& library) {
   ArrayNodeBudget budget;
+  // Records and the graph's predicates first (core/lang/records.h): their fields are arrays.
+  const bool records = UsesRecordsOrBlocks(source, library);
+  const ComponentType expanded = records ? ExpandRecordDeclarations(source, library) : ComponentType();
+  const ComponentType& type = records ? expanded : source;
   ComponentType out = type;
   out.arrays.clear();
   ArrayShapes& table = out.arrays;
@@ -165,7 +171,10 @@ ComponentType ScalarForm(const ComponentType& type, const Library& library) {
       out.connectors.push_back(std::move(e));
     }
   }
-  DeclarationScalariser s(TypeScope(&table, type.name), &table, type.name);
+  ArrayScope scope = TypeScope(&table, type.name);
+  scope.library = &library;
+  scope.records = &type.records;
+  DeclarationScalariser s(scope, &table, type.name);
   out.parameters = s.Parameters(type.parameters);
   out.variables = s.Variables(type.variables, signals);
   out.equations = s.Equations(type.equations);
@@ -181,6 +190,7 @@ ComponentType ScalarForm(const ComponentType& type, const Library& library) {
     scalar(&im.v_small, im.v_small_text);
     scalar(&im.release, im.release_text);
   }
+  if (records) FinishRecordsAndBlocks(&out, library);
   return out;
 }
 

@@ -44,6 +44,10 @@ struct ArrayScope {
   /// array (`R[3]`); everywhere else a subscript on a name that is no array is an error.
   bool component_arrays = false;
   std::string owner;  ///< "Body", for messages; empty in the model scope
+  /// The library's records and functions (calls are inlined), or null.
+  const Library* library = nullptr;
+  /// Local record names → record types (ComponentType::records), or null.
+  const std::map<std::string, std::string>* records = nullptr;
 };
 
 /// The scope of a type's own names (its scalar form's `arrays`), e.g. for the modifiers of the

@@ -51,8 +51,14 @@ class BuiltinTypes : public LazyTypes {
     for (const EmbeddedFile& f : kEmbeddedLibraryFiles) {
       if (std::strcmp(f.name, "components/connectors.yaml") != 0) Cut(f);
     }
-    for (auto& [name, entry] : entries_) {
-      if (entry.text.find("\n  kind:") != std::string_view::npos) ReadEntry(&entry, library);
+    // Records and functions first: connector types and component types use them.
+    for (const bool first : {true, false}) {
+      for (auto& [name, entry] : entries_) {
+        if (entry.read || entry.text.find("\n  kind:") == std::string_view::npos) continue;
+        const bool early = entry.text.find("\n  kind: record") != std::string_view::npos ||
+                           entry.text.find("\n  kind: function") != std::string_view::npos;
+        if (early == first) ReadEntry(&entry, library);
+      }
     }
   }
 
@@ -110,7 +116,9 @@ class BuiltinTypes : public LazyTypes {
     const ValueReader reader(entry->file);
     std::unique_ptr<YamlDoc> doc = ParseYamlFile(text, entry->file, "library file");
     Library read;
+    read.AddRecordsAndFunctions(*library);
     ReadLibraryEntries(reader, doc->root(), &read, nullptr, false);
+    library->AddRecordsAndFunctions(read);
     for (const std::string& name : read.ConnectorNames()) library->AddConnector(*read.FindConnector(name));
     for (const std::string& name : read.ComponentNames()) {
       const ComponentType* t = read.FindComponent(name);

@@ -55,6 +55,9 @@ Library& Library::operator=(const Library& other) {
   components_ = other.components_;
   short_connectors_ = other.short_connectors_;
   short_components_ = other.short_components_;
+  records_ = other.records_;
+  functions_ = other.functions_;
+  short_functions_ = other.short_functions_;
   lazy_ = nullptr;
   return *this;
 }
@@ -73,6 +76,54 @@ void Library::AddComponent(ComponentType c) {
 
 const ConnectorType* Library::FindConnector(const std::string& name) const {
   return FindQualified(connectors_, short_connectors_, name);
+}
+
+void Library::AddRecord(RecordType r) {
+  std::string name = r.name;
+  records_[name] = std::make_shared<RecordType>(std::move(r));
+}
+
+void Library::AddFunction(FunctionDecl f) {
+  std::string name = f.name;
+  AddShortName(name, &short_functions_);
+  functions_[name] = std::make_shared<FunctionDecl>(std::move(f));
+}
+
+const RecordType* Library::FindRecord(const std::string& name) const {
+  auto it = records_.find(name);
+  if (it != records_.end()) return it->second.get();
+  // `Orientation` for `MultiBody.Orientation`, when one record alone ends so.
+  const RecordType* found = nullptr;
+  for (const auto& [full, r] : records_) {
+    if (full.size() > name.size() && full.compare(full.size() - name.size(), name.size(), name) == 0 &&
+        full[full.size() - name.size() - 1] == '.') {
+      if (found) return nullptr;
+      found = r.get();
+    }
+  }
+  return found;
+}
+
+const FunctionDecl* Library::FindFunction(const std::string& name) const {
+  if (const FunctionDecl* f = FindQualified(functions_, short_functions_, name)) return f;
+  // A partly qualified name (`Frames.resolve2` for `MultiBody.Frames.resolve2`).
+  const FunctionDecl* found = nullptr;
+  for (const auto& [full, f] : functions_) {
+    if (full.size() > name.size() && full.compare(full.size() - name.size(), name.size(), name) == 0 &&
+        full[full.size() - name.size() - 1] == '.') {
+      if (found) return nullptr;
+      found = f.get();
+    }
+  }
+  return found;
+}
+
+void Library::AddRecordsAndFunctions(const Library& other) {
+  for (const auto& [name, r] : other.records_) records_[name] = r;
+  for (const auto& [name, f] : other.functions_) {
+    AddShortName(name, &short_functions_);
+    functions_[name] = f;
+  }
 }
 
 void Library::ReadLazily(const std::string& name) const {

@@ -56,13 +56,31 @@ struct VariableDecl {
   int state_priority = 0;
   ValueType type = ValueType::kReal;
   Shape shape;  ///< declared `shape:`; empty for a scalar
+  /// `type:` a record (docs/FORMAT.md, "Records"): the declaration stands for its fields, which
+  /// the record expansion (core/lang/records.h) declares as `name.field`; empty otherwise.
+  std::string record;
+  /// Whether the local balance counts it: an overdetermined record's elements beyond its
+  /// residues do not (Modelica counts an orientation as 3, not 12).
+  bool counted = true;
   SourceLoc loc;
+};
+
+/// A branch of a conditional equation block (`- if: … then: … else: …`): block `block` of the
+/// type (ComponentType::blocks), branch `branch` (0 then, 1 else).
+struct BlockBranch {
+  uint32_t block = 0, branch = 0;
 };
 
 struct EquationDecl {
   std::string text;
   AstEquation ast;
   SourceLoc loc;
+  /// The structural condition under which it holds (the conjunction of its blocks' conditions,
+  /// core/lang/records.h), or null for an equation that always holds.
+  AstPtr guard;
+  /// Its blocks, outermost first; empty outside any block.
+  std::vector<BlockBranch> blocks;
+  bool counted = true;  ///< as VariableDecl::counted, for the elements of a record equation
 };
 
 /// One statement of a when-clause: `reinit(x, expr)` or the discrete assignment `x = expr`.
@@ -112,6 +130,46 @@ struct ShapeDecl {
 struct ConnectorVariable {
   std::string name, unit, doc;
   Shape shape;  ///< declared `shape:`; empty for a scalar
+  std::string record;   ///< `type:` a record (a potential only); empty otherwise
+  bool counted = true;  ///< as VariableDecl::counted
+};
+
+/// `kind: record` (docs/FORMAT.md, "Records"): named fields, each a scalar or an array. An
+/// overdetermined record (Modelica's orientation object) counts as its `residues` in a type's
+/// balance, as an unknown and as an equation, and its connections form the connection graph
+/// (core/flatten/connection_graph.h).
+struct RecordType {
+  std::string name, doc;
+  std::vector<ConnectorVariable> fields;
+  int residues = 0;  ///< 0: not overdetermined
+  SourceLoc loc;
+};
+
+/// `kind: function`: a function whose body is one expression (or, returning a record, one per
+/// field), inlined where it is called (core/lang/array_expression.h).
+struct FunctionDecl {
+  struct Input {
+    std::string name;
+    Shape shape;         ///< empty: a scalar (or a record)
+    std::string record;  ///< a record input's type
+  };
+  std::string name, doc;
+  std::vector<Input> inputs;
+  AstPtr value;                               ///< the body, or null for a record value
+  std::string value_text;
+  std::string record;                         ///< the record type it returns, if any
+  std::vector<std::pair<std::string, AstPtr>> fields;  ///< a record value: field → expression
+  std::vector<std::string> field_texts;
+  SourceLoc loc;
+};
+
+/// `roots:`, `potential_roots:` or `branches:` of a type (Modelica's Connections.root,
+/// potentialRoot and branch): record potentials of its connectors, `b` for a branch's other end.
+struct GraphDecl {
+  std::string a, b;
+  int priority = 0;          ///< a potential root's
+  std::string condition;     ///< a Boolean parameter (`not p` negates), or empty: always
+  SourceLoc loc;
 };
 
 struct ConnectorType {
@@ -121,6 +179,9 @@ struct ConnectorType {
   ValueType signal_type = ValueType::kReal;
   std::vector<ConnectorVariable> potentials, flows;
   ArrayShapes arrays;  ///< the shaped variables its scalar form came from
+  /// Its record potentials (`R` → `Orientation`), whose fields' elements are potentials
+  /// `R.T[1,1]` … (core/lang/records.h).
+  std::map<std::string, std::string> records;
   SourceLoc loc;
 };
 
@@ -193,6 +254,15 @@ struct ComponentType {
   std::vector<ComponentSpec> components;
   std::vector<ConnectionSpec> connections;
   ArrayShapes arrays;  ///< in its scalar form: the arrays it was declared with (core/lang/arrays.h)
+  /// The connection graph's declarations (core/flatten/connection_graph.h).
+  std::vector<GraphDecl> roots, potential_roots, branches;
+  /// Conditional equation blocks: where each is written (EquationDecl::blocks indexes it).
+  std::vector<SourceLoc> blocks;
+  /// Local record names (`R_rel`, `frame_a.R`) → their record type, after the record expansion.
+  std::map<std::string, std::string> records;
+  /// Equations of its scalar form that the local balance does not count: the elements of
+  /// record equations beyond the residues, and all branches of a block but one.
+  size_t uncounted_equations = 0;
   SourceLoc loc;
   bool user_defined = false;  ///< from a model's define: section, a uses: file or a model file
 };
@@ -233,7 +303,15 @@ class Library {
   void SetLazyTypes(std::shared_ptr<const LazyTypes> lazy) { lazy_ = std::move(lazy); }
   void AddConnector(ConnectorType c);
   void AddComponent(ComponentType c);
+  void AddRecord(RecordType r);
+  void AddFunction(FunctionDecl f);
   const ConnectorType* FindConnector(const std::string& name) const;
+  const RecordType* FindRecord(const std::string& name) const;
+  /// By its full name (`Frames.resolve2`) or its last part when one function alone has it.
+  const FunctionDecl* FindFunction(const std::string& name) const;
+  bool HasRecordsOrFunctions() const { return !records_.empty() || !functions_.empty(); }
+  /// Copies the records and functions of `other` (a library read in pieces needs them all).
+  void AddRecordsAndFunctions(const Library& other);
   const ComponentType* FindComponent(const std::string& name) const;
   bool Has(const std::string& name) const;
   /// A component type of exactly this name (no short-name lookup).
@@ -244,6 +322,9 @@ class Library {
  private:
   std::map<std::string, std::shared_ptr<ConnectorType>> connectors_;
   std::map<std::string, std::shared_ptr<ComponentType>> components_;
+  std::map<std::string, std::shared_ptr<RecordType>> records_;
+  std::map<std::string, std::shared_ptr<FunctionDecl>> functions_;
+  std::map<std::string, std::string> short_functions_;
   /// Last part of a qualified name -> the full name ("" when two packages share it).
   std::map<std::string, std::string> short_connectors_, short_components_;
   std::shared_ptr<const LazyTypes> lazy_;

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <map>
+#include <mutex>
 #include <sstream>
 #include <string_view>
 
@@ -29,8 +30,20 @@ const std::map<std::string, int>& Functions() {
       {"transpose", 1}, {"cross", 2}, {"norm", 1}, {"identity", 1}, {"zeros", -2}, {"sum", 1},
       // interpolate(table, x) or interpolate(table, x, column): 2 or 3 (kTwoOrThree).
       {"interpolate", -3}, {"timeTable", 5}, {"booleanTable", 2},
+      // The connection graph's predicates (core/lang/records.h): structural Booleans.
+      {"isRoot", 1}, {"rooted", 1},
   };
   return kFunctions;
+}
+
+/// The library's expression functions (`kind: function`), by every dotted tail of their names.
+struct UserFunctions {
+  std::mutex mutex;
+  std::map<std::string, int> arity;
+};
+UserFunctions& Registered() {
+  static UserFunctions* f = new UserFunctions();
+  return *f;
 }
 
 }  // namespace
@@ -253,13 +266,24 @@ class Parser {
     for (const char* r : kReserved) {
       if (t.text == r) Fail("expected an operand");
     }
-    if (tokens_[pos_ + 1].kind == TokenKind::kLParen) return Call();
+    if (tokens_[pos_ + 1].kind == TokenKind::kLParen || DottedCall()) return Call();
     return DottedName();
+  }
+
+  /// Whether the tokens from here are `a.b.c(`: a library function called by a qualified name.
+  bool DottedCall() const {
+    size_t k = pos_ + 1;
+    while (k + 1 < tokens_.size() && tokens_[k].kind == TokenKind::kDot && tokens_[k + 1].kind == TokenKind::kIdent) k += 2;
+    return k > pos_ + 1 && k < tokens_.size() && tokens_[k].kind == TokenKind::kLParen;
   }
 
   /// A function call `f(a, b)`: a known function with as many arguments as it takes.
   AstPtr Call() {
     Token name = Next();
+    while (Peek().kind == TokenKind::kDot) {
+      Next();
+      name.text += "." + Next().text;
+    }
     Next();
     int arity = 0;
     if (!IsKnownFunction(name.text, &arity)) {
@@ -377,9 +401,29 @@ class Parser {
 
 bool IsKnownFunction(const std::string& name, int* arity) {
   auto it = Functions().find(name);
-  if (it == Functions().end()) return false;
+  if (it == Functions().end()) {
+    UserFunctions& user = Registered();
+    std::lock_guard<std::mutex> lock(user.mutex);
+    auto u = user.arity.find(name);
+    if (u == user.arity.end()) return false;
+    if (arity) *arity = u->second;
+    return true;
+  }
   if (arity) *arity = it->second;
   return true;
+}
+
+bool IsBuiltinFunction(const std::string& name) { return Functions().count(name) != 0; }
+
+void RegisterFunction(const std::string& name, int arity) {
+  UserFunctions& user = Registered();
+  std::lock_guard<std::mutex> lock(user.mutex);
+  for (size_t from = 0;;) {
+    user.arity[name.substr(from)] = arity;
+    size_t dot = name.find('.', from);
+    if (dot == std::string::npos) break;
+    from = dot + 1;
+  }
 }
 
 std::string KnownFunctionList() {

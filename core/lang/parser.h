@@ -45,4 +45,12 @@ std::string Excerpt(const std::string& text, int column);
 bool IsKnownFunction(const std::string& name, int* arity);
 std::string KnownFunctionList();
 
+/// Makes a library's expression function known to the parser by its full name and each dotted
+/// tail of it (`MultiBody.Frames.resolve2`, `Frames.resolve2`, `resolve2`), taking `arity`
+/// arguments; the library resolves which function a call means.
+void RegisterFunction(const std::string& name, int arity);
+
+/// Whether `name` is one of momenta's own functions (not a library's).
+bool IsBuiltinFunction(const std::string& name);
+
 }  // namespace momenta

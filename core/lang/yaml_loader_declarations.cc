@@ -68,23 +68,65 @@ VariableDecl ReadVariable(const ValueReader& reader, const std::string& name, co
   }
   v.min = reader.OptionalNumber(n, "min", what);
   v.max = reader.OptionalNumber(n, "max", what);
-  if (n["type"]) v.type = reader.Type(n["type"], what);
+  if (n["type"]) {
+    // A record type (docs/FORMAT.md, "Records") is checked by the record expansion, which knows
+    // the library's records; Real, Integer and Boolean here.
+    const std::string t = reader.Scalar(n["type"], what + ".type");
+    if (t == "Real" || t == "Integer" || t == "Boolean") {
+      v.type = reader.Type(n["type"], what);
+    } else {
+      v.record = t;
+    }
+  }
   if (n["stateSelect"]) v.state_priority = reader.StateSelect(n["stateSelect"], what);
   return v;
 }
 
-std::vector<EquationDecl> ReadEquations(const ValueReader& reader, const YamlNode& n,
-                                        const std::string& what) {
-  std::vector<EquationDecl> out;
-  if (n.IsNull()) return out;
+namespace {
+
+/// The equations of list `n` into `out`, inside the blocks `blocks` under the condition `guard`;
+/// a conditional block (`- if: c` with `then:` and `else:` lists) adds its branches, each under
+/// its condition, and records where it is written in `block_locs`.
+void ReadEquationList(const ValueReader& reader, const YamlNode& n, const std::string& what,
+                      const std::vector<BlockBranch>& blocks, const AstPtr& guard,
+                      std::vector<SourceLoc>* block_locs, std::vector<EquationDecl>* out) {
+  if (n.IsNull()) return;
   if (!n.IsSequence()) reader.Fail(n, what + " must be a list of equations such as '- v = der(s)'");
   for (const auto& e : n) {
+    if (e.IsMap()) {
+      if (!block_locs) reader.Fail(e, "a conditional block (- if: …) belongs in a component type's equations");
+      reader.CheckKeys(e, "a conditional block of " + what, {"if", "then", "else"});
+      if (!e["if"] || !e["then"]) reader.Fail(e, "a conditional block of " + what + " needs 'if:' and 'then:'");
+      const std::string text = reader.Scalar(e["if"], "the condition of a block of " + what);
+      AstPtr condition = ParseExpression(text, reader.TextLoc(e["if"]));
+      const uint32_t id = static_cast<uint32_t>(block_locs->size());
+      block_locs->push_back(reader.Loc(e));
+      for (uint32_t branch = 0; branch < 2; ++branch) {
+        const YamlNode list = e[branch == 0 ? "then" : "else"];
+        AstPtr c = branch == 0 ? condition : MakeAst(Ast::Kind::kUnary, condition->column, "not", {condition});
+        AstPtr g = guard ? MakeAst(Ast::Kind::kBinary, c->column, "and", {guard, c}) : c;
+        std::vector<BlockBranch> inner = blocks;
+        inner.push_back({id, branch});
+        if (list) ReadEquationList(reader, list, what, inner, g, block_locs, out);
+      }
+      continue;
+    }
     EquationDecl d;
     d.text = reader.Scalar(e, "an equation of " + what);
     d.loc = reader.TextLoc(e);
     d.ast = ParseEquation(d.text, d.loc);
-    out.push_back(std::move(d));
+    d.guard = guard;
+    d.blocks = blocks;
+    out->push_back(std::move(d));
   }
+}
+
+}  // namespace
+
+std::vector<EquationDecl> ReadEquations(const ValueReader& reader, const YamlNode& n,
+                                        const std::string& what, std::vector<SourceLoc>* block_locs) {
+  std::vector<EquationDecl> out;
+  ReadEquationList(reader, n, what, {}, nullptr, block_locs, &out);
   return out;
 }
 

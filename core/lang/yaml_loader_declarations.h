@@ -21,9 +21,12 @@ ParameterDecl ReadParameter(const ValueReader& reader, const std::string& name, 
 VariableDecl ReadVariable(const ValueReader& reader, const std::string& name, const YamlNode& n,
                           const std::string& owner);
 
-/// A list of equations `lhs = rhs` (`what`: "equations of Mass").
+/// A list of equations `lhs = rhs` (`what`: "equations of Mass"). A component type's list may
+/// hold conditional blocks (`- if: c`, `then: [...]`, `else: [...]`), whose places go to
+/// `block_locs` (null: blocks are not allowed here).
 std::vector<EquationDecl> ReadEquations(const ValueReader& reader, const YamlNode& n,
-                                        const std::string& what);
+                                        const std::string& what,
+                                        std::vector<SourceLoc>* block_locs = nullptr);
 
 /// `when:`: a list of {when: condition, then: [statements]}, each statement reinit(x, expr) or
 /// an assignment `x = expr`.

@@ -7,6 +7,8 @@
 #include "core/lang/arrays.h"
 #include "core/lang/yaml_loader_declarations.h"
 #include "core/lang/yaml_loader_parts.h"
+#include "core/lang/yaml_loader_records.h"
+#include "core/lang/records.h"
 
 namespace momenta {
 
@@ -21,7 +23,11 @@ void ReadConnectorVariables(const ValueReader& reader, const std::string& name, 
     ConnectorVariable v;
     v.name = it->first.as<std::string>();
     if (it->second.IsMap()) {
-      reader.CheckKeys(it->second, name + "." + v.name, {"unit", "doc", "shape"});
+      reader.CheckKeys(it->second, name + "." + v.name, {"unit", "doc", "shape", "type"});
+      if (it->second["type"]) {
+        if (std::string(key) != "potential") reader.Fail(it->second["type"], "only a potential of " + name + " may be a record");
+        v.record = reader.Name(it->second["type"], "type of " + name + "." + v.name);
+      }
       if (it->second["shape"]) v.shape = reader.ReadShape(it->second["shape"], name + "." + v.name);
       if (it->second["unit"]) v.unit = reader.UnitString(it->second["unit"], name + "." + v.name);
       if (it->second["doc"]) v.doc = it->second["doc"].Scalar();
@@ -101,7 +107,8 @@ ComponentType ReadComponentType(const ValueReader& reader, const std::string& na
   reader.CheckKeys(
       n, "component type " + name,
       {"kind", "doc", "parameters", "connectors", "variables", "equations", "initial_equations",
-       "when", "impact", "animation", "components", "connections"});
+       "when", "impact", "animation", "components", "connections", "roots", "potential_roots",
+       "branches"});
   if (n["doc"]) t.doc = reader.Scalar(n["doc"], name + ".doc");
   if (n["parameters"] && !n["parameters"].IsNull()) {
     reader.ExpectMap(n["parameters"], "parameters of " + name);
@@ -121,11 +128,12 @@ ComponentType ReadComponentType(const ValueReader& reader, const std::string& na
           ReadVariable(reader, reader.Name(it->first, "variable of " + name), it->second, name));
     }
   }
-  if (n["equations"]) t.equations = ReadEquations(reader, n["equations"], "equations of " + name);
+  if (n["equations"]) t.equations = ReadEquations(reader, n["equations"], "equations of " + name, &t.blocks);
   if (n["initial_equations"]) {
     t.initial_equations =
-        ReadEquations(reader, n["initial_equations"], "initial equations of " + name);
+        ReadEquations(reader, n["initial_equations"], "initial equations of " + name, &t.blocks);
   }
+  ReadGraphDecls(reader, n, name, &t);
   if (n["when"]) t.whens = ReadWhens(reader, n["when"], name);
   if (n["impact"]) t.impacts.push_back(ReadImpact(reader, n["impact"], name));
   if (n["animation"]) t.animation = ReadAnimation(reader, n["animation"], name);
@@ -146,7 +154,11 @@ void ReadLibraryEntries(const ValueReader& reader, const YamlNode& root, Library
         reader.Fail(n["kind"],
                     "a model's define: section and a uses: file hold component types only; "
                     "connector types come from the library");
-      library->AddConnector(ScalarForm(ReadConnectorType(reader, name, n)));
+      library->AddConnector(ScalarForm(ExpandRecords(ReadConnectorType(reader, name, n), *library)));
+    } else if (kind == "record") {
+      library->AddRecord(ReadRecordType(reader, name, n));
+    } else if (kind == "function") {
+      library->AddFunction(ReadFunction(reader, name, n));
     } else if (kind == "component") {
       ComponentType t = ReadComponentType(reader, name, n, user);
       if (defines) {
@@ -156,7 +168,7 @@ void ReadLibraryEntries(const ValueReader& reader, const YamlNode& root, Library
       }
     } else {
       reader.Fail(n["kind"], "unknown kind '" + kind + "' of " + name +
-                                 " (valid kinds: component, connector)");
+                                 " (valid kinds: component, connector, record, function)");
     }
   }
 }

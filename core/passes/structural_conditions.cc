@@ -99,7 +99,16 @@ size_t FoldStructuralConditions(EquationSystem* sys, const std::vector<double>& 
   // Rewrite (an if on a constant condition is its branch), dropping initial equations that are
   // now 0 = 0.
   auto fold = [&](ExprId e) { return e.valid() && (p.mask(e) & kHasParam) ? ReplaceNodes(&p, e, fixed, kHasParam) : e; };
-  for (auto& e : sys->equations) e.residual = fold(e.residual);
+  // An equation of a conditional block whose guard is false is no equation (docs/FORMAT.md,
+  // "Conditional equation blocks").
+  std::vector<SystemEquation> equations;
+  equations.reserve(sys->equations.size());
+  for (auto e : sys->equations) {
+    e.residual = fold(e.residual);
+    if (e.kind == SystemEquation::Kind::kDynamic && flat.equations[e.origin].guarded && p.IsConst(e.residual, 0.0)) continue;
+    equations.push_back(e);
+  }
+  sys->equations.swap(equations);
   std::vector<SystemEquation> initial;
   for (auto e : sys->initial) {
     e.residual = fold(e.residual);
