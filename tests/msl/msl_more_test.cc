@@ -11,11 +11,10 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
-#include <cstdlib>
-#include <filesystem>
 #include <ostream>
 #include <string>
 
+#include "tests/support/msl_examples.h"
 #include "tests/support/msl_tube.h"
 
 namespace momenta {
@@ -105,62 +104,18 @@ const MoreExample kExamples[] = {
 /// How many of the examples have a model (the count only grows).
 constexpr int kModelled = 58;
 
-/// models/msl/<the name without "Modelica.", dots as folders>.yaml
-std::string ModelFile(const std::string& name) {
-  std::string rest = name.rfind("Modelica.", 0) == 0 ? name.substr(9) : name;
-  for (char& c : rest) {
-    if (c == '.') c = '/';
-  }
-  return "models/msl/" + rest + ".yaml";
-}
-
-/// `t` rounded to `digits` significant decimal digits.
-double Rounded(double t, int digits) {
-  char text[40];
-  std::snprintf(text, sizeof text, "%.*g", digits, t);
-  return std::strtod(text, nullptr);
-}
-
-/// Whether the reference's times were written in single precision, as the EddyCurrentBrake's are
-/// (0.0044999998 for 0.0045, no row of ours there): every time has at most 9 significant digits
-/// (a float's), and some differ from their 7-digit rounding (the float's noise). A double-precision
-/// reference's event times have 17 digits (0.37588609721210020); one whose every time is a short
-/// decimal of the grid (0.0015) has no noise, and is matched as it always was.
-bool SinglePrecisionTimes(const testing::Csv& ref) {
-  bool noisy = false;
-  for (const auto& row : ref.rows) {
-    const double t = row[0];
-    if (Rounded(t, 9) != t) return false;
-    noisy = noisy || Rounded(t, 7) != t;
-  }
-  return noisy;
-}
-
-bool Exists(const std::string& relative) { return std::filesystem::exists(testing::SourcePath(relative)); }
-
 class MslMoreTest : public ::testing::TestWithParam<MoreExample> {};
 
 TEST_P(MslMoreTest, WithinTheMslTube) {
   const MoreExample& e = GetParam();
-  const std::string model = ModelFile(e.name);
-  if (!Exists(model)) GTEST_SKIP() << "no model yet: " << model;
-  testing::TubeCheck check;
-  check.rtol = 0;  // the example's own (1e-6 unless it says otherwise)
-  const testing::Csv ref = testing::ReadCsv(testing::SourcePath(std::string("tests/data/msl/") + e.name + ".csv"));
-  check.single_precision = SinglePrecisionTimes(ref);
-  SolverStats stats;
-  testing::CheckAgainstReference(e.name, model, ref, check, &stats);
-  std::printf("[   INFO   ] %s: %ld steps, %ld state events, %ld time events (Dymola: %ld, %d, %d)\n", e.name,
-              stats.steps, stats.events - stats.time_events, stats.time_events, e.dymola_steps,
-              e.dymola_state_events, e.dymola_time_events);
+  const std::string model = testing::MslModelFile(e.name);
+  if (!testing::SourceExists(model)) GTEST_SKIP() << "no model yet: " << model;
+  testing::CheckMslExample(e.name, model, std::string("tests/data/msl/") + e.name + ".csv", testing::MslTube,
+                           {e.dymola_steps, e.dymola_state_events, e.dymola_time_events});
 }
 
 std::string ExampleName(const ::testing::TestParamInfo<MoreExample>& info) {
-  std::string n = std::string(info.param.name).substr(9);
-  for (char& c : n) {
-    if (c == '.') c = '_';
-  }
-  return n;
+  return testing::MslTestName(info.param.name);
 }
 
 INSTANTIATE_TEST_SUITE_P(References, MslMoreTest, ::testing::ValuesIn(kExamples), ExampleName);
@@ -168,8 +123,8 @@ INSTANTIATE_TEST_SUITE_P(References, MslMoreTest, ::testing::ValuesIn(kExamples)
 TEST(MslMoreCoverage, EveryModelledExampleIsKept) {
   int modelled = 0;
   for (const MoreExample& e : kExamples) {
-    if (Exists(ModelFile(e.name))) ++modelled;
-    EXPECT_TRUE(Exists(std::string("tests/data/msl/") + e.name + ".csv")) << e.name;
+    if (testing::SourceExists(testing::MslModelFile(e.name))) ++modelled;
+    EXPECT_TRUE(testing::SourceExists(std::string("tests/data/msl/") + e.name + ".csv")) << e.name;
   }
   std::printf("[   INFO   ] %d of %zu examples modelled\n", modelled, std::size(kExamples));
   EXPECT_GE(modelled, kModelled);
