@@ -39,8 +39,9 @@ class Graph {
   explicit Graph(FlattenContext* context) : context_(*context), flat_(context->flat) {}
 
   void Run() {
-    if (!CollectNodes()) return;
+    if (!Declared()) return;
     const std::vector<double> params = EvaluateParameters(flat_, context_.overrides);
+    CollectNodes(params);
     CollectRoles(params);
     JoinConnections();
     ChooseRootsAndTree();
@@ -48,15 +49,28 @@ class Graph {
   }
 
  private:
-  /// The first element of each record potential of each instance whose type has one; false when
-  /// there is none.
-  bool CollectNodes() {
-    bool any = false;
+  /// Whether any type declares roots or branches.
+  bool Declared() const {
     for (const FlatInstance& inst : flat_.instances) {
       const ComponentType* t = inst.type;
-      any = any || !t->roots.empty() || !t->potential_roots.empty() || !t->branches.empty();
+      if (!t->roots.empty() || !t->potential_roots.empty() || !t->branches.empty()) return true;
     }
-    if (!any) return false;
+    return false;
+  }
+
+  /// Whether connector `connector` of instance `i` exists (a conditional connector's parameter).
+  bool Present(InstanceId i, const ComponentType& type, const std::string& connector, const std::vector<double>& params) const {
+    for (const ConnectorDecl& c : type.connectors) {
+      if (c.name != connector || c.condition.empty()) continue;
+      auto p = flat_.FindParameter(flat_.InstancePath(i) + "." + c.condition);
+      return !p || params[p->value()] != 0;
+    }
+    return true;
+  }
+
+  /// The first element of each record potential of each instance whose type has one, less those
+  /// of absent conditional connectors.
+  void CollectNodes(const std::vector<double>& params) {
     // local name of a record's first element → the record ("frame_a.R.T[1,1]" → "frame_a.R"), per type
     std::unordered_map<const ComponentType*, std::unordered_map<std::string, std::string>> firsts;
     for (const FlatInstance& inst : flat_.instances) {
@@ -86,11 +100,12 @@ class Graph {
       if (full.size() <= path.size() + 1) continue;
       auto found = names.find(full.substr(path.size() + 1));
       if (found == names.end()) continue;
+      const ComponentType& type = *flat_.instances[i.value()].type;
+      if (!Present(i, type, found->second.substr(0, found->second.find('.')), params)) continue;
       node_of_var_[v] = static_cast<uint32_t>(nodes_.size());
       node_of_[{i.value(), found->second}] = static_cast<uint32_t>(nodes_.size());
       nodes_.push_back({i, found->second});
     }
-    return true;
   }
 
   uint32_t NodeOf(InstanceId i, const std::string& local, const GraphDecl& d) const {

@@ -224,6 +224,10 @@ ArrayValue ArrayEvaluator::EvalNode(const AstPtr& p) {
         }
         return CallFunction(a, *f);
       }
+      if (!IsBuiltinFunction(a.op)) {
+        Fail(a.column, "unknown function '" + a.op + "' (valid functions: " + KnownFunctionList() +
+                           ", and the library's, such as Frames.resolve2)");
+      }
       return Elementwise(p, Operands(a), a.op + "()", true);
   }
   return {{}, {p}};

@@ -115,6 +115,7 @@ bool ConnectorHasArrays(const ComponentType& type, const Library& library) {
 ArrayScope ScopeOf(const ComponentType& type) { return TypeScope(&type.arrays, type.name); }
 
 bool NeedsScalarForm(const ComponentType& type, const Library& library) {
+  if (type.scalar_form) return false;
   if (ConnectorHasArrays(type, library)) return true;
   if (UsesRecordsOrBlocks(type, library)) return true;
   for (const auto& p : type.parameters) {
@@ -191,6 +192,7 @@ ComponentType ScalarForm(const ComponentType& source, const Library& library) {
     scalar(&im.release, im.release_text);
   }
   if (records) FinishRecordsAndBlocks(&out, library);
+  out.scalar_form = true;
   return out;
 }
 
@@ -279,6 +281,7 @@ bool ModelNeedsScalarForm(const ModelSpec& spec, const Library& library,
   for (const auto* list : {&spec.equations, &spec.initial_equations}) {
     for (const auto& e : *list) {
       if (UsesArraySyntax(e.ast.lhs, false) || UsesArraySyntax(e.ast.rhs, false)) return true;
+      if (CallsLibraryFunction(e.ast.lhs, library) || CallsLibraryFunction(e.ast.rhs, library)) return true;
     }
   }
   for (const auto& w : spec.whens) {
@@ -383,7 +386,8 @@ std::optional<ModelSpec> ScalarModel(const ModelSpec& spec, const Library& libra
 
   // The model's own declarations and its components' modifiers.
   ArrayShapes table;
-  const ArrayScope scope = ModelScope(&table, &component_type, type_of);
+  ArrayScope scope = ModelScope(&table, &component_type, type_of);
+  scope.library = &library;
   DeclarationScalariser s(scope, &table, "");
   out.parameters = s.Parameters(spec.parameters);
   out.variables = s.Variables(spec.variables, {});

@@ -20,6 +20,7 @@
 #include "core/lang/arrays.h"
 #include "core/lang/component_type.h"
 #include "core/lang/model_spec.h"
+#include "core/lang/parser.h"
 #include "core/lang/yaml_loader.h"
 #include "core/lang/yaml_loader_document.h"
 #include "core/lang/yaml_loader_types.h"
@@ -51,7 +52,11 @@ class BuiltinTypes : public LazyTypes {
     for (const EmbeddedFile& f : kEmbeddedLibraryFiles) {
       if (std::strcmp(f.name, "components/connectors.yaml") != 0) Cut(f);
     }
-    // Records and functions first: connector types and component types use them.
+    // Every function's name first, so that a function may call one read after it; then records
+    // and functions: connector types and component types use them.
+    for (auto& [name, entry] : entries_) {
+      if (entry.text.find("\n  kind: function") != std::string_view::npos) RegisterFunction(name, -1);
+    }
     for (const bool first : {true, false}) {
       for (auto& [name, entry] : entries_) {
         if (entry.read || entry.text.find("\n  kind:") == std::string_view::npos) continue;
@@ -100,9 +105,7 @@ class BuiltinTypes : public LazyTypes {
         const std::string name(text.substr(at, text.find(':', at) - at));
         open = &entries_[name];
         *open = Entry{f.name, text.substr(at), line, false};
-        if (size_t dot = name.rfind('.'); dot != std::string::npos) {
-          by_short_name_[name.substr(dot + 1)].push_back(name);
-        }
+        for (const std::string& tail : ShortNames(name)) by_short_name_[tail].push_back(name);
       }
       at = end;
     }

@@ -21,15 +21,27 @@ const char* ValueTypeName(ValueType t) {
   return "?";
 }
 
+std::vector<std::string> ShortNames(const std::string& name) {
+  std::vector<std::string> tails;
+  const size_t dots = static_cast<size_t>(std::count(name.begin(), name.end(), '.'));
+  for (size_t dot = name.find('.'); dot != std::string::npos; dot = name.find('.', dot + 1)) {
+    const std::string tail = name.substr(dot + 1);
+    // The last part alone only for a package one level deep (Planar.Body, not MultiBody.Parts.Body).
+    if (tail.find('.') == std::string::npos && dots > 1) continue;
+    tails.push_back(tail);
+  }
+  return tails;
+}
+
 namespace {
 
-/// Records `name` under its last dotted part ("Rotational.Inertia" under "Inertia"); a short
-/// name that two qualified names share maps to "" (ambiguous: the full name is needed).
+/// Records `name` under its dotted tails (ShortNames); a short name that two qualified names
+/// share maps to "" (ambiguous: the full name is needed).
 void AddShortName(const std::string& name, std::map<std::string, std::string>* short_names) {
-  size_t dot = name.rfind('.');
-  if (dot == std::string::npos) return;
-  auto [it, inserted] = short_names->emplace(name.substr(dot + 1), name);
-  if (!inserted && it->second != name) it->second.clear();
+  for (const std::string& tail : ShortNames(name)) {
+    auto [it, inserted] = short_names->emplace(tail, name);
+    if (!inserted && it->second != name) it->second.clear();
+  }
 }
 
 /// The entry named `name`, or the one whose qualified name it abbreviates.

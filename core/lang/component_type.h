@@ -266,9 +266,15 @@ struct ComponentType {
   /// Equations of its scalar form that the local balance does not count: the elements of
   /// record equations beyond the residues, and all branches of a block but one.
   size_t uncounted_equations = 0;
+  bool scalar_form = false;  ///< made by ScalarForm (core/lang/arrays.h), which runs once
   SourceLoc loc;
   bool user_defined = false;  ///< from a model's define: section, a uses: file or a model file
 };
+
+/// The shorter names a qualified type name is found by: its dotted tails, the last part alone only
+/// for a package one level deep. `Rotational.Inertia` by `Inertia`; `MultiBody.Parts.Body` by
+/// `Parts.Body` (the MSL's own spelling inside MultiBody), so that `Body` stays `Planar.Body`.
+std::vector<std::string> ShortNames(const std::string& name);
 
 /// The types a model can use: the built-in library plus the model's own definitions.
 /// Domain libraries name their types with a package prefix (`Rotational.Fixed`,

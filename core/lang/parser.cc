@@ -286,7 +286,10 @@ class Parser {
     }
     Next();
     int arity = 0;
-    if (!IsKnownFunction(name.text, &arity)) {
+    // A qualified name is a library function, which the library resolves when it is inlined
+    // (a model may be read before the library's functions are).
+    if (!IsKnownFunction(name.text, &arity) && name.text.find('.') != std::string::npos) arity = -1;
+    else if (!IsKnownFunction(name.text, &arity)) {
       throw ModelError(loc_.Shifted(name.column),
                        "unknown function '" + name.text + "' in '" + Excerpt(text_, name.column) +
                            "' (valid functions: " + KnownFunctionList() + ")");
@@ -296,7 +299,8 @@ class Parser {
     if (Peek().kind != TokenKind::kRParen) Fail("expected ')' or ','");
     Next();
     const int count = static_cast<int>(args.size());
-    const bool bad_count = arity == -2   ? count < 1 || count > 2
+    const bool bad_count = arity == -1   ? false  // a library function named before it is read
+                           : arity == -2 ? count < 1 || count > 2
                            : arity == -3 ? count < 2 || count > 3
                                          : count != arity;
     if (bad_count) {

@@ -33,7 +33,8 @@ bool CallsAny(const AstPtr& a, const Library& library) {
   if (!a) return false;
   if (a->kind == Ast::Kind::kCall) {
     if (IsPredicate(*a)) return true;
-    if (!IsBuiltinFunction(a->op) && library.FindFunction(a->op)) return true;
+    // A library's function, or a name the parser let through for the library to resolve.
+    if (!IsBuiltinFunction(a->op)) return true;
   }
   for (const AstPtr& x : a->args) {
     if (CallsAny(x, library)) return true;
@@ -102,10 +103,13 @@ AstPtr Prefixed(const AstPtr& a, const std::string& prefix, const ComponentType&
 /// ResolveOuters). Its arrays are seen whole (`world.n`).
 void DeclareOuters(const ComponentType& type, const Library& library, ComponentType* out) {
   for (const auto& [prefix, type_name] : type.outers) {
-    const ComponentType* inner = library.FindComponent(type_name);
-    if (!inner) {
+    const ComponentType* found = library.FindComponent(type_name);
+    if (!found) {
       throw ModelError(type.loc, "the outer " + prefix + " of " + type.name + " is of the unknown type '" + type_name + "'");
     }
+    // Its scalar form (a library read whole is scalarised type by type, perhaps this one first).
+    const ComponentType scalar = found->arrays.empty() && NeedsScalarForm(*found, library) ? ScalarForm(*found, library) : ComponentType();
+    const ComponentType* inner = scalar.name.empty() ? found : &scalar;
     for (const ParameterDecl& p : inner->parameters) {
       ParameterDecl q = p;
       q.name = prefix + "." + p.name;
@@ -123,6 +127,8 @@ void DeclareOuters(const ComponentType& type, const Library& library, ComponentT
 
 }  // namespace
 
+bool CallsLibraryFunction(const AstPtr& a, const Library& library) { return CallsAny(a, library); }
+
 std::string PredicateName(const std::string& predicate, const std::string& record) {
   return predicate + "(" + record + ")";
 }
@@ -136,7 +142,6 @@ bool UsesRecordsOrBlocks(const ComponentType& type, const Library& library) {
     const ConnectorType* ct = library.FindConnector(c.type);
     if (ct && !ct->records.empty()) return true;
   }
-  if (!library.HasRecordsOrFunctions()) return false;
   for (const auto* list : {&type.equations, &type.initial_equations}) {
     for (const auto& e : *list) {
       if (CallsAny(e.ast.lhs, library) || CallsAny(e.ast.rhs, library)) return true;

@@ -18,6 +18,9 @@
 
 namespace momenta {
 
+/// Whether a tree calls a function of the library (`kind: function`).
+bool CallsLibraryFunction(const AstPtr& a, const Library& library);
+
 /// Whether a type uses any of the above (its scalar form then runs them).
 bool UsesRecordsOrBlocks(const ComponentType& type, const Library& library);
 

@@ -8,6 +8,7 @@
 #include "core/lang/yaml_loader_declarations.h"
 #include "core/lang/yaml_loader_parts.h"
 #include "core/lang/yaml_loader_records.h"
+#include "core/lang/parser.h"
 #include "core/lang/records.h"
 
 namespace momenta {
@@ -150,6 +151,13 @@ ComponentType ReadComponentType(const ValueReader& reader, const std::string& na
 void ReadLibraryEntries(const ValueReader& reader, const YamlNode& root, Library* library,
                         std::vector<ComponentType>* defines, bool user, const char* what) {
   reader.ExpectMap(root, what ? what : user ? "define" : "a library file");
+  // Every function's name first, so that a function may call one declared after it.
+  for (auto it = root.begin(); it != root.end(); ++it) {
+    const YamlNode n = it->second;
+    if (n.IsMap() && n["kind"] && n["kind"].IsScalar() && n["kind"].Scalar() == "function") {
+      RegisterFunction(it->first.as<std::string>(), -1);
+    }
+  }
   for (auto it = root.begin(); it != root.end(); ++it) {
     std::string name = it->first.as<std::string>();
     const YamlNode n = it->second;  // a copy: it->second is a temporary
