@@ -164,7 +164,9 @@ std::string DataJson(const ReportData& d) {
     }
     j += ']';
   }
-  j += "],\"scene\":[";
+  j += "],\"space\":";
+  j += d.scene.space ? "true" : "false";
+  j += ",\"scene\":[";
   for (size_t s = 0; s < d.scene.shapes.size(); ++s) {
     const SceneShape& shape = d.scene.shapes[s];
     j += s ? ",{\"kind\":" : "{\"kind\":";
@@ -211,6 +213,8 @@ std::vector<double> ReportData::EventTimes() const {
 
 bool ReportHasPlots() { return MOMENTA_HAVE_UPLOT != 0; }
 
+bool ReportHasThree() { return MOMENTA_HAVE_THREE != 0; }
+
 std::string ReportHtml(const ReportData& data) {
   std::string html = Join(kReportHtml);
   // The placeholders in the order report/report.html has them.
@@ -219,6 +223,9 @@ std::string ReportHtml(const ReportData& data) {
   Fill(&html, "/*@UPLOT_CSS@*/", Join(kUplotCss), &from);
   Fill(&html, "/*@DATA@*/", DataJson(data), &from);
   Fill(&html, "/*@UPLOT_JS@*/", Join(kUplotJs), &from);
+  // three.js and the 3-D scene's script only in a page that draws a 3-D scene (700 KB).
+  const bool space = data.scene.space && !data.scene.empty();
+  Fill(&html, "/*@THREE_JS@*/", space ? Join(kThreeJs) + "\n" + Join(kScene3dJs) : "", &from);
   Fill(&html, "/*@REPORT_JS@*/", Join(kReportJs), &from);
   return html;
 }

@@ -1,7 +1,8 @@
 #pragma once
 /// The HTML report (README, "Reports"): one self-contained page with the model's name, doc and
 /// parameters, build and solver statistics, interactive plots of the outputs (uPlot) and, when the
-/// model's parts declare an animation, the scene drawn from the recorded positions.
+/// model's parts declare an animation, the scene drawn from the recorded positions (planar on a
+/// canvas, 3-D with three.js).
 
 #include <string>
 #include <utility>
@@ -45,6 +46,10 @@ constexpr size_t kMaxReportRows = 20000;
 /// True when the build embedded uPlot (scripts/setup.sh fetched it); without it the page has
 /// every table and the scene, and a note in place of the plots.
 bool ReportHasPlots();
+
+/// True when the build embedded three.js (scripts/setup.sh fetched it); without it a page with a
+/// 3-D scene says so in the scene's place.
+bool ReportHasThree();
 
 /// Appends `text` as a JSON string to `*out`; `<` is written `\u003c`, so the data cannot end the
 /// page's <script> element.

@@ -1,5 +1,5 @@
 // momenta report page: fills the page from the JSON in #momenta-data, draws the outputs with
-// uPlot and animates the scene on a canvas. When done it records what it drew as data-attributes
+// uPlot and animates the scene on a canvas (a 3-D scene through momentaScene3d, report/scene3d.js). When done it records what it drew as data-attributes
 // of <body> (data-series, data-plots, data-scene-shapes, data-scene-frames, data-scene-drawn), which
 // the test suite reads from headless Chromium.
 (function () {
@@ -99,118 +99,140 @@
   if (shapes.length === 0) return;
   document.getElementById("scene-section").hidden = false;
   const canvas = document.getElementById("scene");
-  const ctx = canvas.getContext("2d");
   const frames = time.length;
-  // A field's value at row i: a number, or [x, y].
+  // A field's value at row i: a number, or its elements ([x, y]; a 3-vector; a 3x3 matrix row
+  // by row).
   function value(field, i) {
     if (field.length === 1) return data.data[column[field[0]]][i];
-    return [data.data[column[field[0]]][i], data.data[column[field[1]]][i]];
+    return field.map((name) => data.data[column[name]][i]);
   }
-  // The world box every frame's points (and circles) fit in.
-  let x0 = Infinity, x1 = -Infinity, y0 = Infinity, y1 = -Infinity;
-  function extend(p, r) {
-    if (p[0] === null || p[1] === null) return;
-    x0 = Math.min(x0, p[0] - r); x1 = Math.max(x1, p[0] + r);
-    y0 = Math.min(y0, p[1] - r); y1 = Math.max(y1, p[1] + r);
+  let draw;
+  if (!data.space) {
+    draw = planarScene();
+  } else if (typeof momentaScene3d === "function") {
+    draw = momentaScene3d(canvas, shapes, frames, value, palette);
+  } else {
+    canvas.replaceWith(Object.assign(document.createElement("div"), {
+      className: "plot-missing",
+      textContent: "This momenta was built without three.js (run scripts/setup.sh, then rebuild), " +
+                   "so the 3-D scene is not drawn here.",
+    }));
+    return;
   }
-  for (let i = 0; i < frames; ++i) {
-    for (const s of shapes) {
-      const f = s.fields;
-      if (f.at && s.kind !== "wall") extend(value(f.at, i), f.radius ? Math.abs(value(f.radius, i)) : 0);
-      if (f.from) { extend(value(f.from, i), 0); extend(value(f.to, i), 0); }
-      if (s.kind === "wall" && f.start && f.end && value(f.start, i) < value(f.end, i)) {
+
+  // The planar scene on a 2-D canvas: returns the function that draws row i.
+  function planarScene() {
+    const ctx = canvas.getContext("2d");
+    // The world box every frame's points (and circles) fit in.
+    let x0 = Infinity, x1 = -Infinity, y0 = Infinity, y1 = -Infinity;
+    function extend(p, r) {
+      if (p[0] === null || p[1] === null) return;
+      x0 = Math.min(x0, p[0] - r); x1 = Math.max(x1, p[0] + r);
+      y0 = Math.min(y0, p[1] - r); y1 = Math.max(y1, p[1] + r);
+    }
+    for (let i = 0; i < frames; ++i) {
+      for (const s of shapes) {
+        const f = s.fields;
+        if (f.at && s.kind !== "wall") extend(value(f.at, i), f.radius ? Math.abs(value(f.radius, i)) : 0);
+        if (f.from) { extend(value(f.from, i), 0); extend(value(f.to, i), 0); }
+        if (s.kind === "wall" && f.start && f.end && value(f.start, i) < value(f.end, i)) {
+          const at = value(f.at, i), n = value(f.normal, i), len = Math.hypot(n[0], n[1]) || 1;
+          const t = [n[1] / len, -n[0] / len];
+          extend([at[0] + value(f.start, i) * t[0], at[1] + value(f.start, i) * t[1]], 0);
+          extend([at[0] + value(f.end, i) * t[0], at[1] + value(f.end, i) * t[1]], 0);
+        }
+      }
+    }
+    if (!isFinite(x0)) { x0 = -1; x1 = 1; y0 = -1; y1 = 1; }
+    const span = Math.max(x1 - x0, y1 - y0, 1e-6);
+    const pad = 0.08 * span;
+    x0 -= pad; x1 += pad; y0 -= pad; y1 += pad;
+    const scale = Math.min(canvas.width / (x1 - x0), canvas.height / (y1 - y0));
+    const ox = (canvas.width - scale * (x1 - x0)) / 2, oy = (canvas.height - scale * (y1 - y0)) / 2;
+    const px = (p) => [ox + (p[0] - x0) * scale, canvas.height - oy - (p[1] - y0) * scale];
+    const owners = [...new Set(shapes.map((s) => s.owner))];
+    const colour = (s) => palette[owners.indexOf(s.owner) % palette.length];
+
+    function hatch(p, dir, len) {  // short strokes on the side `dir` (a unit vector, screen axes)
+      ctx.beginPath();
+      const tx = -dir[1], ty = dir[0];
+      for (let k = -len; k <= len; k += 6) {
+        ctx.moveTo(p[0] + tx * k, p[1] + ty * k);
+        ctx.lineTo(p[0] + tx * k + (dir[0] - tx) * 6, p[1] + ty * k + (dir[1] - ty) * 6);
+      }
+      ctx.stroke();
+    }
+    const paint = {
+      circle(f, i, c) {
+        const p = px(value(f.at, i)), r = Math.max(Math.abs(value(f.radius, i)) * scale, 4);
+        ctx.fillStyle = c + "55"; ctx.strokeStyle = c; ctx.lineWidth = 2;
+        ctx.beginPath(); ctx.arc(p[0], p[1], r, 0, 2 * Math.PI); ctx.fill(); ctx.stroke();
+        if (f.angle) {
+          const a = value(f.angle, i);
+          ctx.beginPath(); ctx.moveTo(p[0], p[1]); ctx.lineTo(p[0] + r * Math.cos(a), p[1] - r * Math.sin(a)); ctx.stroke();
+        }
+      },
+      line(f, i) {
+        const a = px(value(f.from, i)), b = px(value(f.to, i));
+        ctx.strokeStyle = "#333"; ctx.lineWidth = 3;
+        ctx.beginPath(); ctx.moveTo(a[0], a[1]); ctx.lineTo(b[0], b[1]); ctx.stroke();
+      },
+      spring(f, i) {
+        const a = px(value(f.from, i)), b = px(value(f.to, i));
+        const dx = b[0] - a[0], dy = b[1] - a[1], len = Math.hypot(dx, dy) || 1;
+        const nx = -dy / len * 6, ny = dx / len * 6;
+        ctx.strokeStyle = "#555"; ctx.lineWidth = 1.5;
+        ctx.beginPath(); ctx.moveTo(a[0], a[1]);
+        for (let k = 1; k < 16; ++k) {
+          const s = k / 16, side = k % 2 ? 1 : -1;
+          ctx.lineTo(a[0] + dx * s + side * nx, a[1] + dy * s + side * ny);
+        }
+        ctx.lineTo(b[0], b[1]); ctx.stroke();
+      },
+      pin(f, i) {
+        const p = px(value(f.at, i));
+        ctx.fillStyle = "#fff"; ctx.strokeStyle = "#333"; ctx.lineWidth = 2;
+        ctx.beginPath(); ctx.arc(p[0], p[1], 4, 0, 2 * Math.PI); ctx.fill(); ctx.stroke();
+      },
+      ground(f, i) {
+        const p = px(value(f.at, i));
+        ctx.strokeStyle = "#333"; ctx.lineWidth = 2;
+        ctx.beginPath(); ctx.moveTo(p[0] - 12, p[1]); ctx.lineTo(p[0] + 12, p[1]); ctx.stroke();
+        ctx.lineWidth = 1; hatch([p[0], p[1]], [0, 1], 12);
+      },
+      wall(f, i) {
         const at = value(f.at, i), n = value(f.normal, i), len = Math.hypot(n[0], n[1]) || 1;
         const t = [n[1] / len, -n[0] / len];
-        extend([at[0] + value(f.start, i) * t[0], at[1] + value(f.start, i) * t[1]], 0);
-        extend([at[0] + value(f.end, i) * t[0], at[1] + value(f.end, i) * t[1]], 0);
+        let s0 = f.start ? value(f.start, i) : 0, s1 = f.end ? value(f.end, i) : 0;
+        if (!(s0 < s1)) { const far = 4 * (x1 - x0 + y1 - y0); s0 = -far; s1 = far; }
+        const a = px([at[0] + s0 * t[0], at[1] + s0 * t[1]]), b = px([at[0] + s1 * t[0], at[1] + s1 * t[1]]);
+        ctx.strokeStyle = "#333"; ctx.lineWidth = 2;
+        ctx.beginPath(); ctx.moveTo(a[0], a[1]); ctx.lineTo(b[0], b[1]); ctx.stroke();
+        // Hatches on the side away from the normal, along the drawn part.
+        const dir = [-n[0] / len, n[1] / len], mid = [(a[0] + b[0]) / 2, (a[1] + b[1]) / 2];
+        ctx.lineWidth = 1; hatch(mid, dir, Math.min(Math.hypot(b[0] - a[0], b[1] - a[1]) / 2, 2 * canvas.width));
+      },
+    };
+    // Lines first, then masses, then pins on top.
+    const order = { wall: 0, ground: 0, spring: 1, line: 2, circle: 3, pin: 4 };
+    const sorted = shapes.slice().sort((a, b) => order[a.kind] - order[b.kind]);
+    return function (i) {
+      ctx.clearRect(0, 0, canvas.width, canvas.height);
+      let drawn = 0;
+      for (const s of sorted) {
+        paint[s.kind](s.fields, i, colour(s));
+        drawn += 1;
       }
-    }
+      body.dataset.sceneDrawn = drawn;
+    };
   }
-  if (!isFinite(x0)) { x0 = -1; x1 = 1; y0 = -1; y1 = 1; }
-  const span = Math.max(x1 - x0, y1 - y0, 1e-6);
-  const pad = 0.08 * span;
-  x0 -= pad; x1 += pad; y0 -= pad; y1 += pad;
-  const scale = Math.min(canvas.width / (x1 - x0), canvas.height / (y1 - y0));
-  const ox = (canvas.width - scale * (x1 - x0)) / 2, oy = (canvas.height - scale * (y1 - y0)) / 2;
-  const px = (p) => [ox + (p[0] - x0) * scale, canvas.height - oy - (p[1] - y0) * scale];
-  const owners = [...new Set(shapes.map((s) => s.owner))];
-  const colour = (s) => palette[owners.indexOf(s.owner) % palette.length];
 
-  function hatch(p, dir, len) {  // short strokes on the side `dir` (a unit vector, screen axes)
-    ctx.beginPath();
-    const tx = -dir[1], ty = dir[0];
-    for (let k = -len; k <= len; k += 6) {
-      ctx.moveTo(p[0] + tx * k, p[1] + ty * k);
-      ctx.lineTo(p[0] + tx * k + (dir[0] - tx) * 6, p[1] + ty * k + (dir[1] - ty) * 6);
-    }
-    ctx.stroke();
-  }
-  const draw = {
-    circle(f, i, c) {
-      const p = px(value(f.at, i)), r = Math.max(Math.abs(value(f.radius, i)) * scale, 4);
-      ctx.fillStyle = c + "55"; ctx.strokeStyle = c; ctx.lineWidth = 2;
-      ctx.beginPath(); ctx.arc(p[0], p[1], r, 0, 2 * Math.PI); ctx.fill(); ctx.stroke();
-      if (f.angle) {
-        const a = value(f.angle, i);
-        ctx.beginPath(); ctx.moveTo(p[0], p[1]); ctx.lineTo(p[0] + r * Math.cos(a), p[1] - r * Math.sin(a)); ctx.stroke();
-      }
-    },
-    line(f, i) {
-      const a = px(value(f.from, i)), b = px(value(f.to, i));
-      ctx.strokeStyle = "#333"; ctx.lineWidth = 3;
-      ctx.beginPath(); ctx.moveTo(a[0], a[1]); ctx.lineTo(b[0], b[1]); ctx.stroke();
-    },
-    spring(f, i) {
-      const a = px(value(f.from, i)), b = px(value(f.to, i));
-      const dx = b[0] - a[0], dy = b[1] - a[1], len = Math.hypot(dx, dy) || 1;
-      const nx = -dy / len * 6, ny = dx / len * 6;
-      ctx.strokeStyle = "#555"; ctx.lineWidth = 1.5;
-      ctx.beginPath(); ctx.moveTo(a[0], a[1]);
-      for (let k = 1; k < 16; ++k) {
-        const s = k / 16, side = k % 2 ? 1 : -1;
-        ctx.lineTo(a[0] + dx * s + side * nx, a[1] + dy * s + side * ny);
-      }
-      ctx.lineTo(b[0], b[1]); ctx.stroke();
-    },
-    pin(f, i) {
-      const p = px(value(f.at, i));
-      ctx.fillStyle = "#fff"; ctx.strokeStyle = "#333"; ctx.lineWidth = 2;
-      ctx.beginPath(); ctx.arc(p[0], p[1], 4, 0, 2 * Math.PI); ctx.fill(); ctx.stroke();
-    },
-    ground(f, i) {
-      const p = px(value(f.at, i));
-      ctx.strokeStyle = "#333"; ctx.lineWidth = 2;
-      ctx.beginPath(); ctx.moveTo(p[0] - 12, p[1]); ctx.lineTo(p[0] + 12, p[1]); ctx.stroke();
-      ctx.lineWidth = 1; hatch([p[0], p[1]], [0, 1], 12);
-    },
-    wall(f, i) {
-      const at = value(f.at, i), n = value(f.normal, i), len = Math.hypot(n[0], n[1]) || 1;
-      const t = [n[1] / len, -n[0] / len];
-      let s0 = f.start ? value(f.start, i) : 0, s1 = f.end ? value(f.end, i) : 0;
-      if (!(s0 < s1)) { const far = 4 * (x1 - x0 + y1 - y0); s0 = -far; s1 = far; }
-      const a = px([at[0] + s0 * t[0], at[1] + s0 * t[1]]), b = px([at[0] + s1 * t[0], at[1] + s1 * t[1]]);
-      ctx.strokeStyle = "#333"; ctx.lineWidth = 2;
-      ctx.beginPath(); ctx.moveTo(a[0], a[1]); ctx.lineTo(b[0], b[1]); ctx.stroke();
-      // Hatches on the side away from the normal, along the drawn part.
-      const dir = [-n[0] / len, n[1] / len], mid = [(a[0] + b[0]) / 2, (a[1] + b[1]) / 2];
-      ctx.lineWidth = 1; hatch(mid, dir, Math.min(Math.hypot(b[0] - a[0], b[1] - a[1]) / 2, 2 * canvas.width));
-    },
-  };
-  // Lines first, then masses, then pins on top.
-  const order = { wall: 0, ground: 0, spring: 1, line: 2, circle: 3, pin: 4 };
-  const sorted = shapes.slice().sort((a, b) => order[a.kind] - order[b.kind]);
   const scrub = document.getElementById("scrub");
   scrub.max = frames - 1;
   function render(i) {
-    ctx.clearRect(0, 0, canvas.width, canvas.height);
-    let drawn = 0;
-    for (const s of sorted) {
-      draw[s.kind](s.fields, i, colour(s));
-      drawn += 1;
-    }
+    draw(i);
     scrub.value = i;
     text("scene-time", "t = " + time[i].toFixed(4) + " s");
-    body.dataset.sceneDrawn = drawn;
   }
   body.dataset.sceneShapes = shapes.length;
   body.dataset.sceneFrames = frames;

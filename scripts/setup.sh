@@ -16,6 +16,8 @@
 #      check its SHA-256 and unpack its dist files into third_party/uplot/ (git-ignored); the
 #      build inlines them into momenta's reports. Skipped when third_party/uplot/VERSION already
 #      names the pinned version; a failure is a warning (reports then have no plots).
+#   3b. fetch three.js (the report's 3-D scenes) the same way into third_party/three/: its UMD
+#      build (build/three.min.js, the last release that ships one), which the page inlines.
 # If step 2 fails, a warning is printed and the build uses Debian's libsundials-dev instead
 # (cmake/Dependencies.cmake picks whichever is present); the script still exits 0.
 #
@@ -291,6 +293,45 @@ elif (vendor_uplot); then
   log "uPlot ${UPLOT_VERSION} in $UPLOT_DIR"
 else
   warn "fetching uPlot ${UPLOT_VERSION} FAILED: reports will have no plots until scripts/setup.sh is rerun"
+fi
+end
+
+# ---------------------------------------------------------------------------------------------
+# 3b. three.js for the report's 3-D scenes: npm pack at a pinned version, checked the same way.
+#     0.159.0 is the last release with a UMD build (one classic script defining THREE), which a
+#     self-contained page can inline as it is.
+# ---------------------------------------------------------------------------------------------
+THREE_VERSION="0.159.0"
+THREE_SHA256="9282f12c4fd79ea7d35325ca2a3c86451bbb5c0c64a7120dbd4707617c004fcd"
+THREE_DIR="${REPO_DIR}/third_party/three"
+
+vendor_three() {
+  local work tgz
+  work=$(mktemp -d /tmp/momenta-three.XXXXXX)
+  # shellcheck disable=SC2064
+  trap "rm -rf '$work'" EXIT
+  (cd "$work" && npm pack --silent "three@${THREE_VERSION}") >"$work/pack.log" 2>&1 ||
+    { tail -n 20 "$work/pack.log" >&2; return 1; }
+  tgz="$work/three-${THREE_VERSION}.tgz"
+  [[ -f "$tgz" ]] || { warn "npm pack made no $tgz"; return 1; }
+  echo "${THREE_SHA256}  ${tgz}" | sha256sum --check --quiet ||
+    { warn "three-${THREE_VERSION}.tgz does not have the pinned SHA-256"; return 1; }
+  tar -xzf "$tgz" -C "$work" package/build/three.min.js package/LICENSE || return 1
+  mkdir -p "$THREE_DIR"
+  cp "$work/package/build/three.min.js" "$work/package/LICENSE" "$THREE_DIR/"
+  # VERSION last: its presence means the files are complete (the build reconfigures on it).
+  echo "three ${THREE_VERSION} sha256 ${THREE_SHA256}" >"$THREE_DIR/VERSION"
+}
+
+begin "three.js ${THREE_VERSION} for the report's 3-D scenes (npm pack)"
+if [[ -f "$THREE_DIR/VERSION" && "$(cat "$THREE_DIR/VERSION")" == "three ${THREE_VERSION} sha256 ${THREE_SHA256}" ]]; then
+  log "already in $THREE_DIR"
+elif ! command -v npm >/dev/null 2>&1; then
+  warn "npm is missing: reports will not draw 3-D scenes (install npm, then rerun scripts/setup.sh)"
+elif (vendor_three); then
+  log "three.js ${THREE_VERSION} in $THREE_DIR"
+else
+  warn "fetching three.js ${THREE_VERSION} FAILED: reports will not draw 3-D scenes until scripts/setup.sh is rerun"
 fi
 end
 

@@ -111,18 +111,26 @@ struct ImpactDecl {
   SourceLoc loc;
 };
 
-/// One value of a drawn shape: an expression in the component's scope, scalar or a 2-vector.
+/// One value of a drawn shape: an expression in the component's scope of the shape the kind
+/// gives the field (`shape`: empty for a scalar, [2] a planar point or direction, [3] a 3-vector,
+/// [3, 3] a transformation matrix).
 struct ShapeField {
   std::string key, text;
   AstPtr expr;
+  Shape shape;
   SourceLoc loc;
 };
 
 /// `animation:` of a component type (docs/FORMAT.md, "Animation"): one shape drawn in the
-/// report's scene from quantities recorded during the run. Kinds and their fields: circle (at,
-/// radius, angle), line and spring (from, to), pin and ground (at), wall (at, normal, start, end).
+/// report's scene from quantities recorded during the run. Planar kinds and their fields: circle
+/// (at, radius, angle), line and spring (from, to), pin and ground (at), wall (at, normal, start,
+/// end). 3-D kinds (`space`), as the MSL's Visualizers.Advanced.Shape places them: sphere, box,
+/// cylinder, cone, pipe, beam, gearwheel and spring (r, T, r_shape, length_direction,
+/// width_direction, length, width, height, color, extra), frame (r, T, length, color) and line3d
+/// (from, to, color).
 struct ShapeDecl {
   std::string kind;
+  bool space = false;  ///< a 3-D shape (a spring with `r` is one)
   std::vector<ShapeField> fields;
   SourceLoc loc;
 };

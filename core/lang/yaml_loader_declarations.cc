@@ -210,18 +210,59 @@ ImpactDecl ReadImpact(const ValueReader& reader, const YamlNode& n, const std::s
   return d;
 }
 
+namespace {
+
+/// A kind of shape: its fields, each with the shape of its value; the required ones first.
+struct ShapeKind {
+  bool space;
+  std::vector<std::pair<std::string, Shape>> required, optional;
+};
+
+const ShapeKind* FindShapeKind(const std::string& kind, bool space) {
+  static const Shape kScalar, kPoint = {2}, kVector = {3}, kMatrix = {3, 3};
+  // The MSL's Shape (Visualizers.Advanced.Shape): a frame (r, T) and the shape in it.
+  static const ShapeKind kSolid = {true,
+                                   {{"r", kVector}, {"length", kScalar}},
+                                   {{"T", kMatrix},
+                                    {"r_shape", kVector},
+                                    {"length_direction", kVector},
+                                    {"width_direction", kVector},
+                                    {"width", kScalar},
+                                    {"height", kScalar},
+                                    {"color", kVector},
+                                    {"extra", kScalar}}};
+  static const std::map<std::string, ShapeKind> kPlanar = {
+      {"circle", {false, {{"at", kPoint}, {"radius", kScalar}}, {{"angle", kScalar}}}},
+      {"line", {false, {{"from", kPoint}, {"to", kPoint}}, {}}},
+      {"spring", {false, {{"from", kPoint}, {"to", kPoint}}, {}}},
+      {"pin", {false, {{"at", kPoint}}, {}}},
+      {"ground", {false, {{"at", kPoint}}, {}}},
+      {"wall", {false, {{"at", kPoint}, {"normal", kPoint}}, {{"start", kScalar}, {"end", kScalar}}}},
+  };
+  static const std::map<std::string, ShapeKind> kSpace = {
+      {"sphere", kSolid},
+      {"box", kSolid},
+      {"cylinder", kSolid},
+      {"cone", kSolid},
+      {"pipe", kSolid},
+      {"beam", kSolid},
+      {"gearwheel", kSolid},
+      {"spring", kSolid},
+      {"frame", {true, {{"r", kVector}, {"length", kScalar}}, {{"T", kMatrix}, {"color", kVector}}}},
+      {"line3d", {true, {{"from", kVector}, {"to", kVector}}, {{"color", kVector}}}},
+  };
+  const auto& kinds = space ? kSpace : kPlanar;
+  auto it = kinds.find(kind);
+  return it == kinds.end() ? nullptr : &it->second;
+}
+
+}  // namespace
+
 std::vector<ShapeDecl> ReadAnimation(const ValueReader& reader, const YamlNode& n,
                                      const std::string& what) {
-  static const std::map<std::string, std::pair<std::vector<std::string>, std::vector<std::string>>>
-      kKinds = {
-          // kind -> (required fields, optional fields)
-          {"circle", {{"at", "radius"}, {"angle"}}},
-          {"line", {{"from", "to"}, {}}},
-          {"spring", {{"from", "to"}, {}}},
-          {"pin", {{"at"}, {}}},
-          {"ground", {{"at"}, {}}},
-          {"wall", {{"at", "normal"}, {"start", "end"}}},
-      };
+  static const char* kValid =
+      "box, beam, circle, cone, cylinder, frame, gearwheel, ground, line, line3d, pin, pipe, "
+      "sphere, spring, wall";
   if (!n.IsSequence())
     reader.Fail(n, "animation of " + what +
                        " must be a list of shapes such as {shape: circle, at: [frame_a.x, "
@@ -230,32 +271,38 @@ std::vector<ShapeDecl> ReadAnimation(const ValueReader& reader, const YamlNode& 
   for (const auto& item : n) {
     reader.ExpectMap(item, "a shape in the animation of " + what);
     if (!item["shape"])
-      reader.Fail(item, "a shape in the animation of " + what +
-                            " needs 'shape' (circle, ground, line, pin, spring or wall)");
+      reader.Fail(item, "a shape in the animation of " + what + " needs 'shape' (" + kValid + ")");
     ShapeDecl d;
     d.loc = reader.Loc(item);
     d.kind = reader.Scalar(item["shape"], "shape");
-    auto kind = kKinds.find(d.kind);
-    if (kind == kKinds.end()) {
+    // A planar kind, or a 3-D one (spring is either: with `r` it is the MSL's coil).
+    const ShapeKind* kind = FindShapeKind(d.kind, false);
+    if (!kind || (d.kind == "spring" && item["r"])) kind = FindShapeKind(d.kind, true);
+    if (!kind) {
       reader.Fail(item["shape"], "unknown shape '" + d.kind + "' in the animation of " + what +
-                                     " (valid shapes: circle, ground, line, pin, spring, wall)");
+                                     " (valid shapes: " + kValid + ")");
     }
+    d.space = kind->space;
     std::vector<std::string> keys = {"shape"};
-    keys.insert(keys.end(), kind->second.first.begin(), kind->second.first.end());
-    keys.insert(keys.end(), kind->second.second.begin(), kind->second.second.end());
+    for (const auto* list : {&kind->required, &kind->optional}) {
+      for (const auto& field : *list) keys.push_back(field.first);
+    }
     reader.CheckKeys(item, d.kind + " in the animation of " + what, keys);
-    for (const auto& key : kind->second.first) {
+    for (const auto& [key, shape] : kind->required) {
       if (!item[key])
         reader.Fail(item, d.kind + " in the animation of " + what + " needs '" + key + "'");
     }
-    for (size_t k = 1; k < keys.size(); ++k) {
-      if (!item[keys[k]]) continue;
-      ShapeField f;
-      f.key = keys[k];
-      f.text = reader.ValueText(item[keys[k]], d.kind + " " + f.key);
-      f.loc = reader.TextLoc(item[keys[k]]);
-      f.expr = ParseExpression(f.text, f.loc);
-      d.fields.push_back(std::move(f));
+    for (const auto* list : {&kind->required, &kind->optional}) {
+      for (const auto& [key, shape] : *list) {
+        if (!item[key]) continue;
+        ShapeField f;
+        f.key = key;
+        f.shape = shape;
+        f.text = reader.ValueText(item[key], d.kind + " " + f.key);
+        f.loc = reader.TextLoc(item[key]);
+        f.expr = ParseExpression(f.text, f.loc);
+        d.fields.push_back(std::move(f));
+      }
     }
     out.push_back(std::move(d));
   }

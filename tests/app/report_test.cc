@@ -145,8 +145,9 @@ components:
 )");
   };
   EXPECT_TRUE(Contains(error("{shape: blob, at: [x, 0]}"),
-                       "unknown shape 'blob' in the animation of Dot (valid shapes: circle, "
-                       "ground, line, pin, spring, wall)"))
+                       "unknown shape 'blob' in the animation of Dot (valid shapes: box, beam, "
+                       "circle, cone, cylinder, frame, gearwheel, ground, line, line3d, pin, pipe, "
+                       "sphere, spring, wall)"))
       << error("{shape: blob, at: [x, 0]}");
   EXPECT_TRUE(Contains(error("{shape: circle, at: [x, 0]}"),
                        "circle in the animation of Dot needs 'radius'"));
@@ -165,8 +166,8 @@ TEST(ReportPageTest, UserTextCannotEndTheDataScript) {
   d.num_plotted = 1;
   d.Row(0, {1});
   const std::string html = ReportHtml(d);
-  // The page's own three scripts end; the doc's text is written \u003c/script>.
-  EXPECT_EQ(Count(html, "</script>"), 3u);
+  // The page's own four scripts end; the doc's text is written \u003c/script>.
+  EXPECT_EQ(Count(html, "</script>"), 4u);
   EXPECT_TRUE(Contains(
       html, "\"doc\":\"a doc with \\u003c/script>\\u003cb>bold\\u003c/b> and \\\"quotes\\\"\""))
       << html.substr(html.find("\"doc\""), 120);
@@ -174,7 +175,7 @@ TEST(ReportPageTest, UserTextCannotEndTheDataScript) {
 
 TEST(ReportPageTest, UserTextInEveryFieldStaysText) {
   // Every text field a model, a file name or the solver fills, holding a script end and an element
-  // with an event handler: the page's own three scripts end, no element is made from the text, and
+  // with an event handler: the page's own four scripts end, no element is made from the text, and
   // every "onerror" is inside an escaped string (JSON's \u003c or HTML's &lt;).
   const std::string evil = "</script><img src=x onerror=alert(1)>";
   ReportData d;
@@ -188,7 +189,7 @@ TEST(ReportPageTest, UserTextInEveryFieldStaysText) {
   d.num_plotted = 1;
   d.Row(0, {1});
   const std::string html = ReportHtml(d);
-  EXPECT_EQ(Count(html, "</script>"), 3u);
+  EXPECT_EQ(Count(html, "</script>"), 4u);
   EXPECT_EQ(Count(html, "<img"), 0u);
   const size_t escaped = Count(html, "\\u003cimg src=x onerror") + Count(html, "&lt;img src=x onerror");
   EXPECT_EQ(Count(html, "onerror"), escaped);
