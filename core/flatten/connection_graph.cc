@@ -76,7 +76,8 @@ class Graph {
     for (const FlatInstance& inst : flat_.instances) {
       auto [it, fresh] = firsts.try_emplace(inst.type);
       if (!fresh) continue;
-      for (const auto& [name, record] : inst.type->records) {
+      for (const auto& [record_name, record] : inst.type->records) {
+        const std::string name = record_name;  // a copy: a lambda cannot capture a structured binding in C++20
         // Connectors' record potentials only (`frame_a.R`), not record variables (`R_rel`).
         const size_t dot = name.find('.');
         const auto& cs = inst.type->connectors;

@@ -117,7 +117,8 @@ void DeclareOuters(const ComponentType& type, const Library& library, ComponentT
       q.doc = "the parameter " + p.name + " of the model's " + prefix + " (" + type_name + ")";
       out->parameters.push_back(std::move(q));
     }
-    for (const auto& [name, shape] : inner->arrays) {
+    for (const auto& [array_name, shape] : inner->arrays) {
+      const std::string name = array_name;  // a copy: a lambda cannot capture a structured binding in C++20
       const bool parameter = std::any_of(inner->parameters.begin(), inner->parameters.end(),
                                          [&](const ParameterDecl& p) { return p.name.rfind(name + "[", 0) == 0; });
       if (parameter) out->arrays[prefix + "." + name] = shape;
