@@ -629,13 +629,18 @@ ArrayEvaluator::RecordValue ArrayEvaluator::CallRecordFunction(const Ast& a, con
   RecordValue out;
   out.type = scope_.library->FindRecord(f.record);
   if (!out.type) Fail(a.column, a.op + "() returns '" + f.record + "', which is no record type of the library");
+  // The arguments are evaluated once; each field's expression then sees them (its own text quoted).
+  ArrayEvaluator bound(scope_, a.op, f.loc);
+  bound.depth_ = depth_;
+  BindInputs(a, f, &bound);
   for (const ConnectorVariable& field : out.type->fields) {
     size_t k = 0;
     while (k < f.fields.size() && f.fields[k].first != field.name) ++k;
     if (k == f.fields.size()) Fail(a.column, a.op + "() gives no value for the field " + field.name + " of " + f.record);
     ArrayEvaluator inner(scope_, f.field_texts[k], f.loc);
-    inner.depth_ = depth_;
-    BindInputs(a, f, &inner);
+    inner.depth_ = bound.depth_;
+    inner.bound_ = bound.bound_;
+    inner.bound_records_ = bound.bound_records_;
     out.fields.push_back(inner.Eval(f.fields[k].second));
     if (out.fields.back().shape != field.shape) {
       Fail(a.column, a.op + "() gives " + f.record + "." + field.name + " shape " + ShapeText(out.fields.back().shape) +

@@ -281,7 +281,7 @@ bool ModelNeedsScalarForm(const ModelSpec& spec, const Library& library,
   for (const auto* list : {&spec.equations, &spec.initial_equations}) {
     for (const auto& e : *list) {
       if (UsesArraySyntax(e.ast.lhs, false) || UsesArraySyntax(e.ast.rhs, false)) return true;
-      if (CallsLibraryFunction(e.ast.lhs, library) || CallsLibraryFunction(e.ast.rhs, library)) return true;
+      if (CallsLibraryFunction(e.ast.lhs) || CallsLibraryFunction(e.ast.rhs)) return true;
     }
   }
   for (const auto& w : spec.whens) {

@@ -56,6 +56,22 @@ const T* FindQualified(const std::map<std::string, std::shared_ptr<T>>& entries,
   return it == entries.end() ? nullptr : it->second.get();
 }
 
+
+/// The one entry whose name ends in `.name` (`Orientation` for `MultiBody.Orientation`,
+/// `Frames.resolve2` for `MultiBody.Frames.resolve2`), or null for none or several.
+template <typename T>
+const T* FindByTail(const std::map<std::string, std::shared_ptr<T>>& entries, const std::string& name) {
+  const T* found = nullptr;
+  for (const auto& [full, entry] : entries) {
+    if (full.size() > name.size() && full.compare(full.size() - name.size(), name.size(), name) == 0 &&
+        full[full.size() - name.size() - 1] == '.') {
+      if (found) return nullptr;
+      found = entry.get();
+    }
+  }
+  return found;
+}
+
 }  // namespace
 
 Library::Library(const Library& other) { *this = other; }
@@ -103,31 +119,12 @@ void Library::AddFunction(FunctionDecl f) {
 
 const RecordType* Library::FindRecord(const std::string& name) const {
   auto it = records_.find(name);
-  if (it != records_.end()) return it->second.get();
-  // `Orientation` for `MultiBody.Orientation`, when one record alone ends so.
-  const RecordType* found = nullptr;
-  for (const auto& [full, r] : records_) {
-    if (full.size() > name.size() && full.compare(full.size() - name.size(), name.size(), name) == 0 &&
-        full[full.size() - name.size() - 1] == '.') {
-      if (found) return nullptr;
-      found = r.get();
-    }
-  }
-  return found;
+  return it != records_.end() ? it->second.get() : FindByTail(records_, name);
 }
 
 const FunctionDecl* Library::FindFunction(const std::string& name) const {
   if (const FunctionDecl* f = FindQualified(functions_, short_functions_, name)) return f;
-  // A partly qualified name (`Frames.resolve2` for `MultiBody.Frames.resolve2`).
-  const FunctionDecl* found = nullptr;
-  for (const auto& [full, f] : functions_) {
-    if (full.size() > name.size() && full.compare(full.size() - name.size(), name.size(), name) == 0 &&
-        full[full.size() - name.size() - 1] == '.') {
-      if (found) return nullptr;
-      found = f.get();
-    }
-  }
-  return found;
+  return FindByTail(functions_, name);
 }
 
 void Library::AddRecordsAndFunctions(const Library& other) {

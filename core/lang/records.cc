@@ -28,8 +28,8 @@ const RecordType& FindRecordOrFail(const Library& library, const std::string& na
 
 bool IsPredicate(const Ast& a) { return a.kind == Ast::Kind::kCall && (a.op == "isRoot" || a.op == "rooted"); }
 
-/// Whether a tree calls a predicate or a library function.
-bool CallsAny(const AstPtr& a, const Library& library) {
+/// Whether a tree calls a predicate or a function that is not momenta's own (a library's).
+bool CallsAny(const AstPtr& a) {
   if (!a) return false;
   if (a->kind == Ast::Kind::kCall) {
     if (IsPredicate(*a)) return true;
@@ -37,7 +37,7 @@ bool CallsAny(const AstPtr& a, const Library& library) {
     if (!IsBuiltinFunction(a->op)) return true;
   }
   for (const AstPtr& x : a->args) {
-    if (CallsAny(x, library)) return true;
+    if (CallsAny(x)) return true;
   }
   return false;
 }
@@ -128,7 +128,7 @@ void DeclareOuters(const ComponentType& type, const Library& library, ComponentT
 
 }  // namespace
 
-bool CallsLibraryFunction(const AstPtr& a, const Library& library) { return CallsAny(a, library); }
+bool CallsLibraryFunction(const AstPtr& a) { return CallsAny(a); }
 
 std::string PredicateName(const std::string& predicate, const std::string& record) {
   return predicate + "(" + record + ")";
@@ -145,7 +145,7 @@ bool UsesRecordsOrBlocks(const ComponentType& type, const Library& library) {
   }
   for (const auto* list : {&type.equations, &type.initial_equations}) {
     for (const auto& e : *list) {
-      if (CallsAny(e.ast.lhs, library) || CallsAny(e.ast.rhs, library)) return true;
+      if (CallsAny(e.ast.lhs) || CallsAny(e.ast.rhs)) return true;
     }
   }
   return false;

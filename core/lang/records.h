@@ -18,8 +18,9 @@
 
 namespace momenta {
 
-/// Whether a tree calls a function of the library (`kind: function`).
-bool CallsLibraryFunction(const AstPtr& a, const Library& library);
+/// Whether a tree calls a function that is not momenta's own: a library's (`kind: function`), or
+/// an unknown name, which the array evaluator then reports.
+bool CallsLibraryFunction(const AstPtr& a);
 
 /// Whether a type uses any of the above (its scalar form then runs them).
 bool UsesRecordsOrBlocks(const ComponentType& type, const Library& library);
