@@ -78,5 +78,28 @@ TEST(Contact3dTest, ObliqueImpactOfTwoFreeSpheresMatchesTheClosedForm) {
   }
 }
 
+// A ball on a plane tilted by 0.3 rad (models/ball_on_tilted_plane_3d.yaml): the first bounce at
+// the closed form's time, then the intervals between bounces shrink by e each time.
+TEST(Contact3dTest, BounceTimesOnATiltedPlaneAreAGeometricSeries) {
+  Built b = BuildFile("models/ball_on_tilted_plane_3d.yaml");
+  for (double e : {0.8, 0.5}) {
+    Trajectory tr = testing::Run(b, OptionsFromExperiment(b.model->experiment), {{"e", e}});
+    std::vector<double> bounces;  // an event is two rows at one time
+    for (size_t k = 1; k < tr.t.size(); ++k) {
+      if (tr.t[k] == tr.t[k - 1]) bounces.push_back(tr.t[k]);
+    }
+    ASSERT_GE(bounces.size(), 3u);
+    const double theta = 0.3, g = 9.80665, gn = g * std::cos(theta);
+    const double d0 = std::cos(theta) * 1 - 0.1, vn0 = -std::sin(theta) * 0.5;  // gap and normal speed at 0
+    const double t1 = (vn0 + std::sqrt(vn0 * vn0 + 2 * gn * d0)) / gn;
+    EXPECT_NEAR(bounces[0], t1, 1e-9);
+    // Each bounce is located to about 1e-10 s; a ratio of intervals down to 0.05 s carries a few
+    // 1e-9 of that: 1e-7.
+    for (size_t k = 2; k < bounces.size(); ++k) {
+      EXPECT_NEAR((bounces[k] - bounces[k - 1]) / (bounces[k - 1] - bounces[k - 2]), e, 1e-7) << "bounce " << k;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace momenta
