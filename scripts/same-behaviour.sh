@@ -143,7 +143,7 @@ for dir in "$CURRENT"/*/; do
     if ((!PROGRAMS_ONLY)) && [[ -s "$BASE_DIR/$KIND/$name/interp.csv" && -s "$CURRENT/$name/interp.csv" ]] &&
       ! cmp -s "$BASE_DIR/$KIND/$name/interp.csv" "$CURRENT/$name/interp.csv"; then
       model=$(cd "$ROOT" && find models -name '*.yaml' | sort | while read -r m; do
-        n=${m#models/}; n=${n%.yaml}; [[ "${n//\//_}" == "$name" ]] && echo "$m"; done)
+        n=${m#models/}; n=${n%.yaml}; if [[ "${n//\//_}" == "$name" ]]; then echo "$m"; fi; done)
       printf '      results: '
       python3 scripts/result-difference.py "$BASE_DIR/$KIND/$name/interp.csv" "$CURRENT/$name/interp.csv" \
         ${model:+"$ROOT/$model"} || true
