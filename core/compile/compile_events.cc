@@ -35,7 +35,6 @@ class ConditionTable {
       const Node& n = p.node(ExprId(id));
       if (!(n.mask & kHasRelation) || !visited_.insert(id).second) continue;
       if (IsRelation(n.op) && !(n.flags & kNoEvent) && !p.IsParamOnly(ExprId(id)) && !OfDiscreteOnly(ExprId(id))) {
-        index_.emplace(id, static_cast<uint32_t>(relations_.size()));
         relations_.push_back(ExprId(id));
       }
       int arity = Arity(n.op);
@@ -47,7 +46,9 @@ class ConditionTable {
 
   /// Finishes: the map from relation nodes to condition leaves.
   void Freeze() {
-    for (const auto& [id, r] : index_) map_.emplace(id, pool_->Cond(r));
+    // In the relations' order: the condition leaves' nodes are made in the order of their numbers,
+    // not in the order of a hash map's buckets.
+    for (uint32_t r = 0; r < relations_.size(); ++r) map_.emplace(relations_[r].value(), pool_->Cond(r));
   }
 
   /// `e` with every registered relation replaced by its condition leaf.
@@ -76,7 +77,6 @@ class ConditionTable {
   ExprPool* pool_;
   const ExprNamer& names_;
   const std::vector<int32_t>& disc_of_var_;  ///< flat variable -> discrete index, -1 if continuous
-  std::unordered_map<uint32_t, uint32_t> index_;
   std::unordered_map<uint32_t, ExprId> map_;
   std::unordered_set<uint32_t> visited_;
   std::vector<ExprId> relations_;

@@ -6,6 +6,7 @@
 #include <unordered_map>
 
 #include "core/base/error.h"
+#include "core/expr/expr_testing.h"
 
 namespace momenta {
 
@@ -70,7 +71,10 @@ ExprPool::ExprPool() {
   one_ = Const(1.0);
   minus_one_ = Const(-1.0);
   time_ = Leaf(Op::kTime, 0);
+  if (pool_made_for_testing != nullptr) pool_made_for_testing(this);
 }
+
+void (*pool_made_for_testing)(ExprPool* pool) = nullptr;
 
 void ExprPool::Reserve(size_t nodes) {
   if (TooFull(nodes, table_.size())) Rehash(nodes / 3 * 4 + 1024);

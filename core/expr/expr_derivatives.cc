@@ -9,6 +9,7 @@
 
 #include "core/expr/expr_leaves.h"
 #include "core/expr/expr_walk.h"
+#include "core/expr/leaf_order.h"
 
 namespace momenta {
 
@@ -143,8 +144,9 @@ struct PartialDerivatives::Walk {
   uint32_t stamp = 0;
   ExprId root;
   uint8_t mask = 0;
-  /// The leaves in completion order, which is CollectLeaves' order unless an if-condition holds
-  /// leaves of the kinds asked for (CollectLeaves visits it, this walk does not).
+  /// The leaves the walk reached, sorted as CollectLeaves sorts them; CollectLeaves' list unless
+  /// an if-condition holds leaves of the kinds asked for (CollectLeaves visits it, this walk does
+  /// not).
   std::vector<ExprId> leaves;
   bool leaves_in_order = true;
 };
@@ -220,6 +222,8 @@ void PartialDerivatives::Reset(ExprId e, uint8_t mask) {
   w.mark.assign(count, 0);
   w.value.resize(count);
   w.stamp = 0;
+  // The walk's leaves in CollectLeaves' order (by variable, not by the walk).
+  if (w.leaves_in_order) SortLeaves(p, &w.leaves);
 }
 
 const std::vector<ExprId>& PartialDerivatives::Leaves() {

@@ -1,11 +1,14 @@
 // Leaf collection (core/expr/expr_leaves.h): a small tree is walked without remembering its
-// inner nodes, a large one with VisitLeaves (core/expr/expr_walk.h), which visits each node once.
+// inner nodes, a large one with VisitLeaves (core/expr/expr_walk.h), which visits each node once;
+// either way the leaves are then sorted by what they are (SortLeaves, core/expr/leaf_order.h), not
+// left in the walk's order, which follows node ids: the passes break their ties in this order.
 
 #include "core/expr/expr_leaves.h"
 
 #include <algorithm>
 
 #include "core/expr/expr_walk.h"
+#include "core/expr/leaf_order.h"
 
 namespace momenta {
 
@@ -52,17 +55,43 @@ bool CollectSmallTreeLeaves(const ExprPool& pool, ExprId e, uint8_t mask, std::v
   return true;
 }
 
+/// A leaf's place in LeafOrder: its variable or parameter index, then its kind, then its
+/// derivative order (the node's b for der(), 0 for the other kinds).
+uint64_t LeafKey(const ExprPool& pool, ExprId leaf) {
+  const Node& n = pool.node(leaf);
+  return static_cast<uint64_t>(n.a) << 32 | static_cast<uint64_t>(n.op) << 24 | (n.b & 0xFFFFFFu);
+}
+
 }  // namespace
+
+void SortLeaves(const ExprPool& pool, std::vector<ExprId>* leaves) {
+  std::vector<ExprId>& v = *leaves;
+  if (v.size() < 2) return;
+  if (v.size() <= 16) {
+    // Insertion sort: an equation holds a few leaves, mostly in order already.
+    for (size_t i = 1; i < v.size(); ++i) {
+      const ExprId x = v[i];
+      const uint64_t key = LeafKey(pool, x);
+      size_t j = i;
+      for (; j > 0 && LeafKey(pool, v[j - 1]) > key; --j) v[j] = v[j - 1];
+      v[j] = x;
+    }
+    return;
+  }
+  std::sort(v.begin(), v.end(), [&](ExprId x, ExprId y) { return LeafKey(pool, x) < LeafKey(pool, y); });
+}
 
 void CollectLeaves(const ExprPool& pool, ExprId e, uint8_t mask, std::vector<ExprId>* out) {
   out->clear();
   if (!(pool.mask(e) & mask)) return;
-  if (CollectSmallTreeLeaves(pool, e, mask, out)) return;
-  out->clear();
-  VisitLeaves(pool, e, mask, [&](ExprId leaf) {
-    out->push_back(leaf);
-    return false;
-  });
+  if (!CollectSmallTreeLeaves(pool, e, mask, out)) {
+    out->clear();
+    VisitLeaves(pool, e, mask, [&](ExprId leaf) {
+      out->push_back(leaf);
+      return false;
+    });
+  }
+  SortLeaves(pool, out);
 }
 
 std::vector<ExprId> CollectLeaves(const ExprPool& pool, ExprId e, uint8_t mask) {

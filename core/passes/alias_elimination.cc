@@ -119,6 +119,9 @@ class AliasJoiner {
                               : DeferredForm(&p, deferred_, eq.origin, &terms_, &d))) {
       return AliasOutcome::kKept;
     }
+    // The terms by variable index, not in the order the form's walk met them (which follows node
+    // ids): the roots, and the sum their offsets make, come in that order.
+    std::sort(terms_.begin(), terms_.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
     // Discrete variables are never aliased: their equations are evaluated at events.
     bool discrete = false;
     for (const auto& t : terms_) discrete = discrete || flat_.variables[t.first.value()].discrete;

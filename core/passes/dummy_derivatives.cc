@@ -237,7 +237,10 @@ class LevelChoice {
     for (uint32_t r : comp_rows) {
       std::vector<uint32_t> cols;
       for (auto [c, leaf] : row_cols[r]) cols.push_back(c);
-      std::sort(cols.begin(), cols.end(), [&](uint32_t x, uint32_t y) { return Preference(cands[x]) < Preference(cands[y]); });
+      // Equal preferences in candidate order (by variable), not in the order of the equation's leaves.
+      std::sort(cols.begin(), cols.end(), [&](uint32_t x, uint32_t y) {
+        return std::make_tuple(Preference(cands[x]), x) < std::make_tuple(Preference(cands[y]), y);
+      });
       std::vector<uint32_t> row;
       for (uint32_t c : cols) row.push_back(local.at(c));
       g.AddRow(row);

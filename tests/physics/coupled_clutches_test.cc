@@ -94,7 +94,9 @@ TEST_F(CoupledClutches, ClutchTorquesFollowTheirModes) {
       if (mode == 2) {
         ++free;
         EXPECT_LE(fn, 1e-9);
-        EXPECT_EQ(tau, 0);
+        // Zero but for the rounding of the algebraic loop it is solved in (observed 6e-33 N·m;
+        // the loop's other torques are of order 1 N·m).
+        EXPECT_LE(std::fabs(tau), 1e-12);
       } else if (mode == 0) {
         ++stuck;
         EXPECT_LE(std::fabs(tau), 1.1 * 0.5 * fn + 1e-6);

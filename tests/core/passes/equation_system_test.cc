@@ -1,14 +1,17 @@
 // The equations' leaves as the rounds of alias elimination and index reduction keep them:
 // CollectLeaves, whose walk of a small tree does not remember inner nodes, against a walk that
-// remembers them (the same leaves in the same order, also for shared subtrees and past the walk's
-// budgets), and EquationLeaves' answers against the substitution's own walk as equations are
-// rewritten and dropped.
+// remembers them (the same leaves, also for shared subtrees and past the walk's budgets, in an
+// order of what they are that does not follow node ids), and EquationLeaves' answers against the
+// substitution's own walk as equations are rewritten and dropped.
 
 #include "core/passes/equation_system.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
+#include <string>
+#include <tuple>
 #include <vector>
 
 namespace momenta {
@@ -44,7 +47,8 @@ ExprId RandomExpression(ExprPool* p, std::mt19937* rng, int nodes, int num_vars)
 }
 
 /// The leaves as a depth-first walk that visits each node once finds them (children pushed a, b,
-/// c, the last popped first): the order CollectLeaves gives.
+/// c, the last popped first), then sorted by variable (or parameter) index, kind and derivative
+/// order: CollectLeaves' list in its order.
 std::vector<ExprId> RememberedWalkLeaves(const ExprPool& p, ExprId e, uint8_t mask) {
   std::vector<ExprId> leaves;
   std::vector<bool> seen(p.size(), false);
@@ -64,10 +68,14 @@ std::vector<ExprId> RememberedWalkLeaves(const ExprPool& p, ExprId e, uint8_t ma
     if (arity >= 2) stack.push_back(n.b);
     if (arity >= 3) stack.push_back(n.c);
   }
+  std::sort(leaves.begin(), leaves.end(), [&](ExprId x, ExprId y) {
+    const Node &a = p.node(x), &b = p.node(y);
+    return std::make_tuple(a.a, a.op, a.b) < std::make_tuple(b.a, b.op, b.b);
+  });
   return leaves;
 }
 
-TEST(CollectLeavesTest, SameLeavesInSameOrderAsARememberedWalk) {
+TEST(CollectLeavesTest, SameLeavesAsARememberedWalkInLeafOrder) {
   ExprPool p;
   std::mt19937 rng(7);
   std::vector<ExprId> fast, reference;
@@ -86,6 +94,32 @@ TEST(CollectLeavesTest, SameLeavesInSameOrderAsARememberedWalk) {
       }
     }
   }
+}
+
+TEST(CollectLeavesTest, OrderDoesNotFollowNodeIds) {
+  // x0*p0 + x2 + der(x1) + x1, made with the leaves in two orders: the pool orders the operands
+  // of + and * by node id, so the trees differ, but not the list of their leaves.
+  auto leaves_with = [](bool reversed) {
+    ExprPool p;
+    if (reversed) {
+      for (uint32_t k = 3; k-- > 0;) {
+        p.Der(VarId(k));
+        p.Var(VarId(k));
+        p.Param(ParamId(k));
+      }
+    }
+    const ExprId e = p.Add(p.Add(p.Add(p.Mul(p.Var(VarId(0u)), p.Param(ParamId(0u))), p.Var(VarId(2u))),
+                                 p.Der(VarId(1u))),
+                           p.Var(VarId(1u)));
+    std::vector<std::string> names;
+    for (ExprId leaf : CollectLeaves(p, e, kAllLeaves)) {
+      const Node& n = p.node(leaf);
+      names.push_back(std::string(n.op == Op::kDer ? "der" : n.op == Op::kParam ? "p" : "x") + std::to_string(n.a));
+    }
+    return names;
+  };
+  EXPECT_EQ(leaves_with(false), (std::vector<std::string>{"x0", "p0", "x1", "der1", "x2"}));
+  EXPECT_EQ(leaves_with(true), leaves_with(false));
 }
 
 TEST(CollectLeavesTest, DeepChainIsHandedOver) {
