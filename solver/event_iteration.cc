@@ -19,7 +19,8 @@
 //       the rows (t, left) and (t, outputs)
 //
 // A relation whose function is within rounding of zero at an event takes the value its rate
-// leads to in the first round: the crossing that caused the event is passed. Later rounds follow
+// leads to in the first round: the crossing that caused the event is passed; one at rest there
+// (no rate) has not crossed and keeps its value. Later rounds follow
 // a restart that changed the continuous solution: a relation that was at rest at zero in the
 // first round keeps its value, and its crossing, if the new motion brings one, is a new event — as
 // in Modelica, where a friction element that starts to slide reports startForward at the
@@ -432,6 +433,11 @@ bool SetConditions(const CompiledModel& model, ModelState* state, IntegrationSta
       const double moving = std::fabs(rate[i]) * std::max(1.0, std::fabs(t)) > band ? rate[i] : 0.0;
       if (side == kRightLimit) run->moving_at_zero[i] = moving != 0;
       if (side == kHoldAtZero && !run->moving_at_zero[i]) continue;
+      // At another relation's event, one at rest within rounding of zero has not crossed: it
+      // keeps its value, as the step's crossing test kept it (a bearing starting forward whose
+      // sa rests at its limit while the gear it drives holds it stays starting when the gear
+      // breaks away).
+      if (side == kRightLimit && moving == 0 && std::fabs(zi) <= band) continue;
       // At zero up to the location error or rounding: at the start (a velocity of 1e-17 m/s
       // left by the initial Newton solve) zero itself, at an event the side the rate leads to,
       // and zero itself where nothing moves (a brake engaging on a shaft at rest, whose

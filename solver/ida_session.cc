@@ -438,14 +438,17 @@ void Restart(const CompiledModel& model, ModelState* state, IntegrationState* ru
     CheckFlag(IDAReInit(mem, t, ida.y.get(), ida.yp.get()), "IDAReInit");
     flag = CalcConsistentValues(run, t, /*line_search=*/false);
   }
-  if (flag < 0) {
+  // IDACalcIC stops at a singular matrix where the equations leave a split open (two stuck
+  // friction elements in series): then steps of least norm from run->y, run->y' pick one.
+  if (flag >= 0) {
+    CheckFlag(IDAGetConsistentIC(mem, ida.y.get(), ida.yp.get()), "IDAGetConsistentIC");
+    ReadIdaValues(run);
+  } else if (!SolveMixedByMinimumNormSteps(state, t, &run->y, &run->yp)) {
     const std::string& error = ida.callback_data.error;
     throw SolverError("at t = " + NumberText(t) + ": no consistent restart after the event (IDACalcIC: " +
                       FlagName(flag) + (error.empty() ? "" : ", " + error) +
                       "); the discrete values or re-initialised states contradict the equations");
   }
-  CheckFlag(IDAGetConsistentIC(mem, ida.y.get(), ida.yp.get()), "IDAGetConsistentIC");
-  ReadIdaValues(run);
   if (ida.restart_abstol) {
     // Back to the integration's tolerances; IDA takes them at its next (re)initialisation.
     CheckFlag(IDASVtolerances(mem, run->options.rtol, ida.abstol.get()), "IDASVtolerances");

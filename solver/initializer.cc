@@ -11,6 +11,7 @@
 #include "solver/crossing_search.h"
 #include "solver/event_iteration.h"
 #include "solver/jacobian_fill.h"
+#include "solver/minimum_norm_newton.h"
 #include "solver/output_rows.h"
 #include "solver/sundials_support.h"
 
@@ -143,68 +144,38 @@ InitialValues SolveFrom(ModelState* state, double t0, bool sparse, const std::ve
   return out;
 }
 
-/// Newton's method with minimum-norm steps (Eigen's complete orthogonal decomposition of the
-/// dense Jacobian) from the guesses `y0`, for a system that holds but leaves some unknowns free
-/// where KINSOL's LU stops at a zero pivot: two stuck friction elements in series carry the load
-/// between them in any split, and the step nearest the guesses picks one. Returns false unless
-/// every residual is within 1e-10 of the largest value (at least 1e-10): a system that has no
-/// solution still fails, and so does one of more than 500 unknowns (the dense decomposition's
-/// memory and time grow as their square and cube: 2 MB and about 0.1 s at 500).
+/// The initial system by Newton steps of least norm (minimum_norm_newton.h) from the guesses
+/// `y0`, for a system that holds but leaves some unknowns free where KINSOL's LU stops at a zero
+/// pivot. False when that finds no solution.
 bool SolveMinimumNorm(ModelState* state, double t0, const std::vector<double>& y0, InitialValues* out) {
   const CompiledModel& m = state->model();
   const size_t n = m.num_unknowns(), nz = n + m.num_states();
-  if (nz > 500) return false;
   const SparsePattern& pattern = m.init_pattern;
-  Eigen::VectorXd z = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(nz)), f(z.size()), trial_f(z.size());
+  Eigen::VectorXd z = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(nz));
   for (size_t k = 0; k < n; ++k) z[static_cast<Eigen::Index>(k)] = y0[k];
   std::vector<double> values(pattern.nnz());
-  Eigen::MatrixXd J(z.size(), z.size());
-  // A residual that cannot be evaluated (or is not finite) counts as infinitely large.
-  auto residual_norm = [&](const Eigen::VectorXd& at, Eigen::VectorXd* r) {
-    try {
-      state->InitResidual(t0, at.data(), r->data());
-    } catch (const std::exception&) {
-      return HUGE_VAL;
-    }
-    return r->allFinite() ? r->norm() : HUGE_VAL;
+  std::string ignored;  // a residual or Jacobian that cannot be evaluated ends the search
+  const auto residual = [&](const Eigen::VectorXd& at, Eigen::VectorXd* f) {
+    return GuardedCall(&ignored, [&] { state->InitResidual(t0, at.data(), f->data()); }) == 0;
   };
-  double norm = residual_norm(z, &f);
-  if (norm == HUGE_VAL) return false;
-  for (int iter = 0; iter < 50; ++iter) {
-    const double scale = std::max(1.0, z.cwiseAbs().maxCoeff());
-    if (f.cwiseAbs().maxCoeff() <= 1e-10 * scale) {
-      out->y.assign(z.data(), z.data() + n);
-      out->yp.assign(n, 0.0);
-      for (size_t s = 0; s < m.num_states(); ++s) out->yp[m.state_y[s]] = z[static_cast<Eigen::Index>(n + s)];
-      out->iterations = iter;
-      out->max_residual = f.cwiseAbs().maxCoeff();
-      CheckRedundant(state, t0, z.data());
-      return true;
-    }
-    try {
-      state->InitJacobian(t0, z.data(), values.data());
-    } catch (const std::exception&) {
-      return false;
-    }
-    J.setZero();
+  const auto jacobian = [&](const Eigen::VectorXd& at, Eigen::MatrixXd* J) {
+    if (GuardedCall(&ignored, [&] { state->InitJacobian(t0, at.data(), values.data()); }) != 0) return false;
     for (int32_t c = 0; c < pattern.cols; ++c) {
-      for (int32_t p = pattern.col_start[c]; p < pattern.col_start[c + 1]; ++p) J(pattern.row_index[p], c) = values[p];
+      for (int32_t p = pattern.col_start[c]; p < pattern.col_start[c + 1]; ++p) (*J)(pattern.row_index[p], c) = values[p];
     }
-    const Eigen::VectorXd step = J.completeOrthogonalDecomposition().solve(-f);
-    // Backtracking: halve the step until the residual's norm falls.
-    double lambda = 1;
-    for (; lambda > 1e-4; lambda /= 2) {
-      const double trial = residual_norm(z + lambda * step, &trial_f);
-      if (trial < norm) {
-        z += lambda * step;
-        f = trial_f;
-        norm = trial;
-        break;
-      }
-    }
-    if (lambda <= 1e-4) return false;
-  }
-  return false;
+    return true;
+  };
+  const int iterations = SolveByMinimumNormSteps(residual, jacobian, &z);
+  if (iterations < 0) return false;
+  Eigen::VectorXd f(z.size());
+  state->InitResidual(t0, z.data(), f.data());
+  out->y.assign(z.data(), z.data() + n);
+  out->yp.assign(n, 0.0);
+  for (size_t s = 0; s < m.num_states(); ++s) out->yp[m.state_y[s]] = z[static_cast<Eigen::Index>(n + s)];
+  out->iterations = iterations;
+  out->max_residual = f.cwiseAbs().maxCoeff();
+  CheckRedundant(state, t0, z.data());
+  return true;
 }
 
 }  // namespace

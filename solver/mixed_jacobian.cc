@@ -4,6 +4,8 @@
 
 #include "solver/mixed_jacobian.h"
 
+#include "solver/minimum_norm_newton.h"
+
 namespace momenta {
 
 MixedJacobian::MixedJacobian(ModelState* state, double t, const double* y, const double* yp)
@@ -11,6 +13,15 @@ MixedJacobian::MixedJacobian(ModelState* state, double t, const double* y, const
   dfdy_.resize(model_.jacobian_pattern.nnz());
   dfdyp_.resize(model_.jacobian_pattern.nnz());
   state->JacobianParts(t, y, yp, dfdy_.data(), dfdyp_.data());
+}
+
+void MixedJacobian::FillDense(Eigen::MatrixXd* dense) const {
+  const SparsePattern& pattern = model_.jacobian_pattern;
+  for (int32_t c = 0; c < pattern.cols; ++c) {
+    for (int32_t k = pattern.col_start[c]; k < pattern.col_start[c + 1]; ++k) {
+      (*dense)(pattern.row_index[k], c) = model_.is_state[c] ? dfdyp_[k] : dfdy_[k];
+    }
+  }
 }
 
 bool MixedJacobian::Factor() {
@@ -28,6 +39,41 @@ bool MixedJacobian::Factor() {
   matrix.makeCompressed();
   lu_.compute(matrix);
   return lu_.info() == Eigen::Success;
+}
+
+bool SolveMixedByMinimumNormSteps(ModelState* state, double t, std::vector<double>* y, std::vector<double>* yp) {
+  const std::vector<bool>& is_state = state->model().is_state;
+  const size_t n = y->size();
+  // The unknowns of the instant: a state's rate, an algebraic unknown's value.
+  std::vector<double> y_at = *y, yp_at = *yp;
+  const auto place = [&](const Eigen::VectorXd& x) {
+    for (size_t c = 0; c < n; ++c) (is_state[c] ? yp_at[c] : y_at[c]) = x[static_cast<Eigen::Index>(c)];
+  };
+  Eigen::VectorXd x(static_cast<Eigen::Index>(n));
+  for (size_t c = 0; c < n; ++c) x[static_cast<Eigen::Index>(c)] = is_state[c] ? (*yp)[c] : (*y)[c];
+  const auto residual = [&](const Eigen::VectorXd& at, Eigen::VectorXd* f) {
+    place(at);
+    try {
+      state->Residual(t, y_at.data(), yp_at.data(), f->data());
+    } catch (const std::exception&) {
+      return false;
+    }
+    return true;
+  };
+  const auto jacobian = [&](const Eigen::VectorXd& at, Eigen::MatrixXd* J) {
+    place(at);
+    try {
+      MixedJacobian(state, t, y_at.data(), yp_at.data()).FillDense(J);
+    } catch (const std::exception&) {
+      return false;
+    }
+    return true;
+  };
+  if (SolveByMinimumNormSteps(residual, jacobian, &x) < 0) return false;
+  place(x);
+  *y = y_at;
+  *yp = yp_at;
+  return true;
 }
 
 }  // namespace momenta

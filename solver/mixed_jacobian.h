@@ -4,8 +4,10 @@
 ///     M = [dF/dy' over the states | dF/dy over the algebraic unknowns],
 /// the matrix of IDACalcIC's YA_YDP_INIT step. An impact solves M [Δx; Λ] = b for the states'
 /// jumps and the impulses (impacts.cc); the polish after a start or restart solves with it for the
-/// states' rates and the algebraic unknowns (ida_session.cc).
+/// states' rates and the algebraic unknowns (ida_session.cc), and so does a restart whose matrix
+/// is singular, by steps of least norm (SolveMixedByMinimumNormSteps).
 
+#include <Eigen/Dense>
 #include <Eigen/Sparse>
 #include <Eigen/SparseLU>
 #include <vector>
@@ -18,6 +20,9 @@ class MixedJacobian {
  public:
   /// Evaluates dF/dy and dF/dy' at (t, y, y') in the Jacobian's pattern.
   MixedJacobian(ModelState* state, double t, const double* y, const double* yp);
+
+  /// M as a dense matrix into *dense (n x n, zero outside the pattern).
+  void FillDense(Eigen::MatrixXd* dense) const;
 
   /// Factors M; false when it is singular.
   bool Factor();
@@ -32,5 +37,12 @@ class MixedJacobian {
   std::vector<double> dfdy_, dfdyp_;
   Eigen::SparseLU<Eigen::SparseMatrix<double>> lu_;
 };
+
+/// The states' rates and the algebraic unknowns in *y, *yp (the states held) such that
+/// F(t, y, y') = 0, by Newton steps of least norm from the values given (minimum_norm_newton.h):
+/// where M is singular because the equations leave a split open (two stuck friction elements in
+/// series share the load in any split), the values nearest the given ones. False, with *y and *yp
+/// as given, when that finds no solution.
+bool SolveMixedByMinimumNormSteps(ModelState* state, double t, std::vector<double>* y, std::vector<double>* yp);
 
 }  // namespace momenta
