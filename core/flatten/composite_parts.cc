@@ -150,6 +150,10 @@ void ApplyModifiers(TypeLayout* layout, const PartPlan& plan) {
   for (const Modifier& m : plan.spec->modifiers) {
     auto [is_param, k] = ModifierTarget(*plan.spec, part, m);
     if (is_param) {
+      if (!m.value) {
+        throw ModelError(m.loc, plan.spec->name + "." + m.key + ": fixed: false on a parameter is taken in a model's " +
+                                    "component entries, not inside a composite type");
+      }
       const AstPtr value = ModifierValue(m, *part.params[k].decl, plan.spec->name);
       layout->param_defaults[param_off + k] = MakeTemplate(*layout, *value, m.value_text, m.loc, true, loop);
       layout->params[param_off + k].loc = m.loc;

@@ -18,6 +18,7 @@
 #include "core/flatten/connection_graph.h"
 #include "core/flatten/deferred_aliases.h"
 #include "core/flatten/flatten_context.h"
+#include "core/flatten/free_parameters.h"
 #include "core/flatten/instances.h"
 #include "core/flatten/model_connections.h"
 #include "core/flatten/model_scope.h"
@@ -55,6 +56,7 @@ class Flattener {
     Outputs();
     OrderParameters();
     CheckOverrides();
+    flatten_internal::MakeFreeParametersVariables(&context_);
     flatten_internal::ResolveConnectionGraph(&context_);
     CheckBuildTimeValues(context_.flat);
     CheckWhenConditions(context_.flat);

@@ -63,6 +63,8 @@ struct FlattenContext {
   /// Parameters that shaped the structure, and the values they shaped it with
   /// (FlatSystem::structural).
   std::map<std::string, double> structural;
+  /// Parameters a component entry leaves free (`c: {fixed: false}`; free_parameters.h).
+  std::vector<ParamId> free_parameters;
   double planned_bytes = 0;  ///< estimated memory of the components so far
 
  private:

@@ -357,7 +357,12 @@ void InstanceBuilder::AddParameters(const NewInstance& instance, const std::vect
     if (!decl.unit.empty()) fp.unit = local;
     if (!decl.doc.empty()) fp.doc = local;
     fp.instance = instance.InstanceOf(lp.sub);
-    if (const Modifier* m = modifiers[k]) {
+    if (const Modifier* m = modifiers[k]; m != nullptr && !m->value) {  // fixed: false (free_parameters.h)
+      fp.binding = m->start ? scope_.Expr(*m->start, AstToString(*m->start), m->loc, instance.index, false)
+                            : Instantiate(instance, layout.param_defaults[k], decl.value_text, decl.loc);
+      fp.loc = m->loc;
+      context_.free_parameters.push_back(ParamId(static_cast<uint32_t>(flat.parameters.size())));
+    } else if (m != nullptr) {
       const AstPtr value = m->value_unit.empty() ? m->value : ModifierValue(*m, decl, flat.InstancePath(instance.id));
       fp.binding = scope_.Expr(*value, m->value_text, m->loc, instance.index, false);
       fp.loc = m->loc;

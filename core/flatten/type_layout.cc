@@ -412,10 +412,18 @@ std::vector<AstPtr> TableElements(const AstPtr& value, const ParameterDecl& decl
   return elements;
 }
 
+bool IsFreeParameter(const Modifier& m) { return !m.value && m.fixed && !*m.fixed; }
+
 std::pair<bool, uint32_t> ModifierTarget(const ComponentSpec& c, const TypeLayout& layout, const Modifier& m) {
   auto p = layout.param_index.find(m.key);
   if (p != layout.param_index.end()) {
-    if (!m.value) throw ModelError(m.loc, c.name + "." + m.key + " is a parameter: give it a value, e.g. " + m.key + ": 2");
+    if (!m.value && !IsFreeParameter(m)) {
+      throw ModelError(m.loc, c.name + "." + m.key + " is a parameter: give it a value, e.g. " + m.key + ": 2, " +
+                                  "or {fixed: false, start: 2} to have the initial conditions determine it");
+    }
+    if (!m.value && (m.nominal || m.min || m.max || m.state_priority)) {
+      throw ModelError(m.loc, c.name + "." + m.key + " is a parameter with fixed: false: it takes start and fixed only");
+    }
     return {true, p->second};
   }
   auto v = layout.var_index.find(m.key);

@@ -151,6 +151,8 @@ uint32_t CheckedCount(FlattenContext* context, const ComponentSpec& c, const Typ
 std::vector<AstPtr> TableElements(const AstPtr& value, const ParameterDecl& decl, const SourceLoc& loc,
                                   const std::string& who, uint32_t* rows, uint32_t* cols);
 
+/// Whether a modifier leaves a parameter free: `{fixed: false}` without a value (free_parameters.h).
+bool IsFreeParameter(const Modifier& m);
 /// Which parameter (first = true) or variable of `layout` a modifier of component `c` sets.
 std::pair<bool, uint32_t> ModifierTarget(const ComponentSpec& c, const TypeLayout& layout, const Modifier& m);
 
