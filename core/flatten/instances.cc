@@ -9,6 +9,7 @@
 
 #include "core/base/error.h"
 #include "core/flatten/deferred_aliases.h"
+#include "core/flatten/type_scope.h"
 #include "core/lang/parser.h"
 
 namespace momenta::flatten_internal {
@@ -41,6 +42,31 @@ size_t InstanceNodes(const TypeLayout& layout) {
     }
   }
   return ops + leaves.size();
+}
+
+/// `a` with the names that start with component `own`'s name (`bodyCylinder.diameter` in
+/// bodyCylinder's own entry: Modelica reads a modifier in the enclosing scope, where that name is
+/// the component's own parameter) written as its type's local names (`diameter`). Null when it
+/// names none of them; `*other` is set when it names anything else (then the model's scope reads
+/// the whole expression).
+AstPtr OwnNamesAsLocal(const AstPtr& a, const std::string& own, bool* other) {
+  if (a->kind == Ast::Kind::kName) {
+    if (a->path.size() < 2 || a->path[0].name != own || a->path[0].index) {
+      *other = true;
+      return nullptr;
+    }
+    auto local = std::make_shared<Ast>(*a);
+    local->path.erase(local->path.begin());
+    return local;
+  }
+  std::shared_ptr<Ast> copy;
+  for (size_t k = 0; k < a->args.size(); ++k) {
+    AstPtr changed = OwnNamesAsLocal(a->args[k], own, other);
+    if (!changed) continue;
+    if (!copy) copy = std::make_shared<Ast>(*a);
+    copy->args[k] = std::move(changed);
+  }
+  return copy;
 }
 
 }  // namespace
@@ -364,7 +390,13 @@ void InstanceBuilder::AddParameters(const NewInstance& instance, const std::vect
       context_.free_parameters.push_back(ParamId(static_cast<uint32_t>(flat.parameters.size())));
     } else if (m != nullptr) {
       const AstPtr value = m->value_unit.empty() ? m->value : ModifierValue(*m, decl, flat.InstancePath(instance.id));
-      fp.binding = scope_.Expr(*value, m->value_text, m->loc, instance.index, false);
+      bool other = false;
+      const AstPtr local = instance.index ? nullptr : OwnNamesAsLocal(value, instance.component.name, &other);
+      if (local && !other) {  // its own parameters only: read in its type's scope
+        fp.binding = Instantiate(instance, MakeTemplate(layout, *local, m->value_text, m->loc, true), m->value_text, m->loc);
+      } else {
+        fp.binding = scope_.Expr(*value, m->value_text, m->loc, instance.index, false);
+      }
       fp.loc = m->loc;
     } else {
       fp.binding = Instantiate(instance, layout.param_defaults[k], decl.value_text, decl.loc);
