@@ -138,17 +138,16 @@ ExprId ModelScope::Name(const Ast& a, const SourceLoc& base, const LoopIndex* lo
   const ModelSpec& spec = context_.spec;
   SourceLoc loc = base.Shifted(a.column);
   const auto& first = a.path[0];
+  auto variable = [&](uint32_t v, const std::string& name) {
+    if (!allow_variables) throw ModelError(loc, "'" + name + "' is a variable; only parameters may be used in '" + text + "'");
+    return pool.Var(VarId(v));
+  };
   if (a.path.size() == 1 && !first.index) {
     if (loop && first.name == loop->first) return pool.Const(loop->second);
     auto mp = parameters_.find(first.name);
     if (mp != parameters_.end()) return pool.Param(mp->second);
     auto mv = variables_.find(first.name);
-    if (mv != variables_.end()) {
-      if (!allow_variables) {
-        throw ModelError(loc, "'" + first.name + "' is a variable; only parameters may be used in '" + text + "'");
-      }
-      return pool.Var(mv->second);
-    }
+    if (mv != variables_.end()) return variable(mv->second.value(), first.name);
     if (first.name == "time") {
       if (!allow_variables) throw ModelError(loc, "time cannot be used in '" + text + "'");
       return pool.Time();
@@ -157,6 +156,10 @@ ExprId ModelScope::Name(const Ast& a, const SourceLoc& base, const LoopIndex* lo
   }
   // An instance path: first segment is a component (or an element of an array).
   const ComponentArray* arr = context_.components.Find(first.name);
+  if (!arr && a.path.size() > 1) {  // a field of the model's own record variable: R.T[1,1]
+    auto mv = variables_.find(a.PathText());
+    if (mv != variables_.end()) return variable(mv->second.value(), a.PathText());
+  }
   if (!arr) {
     std::vector<std::string> names;
     for (const auto& p : spec.parameters) names.push_back(p.name);
@@ -182,12 +185,7 @@ ExprId ModelScope::Name(const Ast& a, const SourceLoc& base, const LoopIndex* lo
   }
   if (local.empty()) throw ModelError(loc, "'" + a.PathText() + "' names a component, not one of its variables");
   auto v = data.layout->var_index.find(local);
-  if (v != data.layout->var_index.end()) {
-    if (!allow_variables) {
-      throw ModelError(loc, "'" + a.PathText() + "' is a variable; only parameters may be used in '" + text + "'");
-    }
-    return pool.Var(VarId(data.first_var.value() + v->second));
-  }
+  if (v != data.layout->var_index.end()) return variable(data.first_var.value() + v->second, a.PathText());
   auto p = data.layout->param_index.find(local);
   if (p != data.layout->param_index.end()) {
     return pool.Param(ParamId(data.first_param.value() + p->second));

@@ -75,6 +75,8 @@ ArrayScope ModelScope(const ArrayShapes* table, const ComponentTypes* component_
       auto it = table->find(name.path[0].name);
       return it == table->end() ? nullptr : &it->second;
     }
+    // A field of the model's own record variable (`R.T`).
+    if (auto own = table->find(JoinedName(name, 0)); own != table->end()) return &own->second;
     auto c = component_type->find(name.path[0].name);
     if (c == component_type->end() || !c->second) return nullptr;
     // Down through the parts of composite types, then the type's own arrays.
@@ -276,7 +278,7 @@ bool ModelNeedsScalarForm(const ModelSpec& spec, const Library& library,
     if (!p.shape.empty() || UsesArraySyntax(p.value, false)) return true;
   }
   for (const auto& v : spec.variables) {
-    if (!v.shape.empty() || UsesArraySyntax(v.start, false)) return true;
+    if (!v.shape.empty() || !v.record.empty() || UsesArraySyntax(v.start, false)) return true;
   }
   for (const auto* list : {&spec.equations, &spec.initial_equations}) {
     for (const auto& e : *list) {
@@ -388,9 +390,18 @@ std::optional<ModelSpec> ScalarModel(const ModelSpec& spec, const Library& libra
   ArrayShapes table;
   ArrayScope scope = ModelScope(&table, &component_type, type_of);
   scope.library = &library;
+  // Record names the model's expressions may use whole: its own record variables (`R`) and its
+  // components' record potentials and variables (`body.frame_a.R`).
+  std::map<std::string, std::string> records;
+  const std::vector<VariableDecl> variables = ExpandRecordVariables(spec.variables, library, "", &records);
+  for (const auto& [name, type] : component_type) {
+    if (!type) continue;
+    for (const auto& [local, record] : type->records) records.emplace(name + "." + local, record);
+  }
+  scope.records = &records;
   DeclarationScalariser s(scope, &table, "");
   out.parameters = s.Parameters(spec.parameters);
-  out.variables = s.Variables(spec.variables, {});
+  out.variables = s.Variables(variables, {});
   out.equations = s.Equations(spec.equations);
   out.initial_equations = s.Equations(spec.initial_equations);
   out.whens = s.Whens(spec.whens);

@@ -177,21 +177,16 @@ ConnectorType ExpandRecords(ConnectorType connector, const Library& library) {
   return connector;
 }
 
-ComponentType ExpandRecordDeclarations(const ComponentType& type, const Library& library) {
-  ComponentType out = type;
-  for (const auto& c : type.connectors) {
-    const ConnectorType* ct = library.FindConnector(c.type);
-    if (!ct) continue;
-    for (const auto& [name, record] : ct->records) out.records[c.name + "." + name] = record;
-  }
-  out.variables.clear();
-  for (const VariableDecl& v : type.variables) {
+std::vector<VariableDecl> ExpandRecordVariables(const std::vector<VariableDecl>& variables, const Library& library,
+                                                const std::string& owner, std::map<std::string, std::string>* records) {
+  std::vector<VariableDecl> out;
+  for (const VariableDecl& v : variables) {
     if (v.record.empty()) {
-      out.variables.push_back(v);
+      out.push_back(v);
       continue;
     }
-    const RecordType& r = FindRecordOrFail(library, v.record, v.loc, type.name + "." + v.name);
-    out.records[v.name] = r.name;
+    const RecordType& r = FindRecordOrFail(library, v.record, v.loc, owner + v.name);
+    (*records)[v.name] = r.name;
     for (const ConnectorVariable& f : r.fields) {
       VariableDecl e;
       e.name = v.name + "." + f.name;
@@ -200,9 +195,20 @@ ComponentType ExpandRecordDeclarations(const ComponentType& type, const Library&
       e.shape = f.shape;
       e.loc = v.loc;
       e.state_priority = v.state_priority;
-      out.variables.push_back(std::move(e));
+      out.push_back(std::move(e));
     }
   }
+  return out;
+}
+
+ComponentType ExpandRecordDeclarations(const ComponentType& type, const Library& library) {
+  ComponentType out = type;
+  for (const auto& c : type.connectors) {
+    const ConnectorType* ct = library.FindConnector(c.type);
+    if (!ct) continue;
+    for (const auto& [name, record] : ct->records) out.records[c.name + "." + name] = record;
+  }
+  out.variables = ExpandRecordVariables(type.variables, library, type.name + ".", &out.records);
   DeclareOuters(type, library, &out);
   // The graph's predicates: hidden Boolean parameters, false until the graph sets them.
   std::set<std::string> predicates;

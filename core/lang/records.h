@@ -30,6 +30,12 @@ bool UsesRecordsOrBlocks(const ComponentType& type, const Library& library);
 /// overdetermined record's residues not counted. Throws ModelError for an unknown record.
 ConnectorType ExpandRecords(ConnectorType connector, const Library& library);
 
+/// Variables of a record type replaced by their fields (shaped variables `R.T`, `R.w`), each
+/// recorded in `records` (`R` → its record type). `owner` prefixes names in messages ("Body.",
+/// or "" for a model's own). Throws ModelError for an unknown record.
+std::vector<VariableDecl> ExpandRecordVariables(const std::vector<VariableDecl>& variables, const Library& library,
+                                                const std::string& owner, std::map<std::string, std::string>* records);
+
 /// A type's record variables replaced by their fields (shaped variables `R_rel.T`, `R_rel.w`),
 /// its local record names recorded in `records` (its own and its connectors'), the graph's
 /// predicates made hidden parameters. Before the arrays are expanded.

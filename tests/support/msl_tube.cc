@@ -67,6 +67,16 @@ double DistanceToReference(const Csv& ref, size_t c, double t, double v, double 
   return best;
 }
 
+/// Whether reference row r and a neighbour are at the same time with every value the same.
+bool SameValuesAtOneInstant(const Csv& ref, size_t r) {
+  for (size_t q : {r - 1, r + 1}) {
+    if (r == 0 && q == r - 1) continue;
+    if (q >= ref.rows.size()) continue;
+    if (ref.rows[q] == ref.rows[r]) return true;
+  }
+  return false;
+}
+
 }  // namespace
 
 void Compare(const std::string& model, const Trajectory& ours, const Csv& ref, double interval,
@@ -101,6 +111,10 @@ void Compare(const std::string& model, const Trajectory& ours, const Csv& ref, d
     const double t = ref.rows[r][0];
     auto [lo, hi] = RowsAt(ours, t, eps_at(t));
     if (lo == hi) {
+      // An instant listed twice with the same values (Dymola's restart when its dynamic state
+      // selection switches, AngularVelocity's at t = 0.5460961) jumps nowhere: its rows are
+      // points of the reference's curve, against which ours are checked below.
+      if (SameValuesAtOneInstant(ref, r)) continue;
       auto [elo, ehi] = EventRowsNear(ours, t, window);
       ASSERT_LT(elo, ehi) << model << ": no output row at the reference time " << t
                           << " and no event of ours within " << window << " s";
