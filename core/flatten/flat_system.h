@@ -235,6 +235,9 @@ struct FlatSystem {
   std::vector<FlatConditionalConnector> conditional_connectors;
   ExperimentSpec experiment;
   std::shared_ptr<const Library> defines;  ///< the model's own types (instances point into them)
+  /// The model's own connectors, records and functions laid over the library (null: none), which
+  /// the layouts point into.
+  std::shared_ptr<const Library> model_library;
   std::map<std::string, double> structural;  ///< parameters that shaped the structure, and their values
   /// The names of each component type instantiated, shared by the copies passes make.
   std::vector<std::shared_ptr<const TypeNames>> type_names;

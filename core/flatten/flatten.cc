@@ -26,6 +26,7 @@
 #include "core/flatten/type_layout.h"
 #include "core/lang/arrays.h"
 #include "core/lang/parser.h"
+#include "core/lang/records.h"
 
 namespace momenta {
 
@@ -202,11 +203,30 @@ class Flattener {
 
 }  // namespace
 
+namespace {
+/// The model's own connectors, records and functions (`define:`, `uses:` files) over `library`,
+/// its connectors' records expanded there; null when it has none.
+std::shared_ptr<Library> ModelLibrary(const ModelSpec& spec, const Library& library) {
+  if (!spec.own || spec.own->empty()) return nullptr;
+  auto own = std::make_shared<Library>();
+  own->SetBase(&library);
+  own->AddRecordsAndFunctions(*spec.own);
+  for (const std::string& name : spec.own->ConnectorNames()) {
+    own->AddConnector(ScalarForm(ExpandRecords(*spec.own->FindConnector(name), *own)));
+  }
+  return own;
+}
+}  // namespace
+
 FlatSystem Flatten(const ModelSpec& spec, const Library& library, const ParameterOverrides& overrides,
                    bool defer_equations) {
+  const std::shared_ptr<Library> own = ModelLibrary(spec, library);
+  const Library& scope = own ? *own : library;
   // Vectors and matrices become scalars first (core/lang/arrays.h); a model without arrays is used as is.
-  std::optional<ModelSpec> scalar = ScalarModel(spec, library);
-  return Flattener(scalar ? *scalar : spec, library, overrides, defer_equations).Run();
+  std::optional<ModelSpec> scalar = ScalarModel(spec, scope);
+  FlatSystem flat = Flattener(scalar ? *scalar : spec, scope, overrides, defer_equations).Run();
+  flat.model_library = own;
+  return flat;
 }
 
 namespace {

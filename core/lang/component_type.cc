@@ -87,6 +87,7 @@ Library& Library::operator=(const Library& other) {
   functions_ = other.functions_;
   short_functions_ = other.short_functions_;
   lazy_ = nullptr;
+  base_ = other.base_;
   return *this;
 }
 
@@ -103,7 +104,8 @@ void Library::AddComponent(ComponentType c) {
 }
 
 const ConnectorType* Library::FindConnector(const std::string& name) const {
-  return FindQualified(connectors_, short_connectors_, name);
+  const ConnectorType* c = FindQualified(connectors_, short_connectors_, name);
+  return c || !base_ ? c : base_->FindConnector(name);
 }
 
 void Library::AddRecord(RecordType r) {
@@ -119,12 +121,14 @@ void Library::AddFunction(FunctionDecl f) {
 
 const RecordType* Library::FindRecord(const std::string& name) const {
   auto it = records_.find(name);
-  return it != records_.end() ? it->second.get() : FindByTail(records_, name);
+  const RecordType* r = it != records_.end() ? it->second.get() : FindByTail(records_, name);
+  return r || !base_ ? r : base_->FindRecord(name);
 }
 
 const FunctionDecl* Library::FindFunction(const std::string& name) const {
   if (const FunctionDecl* f = FindQualified(functions_, short_functions_, name)) return f;
-  return FindByTail(functions_, name);
+  if (const FunctionDecl* f = FindByTail(functions_, name)) return f;
+  return base_ ? base_->FindFunction(name) : nullptr;
 }
 
 void Library::AddRecordsAndFunctions(const Library& other) {
@@ -132,6 +136,14 @@ void Library::AddRecordsAndFunctions(const Library& other) {
   for (const auto& [name, f] : other.functions_) {
     AddShortName(name, &short_functions_);
     functions_[name] = f;
+  }
+}
+
+void Library::AddOwnEntries(const Library& other) {
+  AddRecordsAndFunctions(other);
+  for (const auto& [name, c] : other.connectors_) {
+    AddShortName(name, &short_connectors_);
+    connectors_[name] = c;
   }
 }
 
@@ -143,28 +155,29 @@ const ComponentType* Library::FindComponent(const std::string& name) const {
   // Not yet read: the source reads the type of that exact name and every type it could abbreviate,
   // so that the short-name rule below sees what it would see in the whole library.
   if (!components_.count(name)) ReadLazily(name);
-  return FindQualified(components_, short_components_, name);
+  const ComponentType* t = FindQualified(components_, short_components_, name);
+  return t || !base_ ? t : base_->FindComponent(name);
 }
 
 bool Library::Has(const std::string& name) const {
   if (!connectors_.count(name) && !components_.count(name)) ReadLazily(name);
-  return connectors_.count(name) || components_.count(name);
+  return connectors_.count(name) || components_.count(name) || (base_ && base_->Has(name));
 }
 
 bool Library::HasComponent(const std::string& name) const {
   if (!components_.count(name)) ReadLazily(name);
-  return components_.count(name) != 0;
+  return components_.count(name) != 0 || (base_ && base_->HasComponent(name));
 }
 
 std::vector<std::string> Library::ComponentNames() const {
   if (lazy_) lazy_->ReadAll(const_cast<Library*>(this));
-  std::vector<std::string> out;
+  std::vector<std::string> out = base_ ? base_->ComponentNames() : std::vector<std::string>();
   for (const auto& [name, t] : components_) out.push_back(name);
   return out;
 }
 
 std::vector<std::string> Library::ConnectorNames() const {
-  std::vector<std::string> out;
+  std::vector<std::string> out = base_ ? base_->ConnectorNames() : std::vector<std::string>();
   for (const auto& [name, t] : connectors_) out.push_back(name);
   return out;
 }

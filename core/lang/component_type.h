@@ -318,6 +318,13 @@ class Library {
   /// not change (a type read on first use was always in it), so lookups stay const; they are not
   /// safe from several threads at once while types are still being read.
   void SetLazyTypes(std::shared_ptr<const LazyTypes> lazy) { lazy_ = std::move(lazy); }
+  /// From now on, what is not found here is looked up in `base` (a model's own connectors,
+  /// records and functions over the library it is built with); `base` must outlive every lookup.
+  void SetBase(const Library* base) { base_ = base; }
+  /// Whether it holds no connector, component, record or function of its own.
+  bool empty() const {
+    return connectors_.empty() && components_.empty() && records_.empty() && functions_.empty();
+  }
   void AddConnector(ConnectorType c);
   void AddComponent(ComponentType c);
   void AddRecord(RecordType r);
@@ -329,6 +336,8 @@ class Library {
   bool HasRecordsOrFunctions() const { return !records_.empty() || !functions_.empty(); }
   /// Copies the records and functions of `other` (a library read in pieces needs them all).
   void AddRecordsAndFunctions(const Library& other);
+  /// Copies the connectors, records and functions of `other` (not its component types).
+  void AddOwnEntries(const Library& other);
   const ComponentType* FindComponent(const std::string& name) const;
   bool Has(const std::string& name) const;
   /// A component type of exactly this name (no short-name lookup).
@@ -345,6 +354,7 @@ class Library {
   /// Last part of a qualified name -> the full name ("" when two packages share it).
   std::map<std::string, std::string> short_connectors_, short_components_;
   std::shared_ptr<const LazyTypes> lazy_;
+  const Library* base_ = nullptr;
   /// Reads `name` through lazy_, if set (a type read now was always in the library).
   void ReadLazily(const std::string& name) const;
 };

@@ -1,6 +1,7 @@
 #pragma once
 /// A model file as the user wrote it (docs/FORMAT.md), after reading and before flattening.
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,9 @@ struct ModelSpec {
   std::vector<UsesSpec> uses;  ///< read by LoadModelFile: their types are in `defines`
   std::vector<ParameterDecl> parameters;
   std::vector<ComponentType> defines;
+  /// The connector types (as written: their records not yet expanded), records and functions of
+  /// its `define:` section and of its `uses:` files; Flatten lays them over the library.
+  std::shared_ptr<Library> own = std::make_shared<Library>();
   std::vector<ComponentSpec> components;
   std::vector<ConnectionSpec> connections;
   std::vector<VariableDecl> variables;

@@ -68,6 +68,7 @@ void LoadUses(ModelSpec* top, std::set<std::string>* loaded) {
       chain.pop_back();
       ModelSpec& user = chain.back().spec;
       for (auto& d : used.defines) user.defines.push_back(std::move(d));
+      user.own->AddOwnEntries(*used.own);
       user.defines.push_back(ModelAsType(used));
       continue;
     }
@@ -93,9 +94,8 @@ void LoadUses(ModelSpec* top, std::set<std::string>* loaded) {
       chain.push_back({ParseModel(text, file), 0});
       continue;
     }
-    Library scratch;
     try {
-      ReadLibraryEntries(ValueReader(file), root, &scratch, &at.spec.defines, true,
+      ReadLibraryEntries(ValueReader(file), root, at.spec.own.get(), &at.spec.defines, true,
                          "a library file in uses:");
     } catch (const YAML::Exception& e) {
       throw ModelError(MarkLoc(file, e.mark.line, e.mark.column),

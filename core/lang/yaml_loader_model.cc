@@ -155,8 +155,7 @@ ModelSpec ReadModel(const ValueReader& reader, const YamlNode& root) {
     m.parameters = ReadModelParameters(reader, root["parameters"], m.name);
   }
   if (root["define"] && !root["define"].IsNull()) {
-    Library scratch;
-    ReadLibraryEntries(reader, root["define"], &scratch, &m.defines, true);
+    ReadLibraryEntries(reader, root["define"], m.own.get(), &m.defines, true);
   }
   ReadParts(reader, root, &m.components, &m.connections);
   if (root["variables"] && !root["variables"].IsNull()) {

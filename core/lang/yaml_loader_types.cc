@@ -164,11 +164,9 @@ void ReadLibraryEntries(const ValueReader& reader, const YamlNode& root, Library
     reader.ExpectMap(n, "type " + name);
     std::string kind = n["kind"] ? reader.Scalar(n["kind"], name + ".kind") : "component";
     if (kind == "connector") {
-      if (user)
-        reader.Fail(n["kind"],
-                    "a model's define: section and a uses: file hold component types only; "
-                    "connector types come from the library");
-      library->AddConnector(ScalarForm(ExpandRecords(ReadConnectorType(reader, name, n), *library)));
+      // A model's own connector is expanded when the model is flattened, over the library.
+      ConnectorType c = ReadConnectorType(reader, name, n);
+      library->AddConnector(user ? std::move(c) : ScalarForm(ExpandRecords(std::move(c), *library)));
     } else if (kind == "record") {
       library->AddRecord(ReadRecordType(reader, name, n));
     } else if (kind == "function") {
