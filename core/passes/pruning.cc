@@ -78,6 +78,7 @@ class NeededParts {
   /// added.
   bool MarkInitialEquations() {
     bool added = false;
+    dead_.assign(need_var.size(), false);
     for (size_t k = 0; k < sys_.initial.size(); ++k) {
       if (need_init[k]) continue;
       bool touches = false;
@@ -100,16 +101,22 @@ class NeededParts {
   /// Whether initial equation k, which names no needed variable, still constrains one: a variable
   /// it names is determined (through equations that are not a state's) by a needed one. The tip
   /// position of a double pendulum fixed by a sensor-like joint that no output reads settles the
-  /// needed joint angles.
+  /// needed joint angles. The variables a failed walk visited are dead for the rest of the pass
+  /// (MarkInitialEquations clears them: what is needed grows between passes), so the walks of
+  /// one pass cost about one walk over the model.
   bool ConstrainsNeeded(size_t k) {
     std::vector<uint32_t> stack(init_vars_.begin() + init_start_[k], init_vars_.begin() + init_start_[k + 1]);
-    std::vector<bool> seen(need_var.size(), false);
+    std::vector<uint32_t> visited;
     while (!stack.empty()) {
       const uint32_t v = stack.back();
       stack.pop_back();
-      if (seen[v]) continue;
-      seen[v] = true;
-      if (need_var[v]) return true;
+      if (dead_[v]) continue;
+      if (need_var[v]) {
+        for (uint32_t u : visited) dead_[u] = false;
+        return true;
+      }
+      dead_[v] = true;
+      visited.push_back(v);
       // A state's value at the start is an unknown of the initial system itself, not a function
       // of what its derivative's equation reads.
       const int32_t e = structure_.equation_of_var[v];
@@ -126,6 +133,7 @@ class NeededParts {
   std::vector<uint32_t> queue_;
   std::vector<uint32_t> init_start_{0}, init_vars_;
   std::vector<ExprId> leaves_, walk_leaves_;  // scratch
+  std::vector<bool> dead_;  ///< by variable: no needed variable determines it (this pass)
 };
 
 }  // namespace
