@@ -1,7 +1,8 @@
 // A variable is needed when an output uses it, or when a needed equation uses it; an equation is
 // needed when it determines a needed variable (for a state x, the equation matched to der(x)).
-// An initial equation is kept when it touches a needed variable, and then all its variables are
-// needed too. The closure is a breadth-first walk over the matching.
+// An initial equation is kept when it touches a needed variable, or a variable that needed ones
+// determine (it then constrains them), and then all its variables are needed too. The closure is
+// a breadth-first walk over the matching.
 
 #include "core/passes/pruning.h"
 
@@ -77,6 +78,7 @@ class NeededParts {
   /// added.
   bool MarkInitialEquations() {
     bool added = false;
+    dead_.assign(need_var.size(), false);
     for (size_t k = 0; k < sys_.initial.size(); ++k) {
       if (need_init[k]) continue;
       bool touches = false;
@@ -86,6 +88,7 @@ class NeededParts {
         touches =
             need_var[v] || (sys_.role[v] == VarRole::kUnknown && sys_.flat->variables[v].discrete);
       }
+      if (!touches) touches = ConstrainsNeeded(k);
       if (touches) {
         need_init[k] = true;
         for (uint32_t j = init_start_[k]; j < init_start_[k + 1]; ++j) MarkVariable(init_vars_[j]);
@@ -95,12 +98,42 @@ class NeededParts {
     return added;
   }
 
+  /// Whether initial equation k, which names no needed variable, still constrains one: a variable
+  /// it names is determined (through equations that are not a state's) by a needed one. The tip
+  /// position of a double pendulum fixed by a sensor-like joint that no output reads settles the
+  /// needed joint angles. The variables a failed walk visited are dead for the rest of the pass
+  /// (MarkInitialEquations clears them: what is needed grows between passes), so the walks of
+  /// one pass cost about one walk over the model.
+  bool ConstrainsNeeded(size_t k) {
+    std::vector<uint32_t> stack(init_vars_.begin() + init_start_[k], init_vars_.begin() + init_start_[k + 1]);
+    std::vector<uint32_t> visited;
+    while (!stack.empty()) {
+      const uint32_t v = stack.back();
+      stack.pop_back();
+      if (dead_[v]) continue;
+      if (need_var[v]) {
+        for (uint32_t u : visited) dead_[u] = false;
+        return true;
+      }
+      dead_[v] = true;
+      visited.push_back(v);
+      // A state's value at the start is an unknown of the initial system itself, not a function
+      // of what its derivative's equation reads.
+      const int32_t e = structure_.equation_of_var[v];
+      if (e < 0 || structure_.is_state[v] || sys_.role[v] != VarRole::kUnknown) continue;
+      CollectLeaves(pool_, sys_.equations[e].residual, kHasVar | kHasDer | kHasPre, &walk_leaves_);
+      for (ExprId leaf : walk_leaves_) stack.push_back(pool_.node(leaf).a);
+    }
+    return false;
+  }
+
   const EquationSystem& sys_;
   const ExprPool& pool_;
   const Structure& structure_;
   std::vector<uint32_t> queue_;
   std::vector<uint32_t> init_start_{0}, init_vars_;
-  std::vector<ExprId> leaves_;  // scratch
+  std::vector<ExprId> leaves_, walk_leaves_;  // scratch
+  std::vector<bool> dead_;  ///< by variable: no needed variable determines it (this pass)
 };
 
 }  // namespace

@@ -77,6 +77,17 @@ bool SameValuesAtOneInstant(const Csv& ref, size_t r) {
   return false;
 }
 
+/// True when our row k is an output grid row (start + j*interval, to 1e-9 of an interval) and
+/// the only row at its time (not an event's left or right limit).
+bool OnGridAlone(const Trajectory& ours, size_t k, double interval) {
+  const double t = ours.t[k], start = ours.t.front();
+  const double grid = start + std::round((t - start) / interval) * interval;
+  if (std::fabs(t - grid) > 1e-9 * interval) return false;
+  const bool repeated_before = k > 0 && ours.t[k - 1] == t;
+  const bool repeated_after = k + 1 < ours.t.size() && ours.t[k + 1] == t;
+  return !repeated_before && !repeated_after;
+}
+
 }  // namespace
 
 void Compare(const std::string& model, const Trajectory& ours, const Csv& ref, double interval,
@@ -113,7 +124,7 @@ void Compare(const std::string& model, const Trajectory& ours, const Csv& ref, d
     if (lo == hi) {
       // An instant listed twice with the same values (Dymola's restart when its dynamic state
       // selection switches, AngularVelocity's at t = 0.5460961) jumps nowhere: its rows are
-      // points of the reference's curve, against which ours are checked below.
+      // points of the reference's curve, against which our rows at events are checked below.
       if (SameValuesAtOneInstant(ref, r)) continue;
       auto [elo, ehi] = EventRowsNear(ours, t, window);
       ASSERT_LT(elo, ehi) << model << ": no output row at the reference time " << t
@@ -175,9 +186,15 @@ void Compare(const std::string& model, const Trajectory& ours, const Csv& ref, d
       record(std::fabs(nearest - ref.rows[r][c]), ref.rows[r][0], nearest, ref.rows[r][c]);
     }
     // Our rows at times the reference does not list (events): inside the tube around the
-    // reference's curve (the reported "reference" value is ours less the distance).
+    // reference's curve (the reported "reference" value is ours less the distance). A single row
+    // of ours on the output grid is a grid row the thinned reference left out: the straight line
+    // between the reference's rows either side of it is no reference value where the curve bends
+    // (ForcesAndTorques' Revolute4.w peaks at 459.13 rad/s, converged to 1e-12, between rows of
+    // 453.14 and 398.85), and ours less that line is our own curvature, not an error: such rows
+    // are not compared. The rows that are compared bound ours between them all the same.
     for (size_t k = 0; k < ours.t.size(); ++k) {
       if (paired[k] || ours.t[k] < ref.rows.front()[0] || ours.t[k] > ref.rows.back()[0]) continue;
+      if (OnGridAlone(ours, k, interval)) continue;
       const double mine = ours.values[k][ours_col];
       const double d = DistanceToReference(ref, c, ours.t[k], mine, window);
       record(d, ours.t[k], mine, mine - d);

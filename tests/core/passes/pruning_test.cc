@@ -172,5 +172,29 @@ outputs: [x]
   }
 }
 
+TEST(PruningTest, AFixedStartOfAVariableTheStatesDetermineIsKept) {
+  // The output needs the state x only; tip = 2*x is not read, but its fixed start (an initial
+  // equation that names no needed variable) settles x = 1.5 (x's own start, 0, is not fixed).
+  // Pruned with tip, the initial equation was dropped and x started from 0.
+  testing::Built b = testing::BuildYaml(R"(
+model: Tip
+variables:
+  x: {start: 0}
+  tip: {start: 3, fixed: true}
+  z: {start: 0, fixed: true}
+equations:
+  - der(x) = -x
+  - tip = 2*x
+  - der(z) = 1
+experiment: {stop: 1, interval: 0.5}
+outputs: [x]
+)");
+  EXPECT_TRUE(Has(b.report.pruned, "z"));
+  testing::Trajectory tr = testing::RunDefault(b);
+  for (size_t row = 0; row < tr.t.size(); ++row) {
+    EXPECT_NEAR(tr.Column("x", row), 1.5 * std::exp(-tr.t[row]), 1e-5) << tr.t[row];
+  }
+}
+
 }  // namespace
 }  // namespace momenta
