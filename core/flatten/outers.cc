@@ -3,6 +3,7 @@
 #include "core/flatten/outers.h"
 
 #include <unordered_map>
+#include <unordered_set>
 
 #include "core/base/error.h"
 
@@ -26,14 +27,14 @@ void ResolveOuters(FlattenContext* context) {
   }
   // The inner components' parameters by name, looked up once each instead of a scan of every
   // parameter per outer parameter (quadratic in the number of bodies).
-  std::unordered_map<uint32_t, bool> is_inner;
+  std::unordered_set<uint32_t> inner_instances;
   for (const auto& [prefix, k] : top) {
-    if (k != UINT32_MAX) is_inner.emplace(k, true);
+    if (k != UINT32_MAX) inner_instances.insert(k);
   }
   std::unordered_map<std::string, ParamId> inner_params;
   for (uint32_t q = 0; q < flat.parameters.size(); ++q) {
     const InstanceId i = flat.parameters[q].instance;
-    if (i.valid() && is_inner.count(i.value())) inner_params.emplace(flat.ParameterName(ParamId(q)), ParamId(q));
+    if (i.valid() && inner_instances.count(i.value())) inner_params.emplace(flat.ParameterName(ParamId(q)), ParamId(q));
   }
   ExprPool& pool = *flat.pool;
   for (uint32_t q = 0; q < flat.parameters.size(); ++q) {
