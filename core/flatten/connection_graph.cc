@@ -6,6 +6,7 @@
 #include <deque>
 #include <map>
 #include <memory>
+#include <optional>
 #include <set>
 #include <unordered_map>
 
@@ -40,6 +41,7 @@ class Graph {
 
   void Run() {
     if (!Declared()) return;
+    for (uint32_t q = 0; q < flat_.parameters.size(); ++q) param_of_.emplace(flat_.ParameterName(ParamId(q)), ParamId(q));
     const std::vector<double> params = EvaluateParameters(flat_, context_.overrides);
     CollectNodes(params);
     CollectRoles(params);
@@ -62,7 +64,7 @@ class Graph {
   bool Present(InstanceId i, const ComponentType& type, const std::string& connector, const std::vector<double>& params) const {
     for (const ConnectorDecl& c : type.connectors) {
       if (c.name != connector || c.condition.empty()) continue;
-      auto p = flat_.FindParameter(flat_.InstancePath(i) + "." + c.condition);
+      auto p = FindParameter(i, c.condition);
       return !p || params[p->value()] != 0;
     }
     return true;
@@ -127,7 +129,7 @@ class Graph {
       negate = true;
       name = name.substr(4);
     }
-    auto p = flat_.FindParameter(flat_.InstancePath(i) + "." + name);
+    auto p = FindParameter(i, name);
     if (!p) throw ModelError(d.loc, "the condition '" + d.condition + "' names no parameter of " + flat_.instances[i.value()].type->name);
     context_.flat.structural[flat_.ParameterName(*p)] = params[p->value()];
     return (params[p->value()] != 0) != negate;
@@ -243,7 +245,7 @@ class Graph {
   void SetPredicates() {
     ExprPool& pool = *context_.flat.pool;
     auto set = [&](InstanceId i, const std::string& name, bool value) {
-      auto p = flat_.FindParameter(flat_.InstancePath(i) + "." + name);
+      auto p = FindParameter(i, name);
       if (p) context_.flat.parameters[p->value()].binding = pool.Const(value ? 1.0 : 0.0);
     };
     for (uint32_t k = 0; k < nodes_.size(); ++k) {
@@ -256,8 +258,17 @@ class Graph {
     }
   }
 
+  /// Instance i's parameter `name` (FlatSystem::FindParameter, from an index: one scan of every
+  /// parameter per instance would make a chain of n bodies cost n^2).
+  std::optional<ParamId> FindParameter(InstanceId i, const std::string& name) const {
+    auto it = param_of_.find(flat_.InstancePath(i) + "." + name);
+    if (it == param_of_.end()) return std::nullopt;
+    return it->second;
+  }
+
   FlattenContext& context_;
   const FlatSystem& flat_;
+  std::unordered_map<std::string, ParamId> param_of_;  ///< every parameter by its full name
   std::vector<RecordNode> nodes_;
   std::unordered_map<uint32_t, uint32_t> node_of_var_;
   std::map<std::pair<uint32_t, std::string>, uint32_t> node_of_;

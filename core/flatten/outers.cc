@@ -3,6 +3,7 @@
 #include "core/flatten/outers.h"
 
 #include <unordered_map>
+#include <unordered_set>
 
 #include "core/base/error.h"
 
@@ -24,6 +25,17 @@ void ResolveOuters(FlattenContext* context) {
     if (it == top.end()) continue;
     it->second = k;
   }
+  // The inner components' parameters by name, looked up once each instead of a scan of every
+  // parameter per outer parameter (quadratic in the number of bodies).
+  std::unordered_set<uint32_t> inner_instances;
+  for (const auto& [prefix, k] : top) {
+    if (k != UINT32_MAX) inner_instances.insert(k);
+  }
+  std::unordered_map<std::string, ParamId> inner_params;
+  for (uint32_t q = 0; q < flat.parameters.size(); ++q) {
+    const InstanceId i = flat.parameters[q].instance;
+    if (i.valid() && inner_instances.count(i.value())) inner_params.emplace(flat.ParameterName(ParamId(q)), ParamId(q));
+  }
   ExprPool& pool = *flat.pool;
   for (uint32_t q = 0; q < flat.parameters.size(); ++q) {
     const InstanceId i = flat.parameters[q].instance;
@@ -43,8 +55,8 @@ void ResolveOuters(FlattenContext* context) {
                          prefix + " is a " + inner_type->name + ", but " + path + " (" + type->name + ") needs the model's " +
                              prefix + " to be a " + type_name);
       }
-      auto target = flat.FindParameter(prefix + "." + local.substr(prefix.size() + 1));
-      if (target) flat.parameters[q].binding = pool.Param(*target);
+      auto target = inner_params.find(prefix + "." + local.substr(prefix.size() + 1));
+      if (target != inner_params.end()) flat.parameters[q].binding = pool.Param(target->second);
       break;
     }
   }

@@ -156,11 +156,15 @@ class AliasJoiner {
   AliasForest& forest() { return forest_; }
 
  private:
-  /// Which root survives: impact forces, states, `stateSelect: prefer`, a fixed start, then order.
-  std::tuple<int, int, int, int, int> Rank(uint32_t v) const {
+  /// Which root survives: impact forces, `stateSelect: always`, states, `stateSelect: prefer`, a
+  /// fixed start, then order. An `always` variable stays even when an alias of it appears
+  /// differentiated and it does not (a spherical joint's w_rel, the body's w_a after it): its
+  /// derivative then appears in the alias's place, and the state is the one the user chose.
+  std::tuple<int, int, int, int, int, int> Rank(uint32_t v) const {
     const FlatVariable& fv = flat_.variables[v];
-    return std::make_tuple(keep_[v] ? 1 : 0, differentiated_[v] ? 1 : 0, fv.state_priority,
-                           fv.fixed ? 1 : 0, fv.is_flow ? 0 : 1);
+    return std::make_tuple(keep_[v] ? 1 : 0, fv.state_priority == kStateAlways ? 1 : 0,
+                           differentiated_[v] ? 1 : 0, fv.state_priority, fv.fixed ? 1 : 0,
+                           fv.is_flow ? 0 : 1);
   }
 
   /// sum c_k x_k + d with x_k = s_k r_k + o_k: a_r per root (those left nonzero) in `roots_`, the

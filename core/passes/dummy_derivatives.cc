@@ -250,7 +250,64 @@ class LevelChoice {
     for (int32_t j : m.row_to_col) {
       if (j >= 0) chosen.push_back(comp_cols[j]);
     }
+    // A maximum matching may trade a row's preferred column for another along an augmenting
+    // path, leaving a `default` position as the state where a `prefer` joint angle could be (a
+    // 3-D chain of seven links and more, whose block passes the dense limit). The matching that
+    // takes the columns in order of preference keeps the best states; it is used only when it
+    // keeps better ones, so a choice that already honours the priorities stays as it was.
+    std::vector<uint32_t> greedy = ChooseByPreferenceOrder(comp_rows, comp_cols, row_cols, cands);
+    if (greedy.size() == chosen.size() &&
+        StatePriorities(comp_cols, chosen, cands) < StatePriorities(comp_cols, greedy, cands)) {
+      return greedy;
+    }
     return chosen;
+  }
+
+  /// The columns made dummy by matching them one at a time in order of preference (smallest
+  /// first), each kept when an augmenting path lets it in: the greedy basis of the transversal
+  /// matroid, so the columns left as states have the highest priorities a matching allows.
+  std::vector<uint32_t> ChooseByPreferenceOrder(const std::vector<uint32_t>& comp_rows,
+                                                const std::vector<uint32_t>& comp_cols,
+                                                const std::vector<std::vector<std::pair<uint32_t, ExprId>>>& row_cols,
+                                                const std::vector<Candidate>& cands) {
+    // The graph transposed: each candidate column lists the block's rows it occurs in.
+    std::unordered_map<uint32_t, uint32_t> local;
+    for (uint32_t j = 0; j < comp_cols.size(); ++j) local.emplace(comp_cols[j], j);
+    std::vector<std::vector<uint32_t>> rows_of(comp_cols.size());
+    for (uint32_t i = 0; i < comp_rows.size(); ++i) {
+      for (auto [c, leaf] : row_cols[comp_rows[i]]) rows_of[local.at(c)].push_back(i);
+    }
+    std::vector<uint32_t> order(comp_cols.size());
+    for (uint32_t j = 0; j < order.size(); ++j) order[j] = j;
+    std::sort(order.begin(), order.end(), [&](uint32_t x, uint32_t y) {
+      return std::make_tuple(Preference(cands[comp_cols[x]]), comp_cols[x]) <
+             std::make_tuple(Preference(cands[comp_cols[y]]), comp_cols[y]);
+    });
+    BipartiteGraph none;
+    none.num_cols = static_cast<uint32_t>(comp_rows.size());
+    Matching empty;
+    empty.col_to_row.assign(comp_rows.size(), -1);
+    IncrementalMatching matching(none, empty);
+    std::vector<uint32_t> chosen;
+    for (uint32_t j : order) {
+      if (chosen.size() == comp_rows.size()) break;  // every row has its column: the rest are states
+      std::sort(rows_of[j].begin(), rows_of[j].end());
+      rows_of[j].erase(std::unique(rows_of[j].begin(), rows_of[j].end()), rows_of[j].end());
+      if (matching.TryAdd(rows_of[j])) chosen.push_back(comp_cols[j]);
+    }
+    return chosen;
+  }
+
+  /// The priorities of the columns not made dummy (the states), highest first.
+  std::vector<int> StatePriorities(const std::vector<uint32_t>& comp_cols, const std::vector<uint32_t>& chosen,
+                                   const std::vector<Candidate>& cands) const {
+    std::unordered_set<uint32_t> dummy(chosen.begin(), chosen.end());
+    std::vector<int> priorities;
+    for (uint32_t c : comp_cols) {
+      if (!dummy.count(c)) priorities.push_back(Priority(cands[c]));
+    }
+    std::sort(priorities.rbegin(), priorities.rend());
+    return priorities;
   }
 
   std::string Name(const Candidate& c) const { return DerName(sys_.flat->VariableName(VarId(c.var)), c.order); }

@@ -1,0 +1,78 @@
+// Which variables a 3-D multibody model keeps as states: the joints' coordinates, as the MSL's
+// stateSelect asks, also in blocks too large for the pivoting choice (a chain of eight links), and
+// `stateSelect: always` on a spherical joint's relative angular velocity with quaternion states
+// (the MSL's Spherical with enforceStates), at the world and between two moving bodies.
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <string>
+#include <vector>
+
+#include "tests/support/test_models.h"
+
+namespace momenta {
+namespace {
+
+using States = std::vector<std::string>;
+
+TEST(MultiBodyStateChoiceTest, ALongChainKeepsTheJointAngles) {
+  // Eight links make one block of more than 200 differentiated equations, chosen by matching
+  // rather than by pivoting: each Revolute's phi and w (stateSelect prefer) stay the states, not
+  // the bodies' positions (default), which for this planar motion would be singular.
+  const std::string yaml = R"(
+model: Chain
+components:
+  world: {type: MultiBody.World}
+  rev: {type: MultiBody.Joints.Revolute, count: 8, phi: {start: 0.1, fixed: true}, w: {fixed: true}}
+  link: {type: MultiBody.Parts.BodyShape, count: 8, r: [0.5, 0, 0], r_CM: [0.25, 0, 0], m: 1}
+connections:
+  - [world.frame_b, "rev[1].frame_a"]
+  - for: i in 1:8
+    connect: ["rev[i].frame_b", "link[i].frame_a"]
+  - for: i in 1:7
+    connect: ["link[i].frame_b", "rev[i+1].frame_a"]
+outputs: ["rev[1].phi", "rev[8].phi"]
+)";
+  testing::Built built = testing::BuildYaml(yaml);
+  States expected;
+  for (int i = 1; i <= 8; ++i) {
+    expected.push_back("rev[" + std::to_string(i) + "].phi");
+    expected.push_back("rev[" + std::to_string(i) + "].w");
+  }
+  EXPECT_EQ(built.report.states, expected);
+}
+
+TEST(MultiBodyStateChoiceTest, AlwaysOnASphericalJointsAngularVelocityIsHonoured) {
+  // Two spherical joints with quaternion states, as the MSL's enforceStates sets them (Q prefer,
+  // w_rel always): at the world, w_rel is an alias of the body's w_a, whose derivative appears
+  // and its own does not; between two bodies, w_rel appears only in der(Q)'s equation. Both are
+  // states, with three elements of each Q.
+  const std::string yaml = R"(
+model: SphericalPair
+components:
+  world: {type: MultiBody.World}
+  s1: {type: MultiBody.Joints.Spherical, enforceStates: true, angles_fixed: true, w_rel_a_fixed: true, w_rel_a_start: [0.05, 0.03, 0.01], Q: {stateSelect: prefer}, w_rel: {stateSelect: always}}
+  box1: {type: MultiBody.Parts.BodyBox, width: 0.06, r: [0.4, 0, -0.3]}
+  s2: {type: MultiBody.Joints.Spherical, enforceStates: true, angles_fixed: true, w_rel_a_fixed: true, Q: {stateSelect: prefer}, w_rel: {stateSelect: always}}
+  box2: {type: MultiBody.Parts.BodyBox, width: 0.06, r: [0.3, -0.4, 0]}
+connections:
+  - [world.frame_b, s1.frame_a]
+  - [s1.frame_b, box1.frame_a]
+  - [box1.frame_b, s2.frame_a]
+  - [s2.frame_b, box2.frame_a]
+outputs: ["s1.w_rel[1]", "s2.w_rel[1]"]
+)";
+  testing::Built built = testing::BuildYaml(yaml);
+  const States& states = built.report.states;
+  for (const char* joint : {"s1", "s2"}) {
+    for (int k = 1; k <= 3; ++k) {
+      const std::string w = std::string(joint) + ".w_rel[" + std::to_string(k) + "]";
+      EXPECT_NE(std::find(states.begin(), states.end(), w), states.end()) << w << " is not a state";
+    }
+  }
+  EXPECT_EQ(states.size(), 12u);
+}
+
+}  // namespace
+}  // namespace momenta
