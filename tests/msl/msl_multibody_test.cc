@@ -101,7 +101,7 @@ const MultiBodyExample kExamples[] = {
 };
 
 /// How many of the examples have a model that passes (the count only grows).
-constexpr int kMultiBodyModelled = 52;
+constexpr int kMultiBodyModelled = 54;
 
 const char kReferences[] = "tests/data/msl-multibody/";
 
