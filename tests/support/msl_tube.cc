@@ -69,12 +69,7 @@ double DistanceToReference(const Csv& ref, size_t c, double t, double v, double 
 
 /// Whether reference row r and a neighbour are at the same time with every value the same.
 bool SameValuesAtOneInstant(const Csv& ref, size_t r) {
-  for (size_t q : {r - 1, r + 1}) {
-    if (r == 0 && q == r - 1) continue;
-    if (q >= ref.rows.size()) continue;
-    if (ref.rows[q] == ref.rows[r]) return true;
-  }
-  return false;
+  return (r > 0 && ref.rows[r - 1] == ref.rows[r]) || (r + 1 < ref.rows.size() && ref.rows[r + 1] == ref.rows[r]);
 }
 
 /// True when our row k is an output grid row (start + j*interval, to 1e-9 of an interval) and
