@@ -29,7 +29,7 @@ enum class Op : uint8_t {
   kAdd, kSub, kMul, kDiv, kPow, kNeg,
   // Functions of one argument.
   kSin, kCos, kTan, kAsin, kAcos, kAtan, kSinh, kCosh, kTanh, kExp, kLog, kLog10, kSqrt, kAbs,
-  kSign,
+  kSign, kFloor,
   // Functions of two arguments.
   kAtan2, kMin, kMax,
   // Relations and logic; values are 1.0 (true) and 0.0 (false).
@@ -66,6 +66,7 @@ inline double ApplyUnary(Op op, double x) {
     case Op::kSqrt: return std::sqrt(x);
     case Op::kAbs: return std::fabs(x);
     case Op::kSign: return x > 0 ? 1.0 : (x < 0 ? -1.0 : 0.0);
+    case Op::kFloor: return std::floor(x);
     case Op::kNot: return x != 0 ? 0.0 : 1.0;
     default: return std::nan("");
   }
