@@ -29,7 +29,7 @@ enum class Op : uint8_t {
   kAdd, kSub, kMul, kDiv, kPow, kNeg,
   // Functions of one argument.
   kSin, kCos, kTan, kAsin, kAcos, kAtan, kSinh, kCosh, kTanh, kExp, kLog, kLog10, kSqrt, kAbs,
-  kSign, kFloor,
+  kSign,
   // Functions of two arguments.
   kAtan2, kMin, kMax,
   // Relations and logic; values are 1.0 (true) and 0.0 (false).
@@ -40,6 +40,9 @@ enum class Op : uint8_t {
   // through the first or last two rows, constant for a one-row table. kInterpSlope is its
   // derivative with respect to x (the slope of the segment x lies in).
   kInterp, kInterpSlope,
+  // floor(x), a function of one argument, last: the values above stay those that compiled code's
+  // cache keys (core/compile/native_code.cc) hash.
+  kFloor,
 };
 
 int Arity(Op op);
