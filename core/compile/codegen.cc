@@ -386,6 +386,7 @@ class ProgramEmitter {
       case Op::kLog10: call1("log10"); break;
       case Op::kSqrt: call1("sqrt"); break;
       case Op::kAbs: call1("fabs"); break;
+      case Op::kFloor: call1("floor"); break;
       case Op::kSign: w_ << "(" << a << " > 0 ? 1.0 : (" << a << " < 0 ? -1.0 : 0.0))"; break;
       case Op::kNot: w_ << "(" << a << " != 0 ? 0.0 : 1.0)"; break;
       case Op::kAtan2: w_ << "atan2(" << a << ", " << b << ")"; break;

@@ -104,7 +104,7 @@ class ExprPool {
   ExprId Div(ExprId a, ExprId b);
   ExprId Pow(ExprId a, ExprId b);
   ExprId Neg(ExprId a);
-  /// A function of one argument (kSin … kSign) or the logical kNot.
+  /// A function of one argument (kSin … kSign, kFloor) or the logical kNot.
   ExprId Unary(Op op, ExprId a);
   /// Any two-argument operation: arithmetic, atan2/min/max, relations, and/or.
   ExprId Binary(Op op, ExprId a, ExprId b, uint8_t flags = 0);

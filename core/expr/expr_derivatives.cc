@@ -59,7 +59,8 @@ ExprId ChainRule(ExprPool& p, const Node& n, ExprId self, ExprId da, ExprId db, 
     case Op::kLog10: return p.Div(da, p.Mul(a, p.Const(std::log(10.0))));
     case Op::kSqrt: return p.Div(da, p.Mul(p.Const(2.0), self));
     case Op::kAbs: return p.Mul(p.Unary(Op::kSign, a), da);
-    case Op::kSign: return p.Zero();
+    case Op::kSign:
+    case Op::kFloor: return p.Zero();
     case Op::kAtan2:
       // atan2(a, b)' = (b a' - a b') / (a^2 + b^2)
       return p.Div(p.Sub(p.Mul(b, da), p.Mul(a, db)), p.Add(p.Mul(a, a), p.Mul(b, b)));

@@ -34,6 +34,7 @@ int Arity(Op op) {
     case Op::kSqrt:
     case Op::kAbs:
     case Op::kSign:
+    case Op::kFloor:
     case Op::kNot:
       return 1;
     case Op::kIf:
@@ -87,6 +88,7 @@ const char* OpName(Op op) {
     case Op::kSqrt: return "sqrt";
     case Op::kAbs: return "abs";
     case Op::kSign: return "sign";
+    case Op::kFloor: return "floor";
     case Op::kAtan2: return "atan2";
     case Op::kMin: return "min";
     case Op::kMax: return "max";

@@ -40,6 +40,9 @@ enum class Op : uint8_t {
   // through the first or last two rows, constant for a one-row table. kInterpSlope is its
   // derivative with respect to x (the slope of the segment x lies in).
   kInterp, kInterpSlope,
+  // floor(x), a function of one argument, last: the values above stay those that compiled code's
+  // cache keys (core/compile/native_code.cc) hash.
+  kFloor,
 };
 
 int Arity(Op op);
@@ -66,6 +69,7 @@ inline double ApplyUnary(Op op, double x) {
     case Op::kSqrt: return std::sqrt(x);
     case Op::kAbs: return std::fabs(x);
     case Op::kSign: return x > 0 ? 1.0 : (x < 0 ? -1.0 : 0.0);
+    case Op::kFloor: return std::floor(x);
     case Op::kNot: return x != 0 ? 0.0 : 1.0;
     default: return std::nan("");
   }

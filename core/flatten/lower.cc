@@ -33,7 +33,7 @@ bool FunctionOp(const std::string& s, Op* op) {
       {"acos", Op::kAcos}, {"atan", Op::kAtan}, {"sinh", Op::kSinh},   {"cosh", Op::kCosh},
       {"tanh", Op::kTanh}, {"exp", Op::kExp},   {"log", Op::kLog},     {"log10", Op::kLog10},
       {"sqrt", Op::kSqrt}, {"abs", Op::kAbs},   {"sign", Op::kSign},   {"atan2", Op::kAtan2},
-      {"min", Op::kMin},   {"max", Op::kMax}};
+      {"min", Op::kMin},   {"max", Op::kMax},   {"floor", Op::kFloor}};
   auto it = kFns.find(s);
   if (it == kFns.end()) return false;
   *op = it->second;

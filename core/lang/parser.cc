@@ -24,6 +24,7 @@ const std::map<std::string, int>& Functions() {
       {"sin", 1},  {"cos", 1},   {"tan", 1},   {"asin", 1},  {"acos", 1},    {"atan", 1},
       {"atan2", 2}, {"sinh", 1}, {"cosh", 1},  {"tanh", 1},  {"exp", 1},     {"log", 1},
       {"log10", 1}, {"sqrt", 1}, {"abs", 1},   {"sign", 1},  {"min", 2},     {"max", 2},
+      {"floor", 1},
       {"der", 1},  {"pre", 1},   {"edge", 1},  {"change", 1}, {"initial", 0}, {"noEvent", 1},
       {"reinit", 2},
       // Array functions (core/lang/arrays.h); zeros takes 1 or 2 (kOneOrTwo).

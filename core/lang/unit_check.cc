@@ -199,7 +199,7 @@ UnitChecker::Term UnitChecker::CallTerm(const Ast& a) {
       return args.empty() ? Term::Unknown() : args[0];
     return Term::Known(args[0].dim / ParseUnit("s").dimension);
   }
-  if (f == "pre" || f == "noEvent" || f == "abs" || f == "smooth")
+  if (f == "pre" || f == "noEvent" || f == "abs" || f == "floor" || f == "smooth")
     return args.empty() ? Term::Unknown() : args.back();
   if (f == "edge" || f == "change" || f == "initial" || f == "sign") return Term::Flexible();
   if (kTranscendental.count(f) && args.size() == 1) {

@@ -148,6 +148,50 @@ TEST(ElectricalAnalog, TrapezoidVoltageFollowsItsPeriodsAndStopsAfterNperiod) {
   }
 }
 
+// The MSL counts a trapezoid's periods from integer((start - startTime)/period): one starting at
+// 2.5 s with a 1 s period counts -3 at the start and has its when-clause's events at 0.5 s and
+// 1.5 s, before the output leaves the offset (Dymola lists them; HeatingNPN_NORGate's reference
+// has one at 15 s for a source starting at 65 s with a 50 s period).
+constexpr const char* kLateTrapezoid = R"(
+model: LateTrapezoid
+components:
+  source: {type: TrapezoidVoltage, V: 2, rising: 0.2, width: 0.3, falling: 0.1, period: 1, nperiod: 1, startTime: 2.5}
+  load: {type: Resistor, R: 1}
+  ground: {type: Ground}
+connections:
+  - [source.p, load.p]
+  - [load.n, ground.p]
+  - [source.n, ground.p]
+experiment: {stop: 4, interval: 0.125}
+outputs: [source.v, source.count, source.T_start]
+)";
+
+TEST(ElectricalAnalog, TrapezoidVoltageCountsItsPeriodsBeforeStartTimeAsTheMsl) {
+  Built b = testing::BuildYaml(kLateTrapezoid);
+  Trajectory tr = testing::Run(b, Tight(b));
+  EXPECT_EQ(tr.Column("source.count", 0), -3);  // integer((0 - 2.5)/1)
+  EXPECT_EQ(tr.Column("source.T_start", 0), -0.5);
+  // The period events: the rows at each (left and right limits) and the count after it.
+  std::vector<double> events;
+  for (size_t r = 0; r + 1 < tr.t.size(); ++r) {
+    if (tr.t[r + 1] == tr.t[r] && tr.Column("source.count", r + 1) != tr.Column("source.count", r)) {
+      events.push_back(tr.t[r]);
+      EXPECT_EQ(tr.Column("source.count", r + 1), tr.Column("source.count", r) + 1) << "t = " << tr.t[r];
+      EXPECT_NEAR(tr.Column("source.T_start", r + 1), tr.t[r], 1e-12) << "t = " << tr.t[r];
+    }
+  }
+  EXPECT_EQ(events, (std::vector<double>{0.5, 1.5, 2.5, 3.5}));
+  // One period from 2.5 s (nperiod = 1): 0 before it and after it.
+  auto expected = [](double t) {
+    const double x = t - 2.5;
+    if (x < 0 || x >= 1) return 0.0;
+    return 2 * (x < 0.2 ? x / 0.2 : x < 0.5 ? 1 : x < 0.6 ? (0.6 - x) / 0.1 : 0);
+  };
+  for (size_t r = 0; r < tr.t.size(); ++r) {
+    EXPECT_NEAR(tr.Column("source.v", r), expected(tr.t[r]), 1e-9) << "t = " << tr.t[r];
+  }
+}
+
 constexpr const char* kSaturating = R"(
 model: Saturating
 components:

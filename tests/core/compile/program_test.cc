@@ -46,7 +46,7 @@ class RandomDag {
   ExprId Grow() {
     static const Op kUnary[] = {Op::kNeg, Op::kSin, Op::kCos, Op::kTan, Op::kAsin, Op::kAcos,
                                 Op::kAtan, Op::kSinh, Op::kCosh, Op::kTanh, Op::kExp, Op::kLog,
-                                Op::kLog10, Op::kSqrt, Op::kAbs, Op::kSign, Op::kNot};
+                                Op::kLog10, Op::kSqrt, Op::kAbs, Op::kSign, Op::kFloor, Op::kNot};
     static const Op kBinary[] = {Op::kAdd, Op::kSub, Op::kMul, Op::kDiv, Op::kPow, Op::kAtan2,
                                  Op::kMin, Op::kMax, Op::kLt, Op::kLe, Op::kGt, Op::kGe,
                                  Op::kEq, Op::kNe, Op::kAnd, Op::kOr};

@@ -105,6 +105,8 @@ TEST_F(ExprTest, ConstantsFold) {
   EXPECT_TRUE(pool.IsConst(pool.Unary(Op::kExp, pool.Const(0)), 1.0));
   EXPECT_TRUE(pool.IsConst(pool.Unary(Op::kAbs, pool.Const(-4)), 4.0));
   EXPECT_TRUE(pool.IsConst(pool.Unary(Op::kSign, pool.Const(-4)), -1.0));
+  EXPECT_TRUE(pool.IsConst(pool.Unary(Op::kFloor, pool.Const(-1.1)), -2.0));  // towards -inf
+  EXPECT_TRUE(pool.IsConst(pool.Unary(Op::kFloor, pool.Const(2.9)), 2.0));
   EXPECT_TRUE(pool.IsConst(pool.Binary(Op::kAtan2, pool.Const(1), pool.Const(1)), M_PI / 4));
   EXPECT_TRUE(pool.IsConst(pool.Binary(Op::kMin, pool.Const(1), pool.Const(-1)), -1.0));
   EXPECT_TRUE(pool.IsConst(pool.Binary(Op::kLt, pool.Const(2), pool.Const(3)), 1.0));
