@@ -1,6 +1,7 @@
 // The CSV-compare harness's pairing of rows at events (tests/support/msl_tube.h), on synthetic
 // results whose exact answer is known: our result equals the reference's curve, so every ratio
-// must be ~0; a row paired with one at another time shows as a ratio far above 1.
+// must be ~0; a row paired with one at another time shows as a ratio far above 1 in the
+// same-time comparison (the MSL tube's width in time would hide it), which these tests use.
 
 #include <gtest/gtest.h>
 
@@ -62,7 +63,7 @@ TEST(MslTubePairingTest, EventsOfAShortRunAreNotMergedWithGridRows) {
   Rows ours = Sample(interval, 5000, 1, te, ramp, ramp);
   Rows ref = Sample(interval, 5000, 6, te, ramp, ramp);
   Worst worst;
-  Compare("short run", Ours(ours), Reference(ref), interval, MslTube, &worst);
+  Compare("short run", Ours(ours), Reference(ref), interval, CsvCompareTube, &worst, false, "", 0, /*same_time=*/true);
   EXPECT_LT(worst.ratio, 1e-3) << worst.ToString();
 }
 
@@ -76,7 +77,7 @@ TEST(MslTubePairingTest, AnEventJustAfterTheStartIsNotTheStart) {
   Rows ours = Sample(interval, 500, 1, 4.75e-13, mode, before);
   Rows ref = Sample(interval, 500, 1, 4.75e-11, mode, before);
   Worst worst;
-  Compare("event after the start", Ours(ours), Reference(ref), interval, MslTube, &worst);
+  Compare("event after the start", Ours(ours), Reference(ref), interval, CsvCompareTube, &worst, false, "", 0, /*same_time=*/true);
   EXPECT_LT(worst.ratio, 1e-3) << worst.ToString();
 }
 
@@ -97,8 +98,30 @@ TEST(MslTubePairingTest, AnEventOnAGridTimeIsOneInstant) {
     ours.y.insert(ours.y.begin() + at + 1, 0.0);
     ours.t[at + 2] += shift;
     Worst worst;
-    Compare("event on a grid time", Ours(ours), Reference(ref), interval, MslTube, &worst);
+    Compare("event on a grid time", Ours(ours), Reference(ref), interval, CsvCompareTube, &worst, false, "", 0, /*same_time=*/true);
     EXPECT_LT(worst.ratio, 1e-3) << te << ": " << worst.ToString();
+  }
+}
+
+// The MSL tube's width in time (CSV-compare's rectangle, 2e-3 of the run): a steep swing shifted
+// in time by a quarter of the width is inside it however steep (AbsoluteSensor's angular
+// accelerations, -213 to +227 rad/s2 in 12 ms, shifted 3e-5 s); shifted by twice the width it is
+// outside. The same-time comparison flags the small shift too.
+TEST(MslTubeWidthTest, AShiftInTimeWithinTheWidthPassesAndBeyondItFails) {
+  const double interval = 1e-3, stop = 5.0, width = kEventTimeWindow * stop;  // 0.01 s
+  auto swing = [](double t) { return 200 * std::tanh((t - 2.5) / 0.003); };
+  auto shifted = [&](double shift) {
+    return [=](double t) { return 200 * std::tanh((t - shift - 2.5) / 0.003); };
+  };
+  Rows ref = Sample(interval, 5000, 5, 1e9, swing, swing);
+  for (auto [shift, msl_inside] : {std::pair{0.25 * width, true}, std::pair{2 * width, false}}) {
+    auto f = shifted(shift);
+    Rows ours = Sample(interval, 5000, 1, 1e9, f, f);
+    Worst msl, same;
+    Compare("shifted", Ours(ours), Reference(ref), interval, CsvCompareTube, &msl);
+    Compare("shifted", Ours(ours), Reference(ref), interval, CsvCompareTube, &same, false, "", 0, /*same_time=*/true);
+    EXPECT_EQ(msl.ratio <= 1, msl_inside) << shift << ": " << msl.ToString();
+    EXPECT_GT(same.ratio, 10) << shift << ": " << same.ToString();
   }
 }
 
