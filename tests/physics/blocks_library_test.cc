@@ -199,6 +199,33 @@ outputs: [counter.count, bp.y, p.y]
   EXPECT_EQ(At(tr, "p.y", 0.41), 0);
 }
 
+// Pulse and Trapezoid count their periods as the MSL's: whole periods since startTime from the
+// start (negative before a late start: events every period before it too, at startTime - k*period)
+// and nperiod periods only, then the offset.
+TEST(BlocksLibraryTest, PulseAndTrapezoidCountPeriodsAsTheMslAndStopAfterNperiod) {
+  Trajectory tr = RunModel(R"yaml(
+model: M
+components:
+  p: {type: Pulse, amplitude: 2, period: 0.25, width: 20, startTime: 0.3, nperiod: 2, offset: 1}
+  z: {type: Trapezoid, amplitude: 1, rising: 0.1, width: 0.1, falling: 0.1, period: 0.4, startTime: 0.3, nperiod: 1}
+experiment: {stop: 1.2, interval: 0.01, tolerance: 1e-6}
+outputs: [p.y, p.count, z.y, z.count]
+)yaml");
+  EXPECT_EQ(tr.Column("p.count", 0), -2);  // integer((0 - 0.3)/0.25) rounded down, as floor
+  EXPECT_EQ(tr.Column("z.count", 0), -1);
+  EXPECT_EQ(At(tr, "p.count", 0.1), -1);    // the event at 0.05 = 0.3 - 0.25
+  EXPECT_EQ(At(tr, "p.y", 0.2), 1);         // before startTime: the offset
+  EXPECT_EQ(At(tr, "p.y", 0.32), 3);        // first pulse [0.3, 0.35)
+  EXPECT_EQ(At(tr, "p.y", 0.4), 1);
+  EXPECT_EQ(At(tr, "p.y", 0.57), 3);        // second pulse [0.55, 0.6)
+  EXPECT_EQ(At(tr, "p.y", 0.82), 1);        // nperiod = 2: no third
+  EXPECT_EQ(At(tr, "p.y", 1.07), 1);
+  EXPECT_NEAR(At(tr, "z.y", 0.35), 0.5, 1e-12);  // rising
+  EXPECT_EQ(At(tr, "z.y", 0.45), 1);
+  EXPECT_NEAR(At(tr, "z.y", 0.55), 0.5, 1e-12);  // falling
+  EXPECT_EQ(At(tr, "z.y", 0.8), 0);              // nperiod = 1: no second
+}
+
 TEST(BlocksLibraryTest, MeanOverEachPeriod) {
   // u = 1 + sin(2 pi 5 t): its mean over each 0.2 s period is 1, available from t = 0.2 on.
   Trajectory tr = RunModel(R"yaml(
