@@ -122,9 +122,12 @@ InitialValues SolveFrom(ModelState* state, double t0, bool sparse, const std::ve
   // Residuals at the solution: accept KINSOL's step-tolerance stop when they are small.
   std::vector<double> f(nz);
   state->InitResidual(t0, zv, f.data());
+  // The worst residual: the first that is not a number (NaN or infinite: an equation evaluated
+  // outside its domain, which is what the user must see), else the largest in magnitude.
   size_t worst = 0;
   for (size_t k = 0; k < nz; ++k) {
-    if (!(std::fabs(f[k]) <= std::fabs(f[worst]))) worst = k;
+    if (!std::isfinite(f[worst])) break;
+    if (!std::isfinite(f[k]) || std::fabs(f[k]) > std::fabs(f[worst])) worst = k;
   }
   out.max_residual = std::fabs(f[worst]);
   double scale_of_z = 1.0;
@@ -133,9 +136,13 @@ InitialValues SolveFrom(ModelState* state, double t0, bool sparse, const std::ve
     std::ostringstream msg;
     msg << "initialisation failed";
     if (flag < 0) msg << " (KINSOL: " << (data.last_message.empty() ? "flag " + std::to_string(flag) : data.last_message) << ")";
-    msg << ": the largest remaining residual, " << f[worst] << ", is in "
-        << (worst < n ? m.residual_origin(worst) : m.initial_origin[worst - n])
-        << ". Check the fixed start values and the parameters, or give better start values.";
+    const std::string origin = worst < n ? m.residual_origin(worst) : m.initial_origin[worst - n];
+    if (std::isfinite(f[worst])) {
+      msg << ": the largest remaining residual, " << f[worst] << ", is in " << origin;
+    } else {
+      msg << ": the residual of " << origin << " is " << f[worst] << " (evaluated outside its domain?)";
+    }
+    msg << ". Check the fixed start values and the parameters, or give better start values.";
     throw SolverError(msg.str());
   }
   CheckRedundant(state, t0, zv);

@@ -60,6 +60,43 @@ outputs: [x]
   }
 }
 
+TEST(InitializerTest, AResidualThatIsNotANumberIsTheOneNamed) {
+  // b's start y = 1 puts sqrt(y - 2) outside its domain; a's and c's residuals are 0 at their
+  // starts. The message names b's equation and its NaN (before: c's, "the largest remaining
+  // residual, 0", since no comparison with a NaN holds).
+  auto b = testing::BuildYaml(R"yaml(
+model: NotANumber
+define:
+  Root:
+    parameters:
+      y0: {value: 3}
+    variables:
+      x: {start: 1}
+      y: {start: y0}
+      z: {start: 0, fixed: true}
+    equations:
+      - der(z) = x
+      - 0 = x - 1
+      - 0 = sqrt(y - 2) - 1
+components:
+  a: {type: Root}
+  b: {type: Root, y0: 1}
+  c: {type: Root}
+outputs: [a.y, b.y, c.y]
+)yaml");
+  ModelState state(b.model);
+  state.SetParameters({});
+  try {
+    SolveInitialization(&state, 0, false);
+    FAIL() << "expected an initialisation failure";
+  } catch (const SolverError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("the residual of b (Root"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("'0 = sqrt(y - 2) - 1' is "), std::string::npos) << msg;
+    EXPECT_NE(msg.find("nan"), std::string::npos) << msg;
+  }
+}
+
 TEST(InitializerTest, ASingularSystemThatHoldsIsSolved) {
   // At z = 1 the two algebraic equations are one, x + y = 2: KINSOL's LU stops at a zero pivot
   // (before: "initialisation failed (KINSOL: The linear solver's setup function failed ...)");
