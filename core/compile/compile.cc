@@ -120,7 +120,8 @@ GuessRows FindGuessRows(const ExprPool& p, const CompiledModel& m, const Variabl
 /// them, in dependency (block-lower-triangular) order: an equation with one unknown not yet
 /// guessed that is linear in it with a numeric coefficient gives its guess, from the guesses of
 /// the others (first from the fixed start values and the parameters); when none is left, the
-/// start values of the variables still open (algebraic loops) are taken and the search goes on.
+/// start value of a variable still open (algebraic loops) is taken, one the model gives before a
+/// default 0, and the search goes on.
 /// Only equations of variables, parameters and constants are used; the guesses stay
 /// parameter-only (each refers to the earlier ones' expressions, shared, so linear in size).
 std::vector<ExprId> PropagatedStartGuesses(ExprPool* pool, const EquationSystem& sys,
@@ -140,12 +141,15 @@ std::vector<ExprId> PropagatedStartGuesses(ExprPool* pool, const EquationSystem&
     }
   };
   std::unordered_map<uint32_t, ExprId> map;  // known unknowns -> their guesses, for one row
-  for (size_t k = 0, next_open = 0;; ++k) {
+  for (size_t k = 0, next_open = 0, next_given = 0;; ++k) {
     if (k == g.ready.size()) {
-      // No explicit equation left: the first variable still open takes its start value.
+      // No explicit equation left: a variable still open takes its start value, first one whose
+      // start the model gives (not the default 0), so that a body's quaternions (start
+      // {0, 0, 0, 1}) give the orientation matrix rather than the matrix's zeros giving them.
+      while (next_given < n && (known[next_given] || p.IsConst(starts[next_given], 0))) ++next_given;
       while (next_open < n && known[next_open]) ++next_open;
       if (next_open == n) break;
-      now_known(static_cast<uint32_t>(next_open));
+      now_known(static_cast<uint32_t>(next_given < n ? next_given : next_open));
       --k;
       continue;
     }

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include "solver/initializer.h"
@@ -123,6 +124,39 @@ outputs: [x, y, z]
   state.InitResidual(0, z.data(), f.data());
   for (double r : f) EXPECT_LT(std::fabs(r), 1e-12);
   EXPECT_LT(init.max_residual, 1e-12);
+}
+
+TEST(InitializerTest, GuessesStartFromTheStartValuesTheModelGives) {
+  // log(a) cannot be evaluated at a's default start 0, so Newton cannot start from the start
+  // values; the propagated guesses must take b's start 1.5 and give a = b^2 = 2.25, not take a = 0
+  // first (before: "initialisation failed (KINSOL: The system function failed at the first
+  // call.)"). The only real solution is b^3 = 8: b = 2, a = 4, to Newton's 1e-12.
+  auto b = testing::BuildYaml(R"yaml(
+model: GuessOrder
+variables:
+  a: {}
+  b: {start: 1.5}
+  x: {start: 1, fixed: true}
+equations:
+  - a = b^2
+  - a*b = 8
+  - der(x) = -log(a)*x
+outputs: [a, b, x]
+)yaml");
+  ModelState state(b.model);
+  state.SetParameters({});
+  InitialValues init = SolveInitialization(&state, 0, false);
+  const std::vector<std::string> names = {"a", "b"};
+  const std::vector<double> expected = {4.0, 2.0};
+  for (size_t k = 0; k < names.size(); ++k) {
+    bool found = false;
+    for (size_t y = 0; y < b.model->num_unknowns(); ++y) {
+      if (b.model->flat->VariableName(b.model->unknowns[y]) != names[k]) continue;
+      EXPECT_NEAR(init.y[y], expected[k], 1e-12) << names[k];
+      found = true;
+    }
+    EXPECT_TRUE(found) << names[k] << " is not an unknown of the initial system";
+  }
 }
 
 }  // namespace
