@@ -66,16 +66,17 @@ std::vector<AstPtr> ElementsWhereListed(std::vector<AstPtr> parts, const std::ve
     n->number = k;
     return AstPtr(n);
   };
+  // `name[i]`, or `name[i, j]` row by row (j = 0: no second subscript).
   std::vector<AstPtr> elements;
-  const int rows = shape[0], cols = shape.size() == 2 ? shape[1] : 0;
-  for (int i = 1; i <= rows; ++i) {
-    for (int j = cols ? 1 : 0; j <= cols; ++j) {
-      auto e = std::make_shared<Ast>(*parts[0]);
-      e->path.back().index = number(i);
-      if (cols) e->path.back().index2 = number(j);
-      elements.push_back(e);
-      if (!cols) break;
-    }
+  auto element = [&](int i, int j) {
+    auto e = std::make_shared<Ast>(*parts[0]);
+    e->path.back().index = number(i);
+    if (j) e->path.back().index2 = number(j);
+    elements.push_back(e);
+  };
+  for (int i = 1; i <= shape[0]; ++i) {
+    if (shape.size() == 1) element(i, 0);
+    for (int j = 1; shape.size() == 2 && j <= shape[1]; ++j) element(i, j);
   }
   return elements;
 }
