@@ -116,6 +116,23 @@ void JsonStringFields(std::initializer_list<std::pair<const char*, const std::st
   }
 }
 
+/// The shapes the page draws: those whose `if` (docs/FORMAT.md "Animation") holds at the first
+/// row, or that have none.
+std::vector<const SceneShape*> DrawnShapes(const ReportData& d) {
+  std::vector<const SceneShape*> out;
+  for (const SceneShape& shape : d.scene.shapes) {
+    bool drawn = true;
+    for (const SceneField& f : shape.fields) {
+      if (f.key != "if" || f.columns.size() != 1 || d.time.empty()) continue;
+      for (size_t c = 0; c < d.columns.size() && c < d.values.size(); ++c) {
+        if (d.columns[c] == f.columns[0] && !d.values[c].empty()) drawn = d.values[c][0] != 0;
+      }
+    }
+    if (drawn) out.push_back(&shape);
+  }
+  return out;
+}
+
 /// The page's data as one JSON object (report/report.js reads it).
 std::string DataJson(const ReportData& d) {
   std::string j = "{";
@@ -167,18 +184,22 @@ std::string DataJson(const ReportData& d) {
   j += "],\"space\":";
   j += d.scene.space ? "true" : "false";
   j += ",\"scene\":[";
-  for (size_t s = 0; s < d.scene.shapes.size(); ++s) {
-    const SceneShape& shape = d.scene.shapes[s];
+  const std::vector<const SceneShape*> drawn = DrawnShapes(d);
+  for (size_t s = 0; s < drawn.size(); ++s) {
+    const SceneShape& shape = *drawn[s];
     j += s ? ",{\"kind\":" : "{\"kind\":";
     JsonString(shape.kind, &j);
     j += ",\"owner\":";
     JsonString(shape.owner, &j);
     j += ",\"fields\":{";
-    for (size_t f = 0; f < shape.fields.size(); ++f) {
-      if (f) j += ',';
-      JsonString(shape.fields[f].key, &j);
+    bool first = true;
+    for (const SceneField& f : shape.fields) {
+      if (f.key == "if") continue;
+      j += first ? "" : ",";
+      first = false;
+      JsonString(f.key, &j);
       j += ':';
-      JsonStrings(shape.fields[f].columns, &j);
+      JsonStrings(f.columns, &j);
     }
     j += "}}";
   }
@@ -224,7 +245,7 @@ std::string ReportHtml(const ReportData& data) {
   Fill(&html, "/*@DATA@*/", DataJson(data), &from);
   Fill(&html, "/*@UPLOT_JS@*/", Join(kUplotJs), &from);
   // three.js and the 3-D scene's script only in a page that draws a 3-D scene (700 KB).
-  const bool space = data.scene.space && !data.scene.empty();
+  const bool space = data.scene.space && !DrawnShapes(data).empty();
   Fill(&html, "/*@THREE_JS@*/", space ? Join(kThreeJs) + "\n" + Join(kScene3dJs) : "", &from);
   Fill(&html, "/*@REPORT_JS@*/", Join(kReportJs), &from);
   return html;

@@ -48,6 +48,39 @@ std::vector<AstPtr> OutputParts(const AstPtr& expr, const std::vector<int>& shap
   return parts;
 }
 
+/// A vector or matrix named whole (`body.frame_a.r_0`) whose elements the model already outputs
+/// one by one (`body.frame_a.r_0[1]` …): its elements, each one output, so that no element is
+/// listed twice. Otherwise `parts` as they are.
+std::vector<AstPtr> ElementsWhereListed(std::vector<AstPtr> parts, const std::vector<int>& shape,
+                                        const std::set<std::string>& listed) {
+  if (parts.size() != 1 || shape.empty() || parts[0]->kind != Ast::Kind::kName ||
+      parts[0]->path.empty() || parts[0]->path.back().index) {
+    return parts;
+  }
+  const std::vector<std::string> names = ElementColumns(AstToString(*parts[0]), shape);
+  if (std::none_of(names.begin(), names.end(), [&](const std::string& n) { return listed.count(n) > 0; })) {
+    return parts;
+  }
+  auto number = [](int k) {
+    auto n = std::make_shared<Ast>();
+    n->number = k;
+    return AstPtr(n);
+  };
+  // `name[i]`, or `name[i, j]` row by row (j = 0: no second subscript).
+  std::vector<AstPtr> elements;
+  auto element = [&](int i, int j) {
+    auto e = std::make_shared<Ast>(*parts[0]);
+    e->path.back().index = number(i);
+    if (j) e->path.back().index2 = number(j);
+    elements.push_back(e);
+  };
+  for (int i = 1; i <= shape[0]; ++i) {
+    if (shape.size() == 1) element(i, 0);
+    for (int j = 1; shape.size() == 2 && j <= shape[1]; ++j) element(i, j);
+  }
+  return elements;
+}
+
 /// "a 3-D sphere" or "a planar circle", for the message about a mixed scene.
 std::string Described(const ShapeDecl& decl) {
   return std::string(decl.space ? "a 3-D " : "a planar ") + decl.kind;
@@ -84,7 +117,7 @@ Scene AddSceneOutputs(const FlatSystem& flat, ModelSpec* spec) {
         // anything else is one output, a vector's elements named by the array expansion.
         const AstPtr expr = InInstanceScope(f.expr, inst_path, inst.loc);
         SceneField field{f.key, {}, f.shape};
-        for (const AstPtr& part : OutputParts(expr, f.shape)) {
+        for (const AstPtr& part : ElementsWhereListed(OutputParts(expr, f.shape), f.shape, listed)) {
           OutputSpec o;
           o.expr = part;
           o.text = AstToString(*part);

@@ -283,7 +283,7 @@ std::vector<ShapeDecl> ReadAnimation(const ValueReader& reader, const YamlNode& 
                                      " (valid shapes: " + kValid + ")");
     }
     d.space = kind->space;
-    std::vector<std::string> keys = {"shape"};
+    std::vector<std::string> keys = {"shape", "if"};
     for (const auto* list : {&kind->required, &kind->optional}) {
       for (const auto& field : *list) keys.push_back(field.first);
     }
@@ -292,18 +292,23 @@ std::vector<ShapeDecl> ReadAnimation(const ValueReader& reader, const YamlNode& 
       if (!item[key])
         reader.Fail(item, d.kind + " in the animation of " + what + " needs '" + key + "'");
     }
+    auto read_field = [&](const std::string& key, const Shape& shape) {
+      ShapeField f;
+      f.key = key;
+      f.shape = shape;
+      f.text = reader.ValueText(item[key], d.kind + " " + f.key);
+      f.loc = reader.TextLoc(item[key]);
+      f.expr = ParseExpression(f.text, f.loc);
+      d.fields.push_back(std::move(f));
+    };
     for (const auto* list : {&kind->required, &kind->optional}) {
       for (const auto& [key, shape] : *list) {
-        if (!item[key]) continue;
-        ShapeField f;
-        f.key = key;
-        f.shape = shape;
-        f.text = reader.ValueText(item[key], d.kind + " " + f.key);
-        f.loc = reader.TextLoc(item[key]);
-        f.expr = ParseExpression(f.text, f.loc);
-        d.fields.push_back(std::move(f));
+        if (item[key]) read_field(key, shape);
       }
     }
+    // `if:` (any kind): a Boolean expression; the report draws the shape only where it holds at
+    // the start (app/report.cc).
+    if (item["if"]) read_field("if", Shape{});
     out.push_back(std::move(d));
   }
   return out;
