@@ -5,7 +5,7 @@ Runs each pair (momenta, baseline) alternately K times (paired runs, so that a c
 machine's load touches both), and prints a Markdown table of the medians: CPU time of the process
 (user + system, from wait4; what a shared machine's waiting does not inflate) and wall time.
 
-  bench/first_result.py [--build build] [--repeat 21] [--momenta PATH]
+  bench/first_result.py [--build build] [--repeat 21] [--momenta PATH] [--only TEXT]
 
 The pairs: the seed examples (models/carrier_collision*.yaml, models/ball_pendulum*.yaml) against
 bench/handwritten_carrier and bench/handwritten_ball_pendulum [--impact] (the MapleSim variant of
@@ -40,6 +40,7 @@ def main():
     ap.add_argument("--build", default="build")
     ap.add_argument("--momenta", default=None, help="the momenta binary (default BUILD/app/momenta)")
     ap.add_argument("--repeat", type=int, default=21)
+    ap.add_argument("--only", default=None, help="run only the rows whose name contains this text")
     a = ap.parse_args()
     momenta = a.momenta or f"{a.build}/app/momenta"
     out = tempfile.mkdtemp(prefix="momenta-first-")
@@ -58,6 +59,8 @@ def main():
     print(f"| run | momenta CPU (ms) | hand-written CPU (ms) | **ratio** | momenta wall (ms) | hand-written wall (ms) |")
     print("|---|---:|---:|---:|---:|---:|")
     for name, cmd, base in pairs:
+        if a.only and a.only not in name:
+            continue
         ours, theirs = [], []
         for _ in range(a.repeat):
             ours.append(run(cmd))

@@ -2,8 +2,10 @@
 // folder. The build writes builtin_library_data.inc from the YAML files (see core/CMakeLists.txt).
 //
 // Reading all of it (some 120 types, 120 KB of YAML, their equations parsed) took about 10 ms of
-// CPU, most of a small model's whole run, which uses a handful of types. So the connector types
-// are read at once, and each component type the first time a model names it (LazyTypes): at start
+// CPU, most of a small model's whole run, which uses a handful of types. So the records and the
+// connector types are read at once, the functions together when a text first calls one or a
+// lookup first asks for one (a fifth of the ball and pendulum's whole run when read at start),
+// and each component type the first time a model names it (LazyTypes): at start
 // the text is only cut into its top-level entries, one a type. An entry is read as its own YAML
 // document, preceded by as many empty lines as come before it in its file, so that every location
 // (file:line:col) is the one reading the whole file gives; each type is turned into its scalar
@@ -46,24 +48,32 @@ struct Entry {
 /// The entries of the embedded files other than the connectors, each read on first use.
 class BuiltinTypes : public LazyTypes {
  public:
-  /// Cuts every file but connectors.yaml into its entries; reads at once the few that declare a
-  /// `kind:` (so that every connector type is known without a lookup).
+  /// Cuts every file but connectors.yaml into its entries; reads at once the records and the
+  /// connector types (so that every connector type is known without a lookup). The functions are
+  /// read together on first use (ReadFunctions): most models call none.
   explicit BuiltinTypes(Library* library) {
     for (const EmbeddedFile& f : kEmbeddedLibraryFiles) {
       if (std::strcmp(f.name, "components/connectors.yaml") != 0) Cut(f);
     }
-    // Every function's name first, so that a function may call one read after it; then records
-    // and functions: connector types and component types use them.
+    // Every function's name first, so that any text may call one before it is read.
     for (auto& [name, entry] : entries_) {
-      if (entry.text.find("\n  kind: function") != std::string_view::npos) RegisterFunction(name, -1);
+      if (IsFunction(entry)) RegisterFunction(name, -1);
     }
+    // Records first: connector types use them.
     for (const bool first : {true, false}) {
       for (auto& [name, entry] : entries_) {
-        if (entry.read || entry.text.find("\n  kind:") == std::string_view::npos) continue;
-        const bool early = entry.text.find("\n  kind: record") != std::string_view::npos ||
-                           entry.text.find("\n  kind: function") != std::string_view::npos;
-        if (early == first) ReadEntry(&entry, library);
+        if (entry.read || IsFunction(entry) || entry.text.find("\n  kind:") == std::string_view::npos) continue;
+        if ((entry.text.find("\n  kind: record") != std::string_view::npos) == first) ReadEntry(&entry, library);
       }
+    }
+  }
+
+  void ReadFunctions(Library* library) const override {
+    std::lock_guard<std::recursive_mutex> lock(mutex_);
+    if (functions_read_) return;
+    functions_read_ = true;
+    for (auto& [name, entry] : entries_) {
+      if (!entry.read && IsFunction(entry)) ReadEntry(&entry, library);
     }
   }
 
@@ -84,12 +94,17 @@ class BuiltinTypes : public LazyTypes {
 
   void ReadAll(Library* library) const override {
     std::lock_guard<std::recursive_mutex> lock(mutex_);
+    ReadFunctions(library);
     for (auto& [name, entry] : entries_) {
       if (!entry.read) ReadEntry(&entry, library);
     }
   }
 
  private:
+  static bool IsFunction(const Entry& entry) {
+    return entry.text.find("\n  kind: function") != std::string_view::npos;
+  }
+
   /// Records the top-level entries of `f`: a line that starts with a letter starts one (keys are
   /// type names; comments, indented lines and blank lines belong to the entry above).
   void Cut(const EmbeddedFile& f) {
@@ -134,6 +149,7 @@ class BuiltinTypes : public LazyTypes {
   /// Last dotted part -> the qualified names that end in it.
   std::map<std::string, std::vector<std::string>> by_short_name_;
   mutable std::set<std::string> asked_;  ///< names Read has resolved already
+  mutable bool functions_read_ = false;
   mutable std::recursive_mutex mutex_;
 };
 
@@ -146,7 +162,13 @@ const Library& BuiltinLibrary() {
     for (const EmbeddedFile& f : kEmbeddedLibraryFiles) {
       if (std::string(f.name) == "components/connectors.yaml") LoadLibraryString(f.text, f.name, lib);
     }
-    lib->SetLazyTypes(std::make_shared<BuiltinTypes>(lib));
+    auto types = std::make_shared<BuiltinTypes>(lib);
+    lib->SetLazyTypes(types);
+    // A call to a library function in any text read from now on reads the functions first, so
+    // that the parser checks its argument count.
+    static const BuiltinTypes* functions = types.get();
+    static Library* into = lib;
+    SetLibraryFunctionReader([] { functions->ReadFunctions(into); });
     return lib;
   }();
   return *library;

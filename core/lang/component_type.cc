@@ -128,6 +128,11 @@ const RecordType* Library::FindRecord(const std::string& name) const {
 const FunctionDecl* Library::FindFunction(const std::string& name) const {
   if (const FunctionDecl* f = FindQualified(functions_, short_functions_, name)) return f;
   if (const FunctionDecl* f = FindByTail(functions_, name)) return f;
+  if (lazy_) {
+    lazy_->ReadFunctions(const_cast<Library*>(this));
+    if (const FunctionDecl* f = FindQualified(functions_, short_functions_, name)) return f;
+    if (const FunctionDecl* f = FindByTail(functions_, name)) return f;
+  }
   return base_ ? base_->FindFunction(name) : nullptr;
 }
 

@@ -300,6 +300,8 @@ class LazyTypes {
   virtual void Read(const std::string& name, Library* library) const = 0;
   /// Reads every type not read yet.
   virtual void ReadAll(Library* library) const = 0;
+  /// Reads every function not read yet (a source that reads them at once has nothing to do).
+  virtual void ReadFunctions(Library*) const {}
 };
 
 class Library {

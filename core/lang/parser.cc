@@ -4,6 +4,7 @@
 #include "core/lang/parser.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
@@ -45,6 +46,15 @@ struct UserFunctions {
 UserFunctions& Registered() {
   static UserFunctions* f = new UserFunctions();
   return *f;
+}
+
+std::atomic<void (*)()> library_function_reader{nullptr};
+
+/// Runs the library's function reader, once; whether it ran now.
+bool ReadLibraryFunctions() {
+  void (*read)() = library_function_reader.exchange(nullptr);
+  if (read) read();
+  return read != nullptr;
 }
 
 }  // namespace
@@ -289,6 +299,9 @@ class Parser {
     int arity = 0;
     // A qualified name is a library function, which the library resolves when it is inlined
     // (a model may be read before the library's functions are).
+    if (IsKnownFunction(name.text, &arity) && arity == -1 && ReadLibraryFunctions()) {
+      IsKnownFunction(name.text, &arity);
+    }
     if (!IsKnownFunction(name.text, &arity) && name.text.find('.') != std::string::npos) arity = -1;
     else if (!IsKnownFunction(name.text, &arity)) {
       throw ModelError(loc_.Shifted(name.column),
@@ -430,6 +443,8 @@ void RegisterFunction(const std::string& name, int arity) {
     from = dot + 1;
   }
 }
+
+void SetLibraryFunctionReader(void (*read)()) { library_function_reader = read; }
 
 std::string KnownFunctionList() {
   std::string s;

@@ -50,6 +50,11 @@ std::string KnownFunctionList();
 /// arguments; the library resolves which function a call means.
 void RegisterFunction(const std::string& name, int arity);
 
+/// What reads the library's functions when a text calls one that is registered but not yet read
+/// (the built-in library reads its functions on first use); called once, then the call's argument
+/// count is checked against the function's.
+void SetLibraryFunctionReader(void (*read)());
+
 /// Whether `name` is one of momenta's own functions (not a library's).
 bool IsBuiltinFunction(const std::string& name);
 

@@ -78,5 +78,16 @@ TEST(ReliabilityLoaderTest, SecondDocumentAndDeepYaml) {
   EXPECT_NE(r.err.find("YAML nested too deeply"), std::string::npos) << r.err;
 }
 
+// The built-in library's functions are read on first use (core/lang/builtin_library.cc): a model
+// that calls one with the wrong count still hears of it at its own call.
+TEST(ReliabilityLoaderTest, LibraryFunctionReadOnFirstUseChecksItsArgumentCount) {
+  TempDir dir;
+  dir.Write("arity.yaml", "model: A\ncomponents: {}\nvariables:\n  x: {start: 0}\nequations:\n"
+                          "  - der(x) = Frames.skew(1, 2)\n");
+  CliResult r = RunMomenta({"check", "arity.yaml"}, dir.path());
+  EXPECT_EQ(r.exit_code, kExitModel);
+  EXPECT_EQ(r.err, "arity.yaml:6:14: Frames.skew() takes 1 arguments, found 2, in 'der(x) = Frames.skew(1, 2)'\n");
+}
+
 }  // namespace
 }  // namespace momenta
