@@ -118,9 +118,7 @@ GuessRows FindGuessRows(const ExprPool& p, const CompiledModel& m, const Variabl
 /// variable: a pendulum chain's bodies would all start at the pivot while the joint angles put them
 /// radians away. So the guesses are found as the initialisation system [F; G] would determine
 /// them, in dependency (block-lower-triangular) order: an equation with one unknown not yet
-/// guessed that is linear in it with a coefficient of numbers and parameters (a prismatic joint's
-/// axis component, s = (r - r0)/e[1]) gives its guess, the start value where the coefficient is
-/// zero when the model runs, from the guesses of
+/// guessed that is linear in it with a numeric coefficient gives its guess, from the guesses of
 /// the others (first from the fixed start values and the parameters); when none is left, the
 /// start values of the variables still open (algebraic loops) are taken and the search goes on.
 /// Only equations of variables, parameters and constants are used; the guesses stay
@@ -166,13 +164,8 @@ std::vector<ExprId> PropagatedStartGuesses(ExprPool* pool, const EquationSystem&
     if (target == n) continue;
     ExprId e = map.empty() ? g.rows[r] : ReplaceNodes(&p, g.rows[r], map, kHasVar);
     ExprId coefficient;
-    ExprId value = SolveFor(&p, e, p.Var(m.unknowns[target]), true, &coefficient);
+    ExprId value = SolveFor(&p, e, p.Var(m.unknowns[target]), false, &coefficient);
     if (!value.valid() || !p.IsParamOnly(value)) continue;
-    // A coefficient of parameters (a joint's axis component) that is zero when the model runs
-    // leaves the start value as the guess.
-    if (!p.IsConst(coefficient)) {
-      value = p.If(p.NoEvent(p.Binary(Op::kNe, coefficient, p.Zero())), value, starts[target]);
-    }
     starts[target] = value;
     now_known(target);
   }

@@ -4,7 +4,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <string>
 #include <vector>
 
 #include "solver/initializer.h"
@@ -124,41 +123,6 @@ outputs: [x, y, z]
   state.InitResidual(0, z.data(), f.data());
   for (double r : f) EXPECT_LT(std::fabs(r), 1e-12);
   EXPECT_LT(init.max_residual, 1e-12);
-}
-
-TEST(InitializerTest, AFixedConditionWithAParameterCoefficientGivesTheGuess) {
-  // a*x = 1 fixes x = 1/a; at x's start value 0, der(x) = -1/x is infinite, so Newton cannot start
-  // from the start values. The guess from the initial equation, 1/a, is taken although its
-  // coefficient is a parameter (before: only a numeric coefficient gave a guess, and the
-  // initialisation failed with "the residual of 'der(x) = -1/x' is inf"). A linear initial
-  // equation: x and der(x) = -a are exact to rounding (1e-12).
-  auto b = testing::BuildYaml(R"yaml(
-model: ScaledStart
-parameters:
-  a: {value: 2}
-variables:
-  x: {start: 0}
-initial_equations:
-  - a*x = 1
-equations:
-  - der(x) = -1/x
-outputs: [x]
-)yaml");
-  ModelState state(b.model);
-  state.SetParameters({{"a", 4}});
-  InitialValues init = SolveInitialization(&state, 0, false);
-  ASSERT_EQ(init.y.size(), 1u);
-  EXPECT_NEAR(init.y[0], 0.25, 1e-12);
-  EXPECT_NEAR(init.yp[0], -4, 1e-12);
-  // a = 0: no x satisfies 0*x = 1; the guess stays the start value (no division by the zero
-  // coefficient) and the failure names the equation that cannot be evaluated there.
-  state.SetParameters({{"a", 0}});
-  try {
-    SolveInitialization(&state, 0, false);
-    FAIL() << "expected an initialisation failure";
-  } catch (const SolverError& e) {
-    EXPECT_NE(std::string(e.what()).find("'der(x) = -1/x'"), std::string::npos) << e.what();
-  }
 }
 
 }  // namespace
