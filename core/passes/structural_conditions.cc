@@ -10,8 +10,9 @@ namespace momenta {
 namespace {
 
 /// True when every parameter `e` depends on, through the parameters' bindings, is Boolean or
-/// Integer; `depends` collects them.
-bool OnlyDiscreteParameters(const FlatSystem& flat, ExprId e, std::vector<uint32_t>* depends) {
+/// Integer, or with `any_type` of any type; `depends` collects them.
+bool OnlyDiscreteParameters(const FlatSystem& flat, ExprId e, std::vector<uint32_t>* depends,
+                            bool any_type = false) {
   const ExprPool& p = *flat.pool;
   std::vector<ExprId> todo = CollectLeaves(p, e, kHasParam);
   std::vector<bool> seen(flat.parameters.size(), false);
@@ -21,7 +22,7 @@ bool OnlyDiscreteParameters(const FlatSystem& flat, ExprId e, std::vector<uint32
     if (seen[q]) continue;
     seen[q] = true;
     const FlatParameter& fp = flat.parameters[q];
-    if (fp.type == ValueType::kReal) return false;
+    if (fp.type == ValueType::kReal && !any_type) return false;
     depends->push_back(q);
     if (fp.binding.valid() && (p.mask(fp.binding) & kHasParam)) {
       for (ExprId leaf : CollectLeaves(p, fp.binding, kHasParam)) todo.push_back(leaf);
@@ -30,21 +31,66 @@ bool OnlyDiscreteParameters(const FlatSystem& flat, ExprId e, std::vector<uint32
   return true;
 }
 
+/// The guard of a conditional block's equation, `0 = if guard then lhs - rhs else 0`: the
+/// condition of the first if-node below the residual's negations, or an invalid id.
+ExprId BlockGuard(const ExprPool& p, ExprId residual) {
+  for (ExprId e = residual;;) {
+    const Node& n = p.node(e);
+    if (n.op == Op::kIf) return ExprId(n.a);
+    if (n.op == Op::kNeg) {
+      e = ExprId(n.a);
+    } else if ((n.op == Op::kSub || n.op == Op::kAdd || n.op == Op::kMul) && p.IsConst(ExprId(n.a))) {
+      e = ExprId(n.b);
+    } else if ((n.op == Op::kSub || n.op == Op::kAdd || n.op == Op::kMul) && p.IsConst(ExprId(n.b))) {
+      e = ExprId(n.a);
+    } else {
+      return ExprId();
+    }
+  }
+}
+
+/// The parameters that conditional blocks' guards read, through bindings, where a guard reads a
+/// Real one (MSL's LineForceWithTwoMasses, `if m_a > 0 or m_b > 0`): a block chooses its
+/// equations when the model is built, as Modelica evaluates an if-equation's parameter condition,
+/// so these are evaluated as `evaluate: true` ones are. (Kept an if-expression, both branches
+/// would be equations.) A guard of Boolean and Integer parameters alone is folded as any
+/// structural condition is.
+std::vector<bool> RealBlockGuardParameters(const FlatSystem& flat, const EquationSystem& sys) {
+  const ExprPool& p = *flat.pool;
+  std::vector<bool> also(flat.parameters.size(), false);
+  std::vector<uint32_t> depends;
+  for (const auto& e : sys.equations) {
+    if (e.kind != SystemEquation::Kind::kDynamic || !flat.equations[e.origin].guarded) continue;
+    const ExprId guard = BlockGuard(p, e.residual);
+    if (!guard.valid() || !p.IsParamOnly(guard)) continue;
+    depends.clear();
+    if (OnlyDiscreteParameters(flat, guard, &depends)) continue;
+    depends.clear();
+    OnlyDiscreteParameters(flat, guard, &depends, true);
+    for (uint32_t q : depends) also[q] = true;
+  }
+  return also;
+}
+
 /// The parameters fixed when the model is built, as Modelica evaluates a parameter with
-/// `Evaluate = true` and those bound to it: the ones declared `evaluate: true` and the ones whose
+/// `Evaluate = true` and those bound to it: the ones declared `evaluate: true` or in `also`, and the ones whose
 /// binding is an expression of such parameters alone (`C: CapVal`; a binding without parameters is
 /// an ordinary value). Each leaf maps to its value in `fixed`; `structural` collects them.
 size_t EvaluatedParameters(const FlatSystem& flat, ExprPool* pool, const std::vector<double>& params,
-                           std::unordered_map<uint32_t, ExprId>* fixed, std::vector<uint32_t>* structural) {
+                           const std::vector<bool>& also, std::unordered_map<uint32_t, ExprId>* fixed,
+                           std::vector<uint32_t>* structural) {
   const auto& all = flat.parameters;
-  if (std::none_of(all.begin(), all.end(), [](const FlatParameter& fp) { return fp.evaluate; })) return 0;
+  if (std::none_of(all.begin(), all.end(), [](const FlatParameter& fp) { return fp.evaluate; }) &&
+      std::none_of(also.begin(), also.end(), [](bool b) { return b; })) {
+    return 0;
+  }
   // In the parameters' evaluation order (a binding's parameters before it), so one pass decides.
   std::vector<bool> evaluated(all.size(), false);
   size_t count = 0;
   for (ParamId id : flat.parameter_order) {
     const uint32_t q = id.value();
     const FlatParameter& fp = all[q];
-    bool yes = fp.evaluate;
+    bool yes = fp.evaluate || also[q];
     if (!yes && fp.binding.valid() && (pool->mask(fp.binding) & kHasParam)) {
       yes = true;
       for (ExprId leaf : CollectLeaves(*pool, fp.binding, kHasParam)) yes = yes && evaluated[pool->node(leaf).a];
@@ -93,7 +139,8 @@ size_t FoldStructuralConditions(EquationSystem* sys, const std::vector<double>& 
   for (const auto& e : sys->initial) scan(e.residual);
   for (ExprId o : sys->outputs) scan(o);
   const size_t conditions = fixed.size();
-  const size_t evaluated = EvaluatedParameters(flat, &p, params, &fixed, &structural);
+  const size_t evaluated =
+      EvaluatedParameters(flat, &p, params, RealBlockGuardParameters(flat, *sys), &fixed, &structural);
   if (fixed.empty()) return 0;
 
   // Rewrite (an if on a constant condition is its branch), dropping initial equations that are

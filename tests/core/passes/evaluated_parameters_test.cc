@@ -68,5 +68,47 @@ TEST(EvaluatedParametersTest, AnEvaluatedParameterIsStructural) {
   EXPECT_EQ(b.model->flat->structural.count("C2.C"), 0u);  // a number: an ordinary parameter
 }
 
+// A conditional block whose condition reads a Real parameter (the MSL's LineForceWithTwoMasses,
+// `if m_a > 0 or m_b > 0`): the branch is chosen when the model is built, as Modelica evaluates an
+// if-equation's parameter condition, and the parameters it reads become structural. Before, the
+// block stayed an if-expression and both branches were equations ("Block is unbalanced: 3
+// equations for 2 unknowns").
+std::string Block(const std::string& m) {
+  return R"(
+model: Block
+define:
+  Decay:
+    parameters:
+      m: {value: 1}
+      big: {value: m > 0, type: Boolean}
+    variables:
+      x: {start: 1, fixed: true}
+      y: {}
+    equations:
+      - der(x) = -y
+      - if: big
+        then:
+          - y = m*x
+        else:
+          - y = 0
+components:
+  d: {type: Decay, m: )" + m + R"(}
+experiment: {start: 0, stop: 1, interval: 0.25, tolerance: 1e-8}
+outputs: [d.x]
+)";
+}
+
+TEST(EvaluatedParametersTest, ABlockConditionOfRealParametersChoosesTheBranch) {
+  // m = 2: x' = -2x, x = exp(-2t) (to 1e-6: the run's rtol 1e-8 on a value below 1, with margin).
+  Built decaying = BuildYaml(Block("2"));
+  EXPECT_EQ(decaying.model->flat->structural.count("d.m"), 1u);
+  EXPECT_EQ(decaying.model->flat->structural.count("d.big"), 1u);
+  Trajectory t = RunDefault(decaying);
+  for (size_t k = 0; k < t.t.size(); ++k) EXPECT_NEAR(t.Column("d.x", k), std::exp(-2 * t.t[k]), 1e-6) << t.t[k];
+  // m = 0: the else branch, y = 0, and x stays 1 exactly.
+  Trajectory held = RunDefault(BuildYaml(Block("0")));
+  for (size_t k = 0; k < held.t.size(); ++k) EXPECT_EQ(held.Column("d.x", k), 1.0) << held.t[k];
+}
+
 }  // namespace
 }  // namespace momenta::testing
