@@ -1,9 +1,7 @@
 // Which variables a 3-D multibody model keeps as states: the joints' coordinates, as the MSL's
 // stateSelect asks, also in blocks too large for the pivoting choice (a chain of eight links), and
 // `stateSelect: always` on a spherical joint's relative angular velocity with quaternion states
-// (the MSL's Spherical with enforceStates), at the world and between two moving bodies; and the
-// bodies' own quaternions and angular velocities where the joints have no states and the bodies'
-// frames are the roots of the connection graph.
+// (the MSL's Spherical with enforceStates), at the world and between two moving bodies.
 
 #include <gtest/gtest.h>
 
@@ -74,39 +72,6 @@ outputs: ["s1.w_rel[1]", "s2.w_rel[1]"]
     }
   }
   EXPECT_EQ(states.size(), 12u);
-}
-
-TEST(MultiBodyStateChoiceTest, BodiesAsRootsKeepTheirQuaternionsAndAngularVelocities) {
-  // Spherical joints without enforceStates give the bodies' frames to the connection graph as
-  // roots: each body integrates its quaternion Q (stateSelect avoid, der(Q) in the body's
-  // equations) and w_a (avoid), as Dymola chooses for ModelicaTest.MultiBody.
-  // SphericalDoublePendulum. Neither the frame's transformation matrix R.T (default, but
-  // differentiated only by index reduction) nor the second body's frame position r_0 (default,
-  // an alias of the body's r_0, avoid) may take their place: three elements of T are a choice
-  // that goes singular within half a second of this swing.
-  const std::string yaml = R"(
-model: FreeBodiesPendulum
-components:
-  world: {type: MultiBody.World}
-  s1: {type: MultiBody.Joints.Spherical, angles_fixed: true, w_rel_a_fixed: true, w_rel_a_start: [0.05, 0.03, 0.01]}
-  box1: {type: MultiBody.Parts.BodyBox, width: 0.06, r: [0.4, 0, -0.3]}
-  s2: {type: MultiBody.Joints.Spherical, angles_fixed: true, w_rel_a_fixed: true}
-  box2: {type: MultiBody.Parts.BodyBox, width: 0.06, r: [0.3, -0.4, 0]}
-connections:
-  - [world.frame_b, s1.frame_a]
-  - [s1.frame_b, box1.frame_a]
-  - [box1.frame_b, s2.frame_a]
-  - [s2.frame_b, box2.frame_a]
-outputs: ["box1.body.Q[1]"]
-)";
-  testing::Built built = testing::BuildYaml(yaml);
-  States expected;
-  for (const char* body : {"box1", "box2"}) {
-    for (const char* var : {"w_a", "Q"}) {
-      for (int k = 1; k <= 3; ++k) expected.push_back(std::string(body) + ".body." + var + "[" + std::to_string(k) + "]");
-    }
-  }
-  EXPECT_EQ(built.report.states, expected);
 }
 
 }  // namespace
