@@ -71,9 +71,19 @@ double DistanceToReference(const Csv& ref, size_t c, double t, double v, double 
   return best;
 }
 
-/// Whether reference row r and a neighbour are at the same time with every value the same.
+/// Whether reference row r and a neighbour are at the same time with every value the same (to 1e-12).
 bool SameValuesAtOneInstant(const Csv& ref, size_t r) {
-  return (r > 0 && ref.rows[r - 1] == ref.rows[r]) || (r + 1 < ref.rows.size() && ref.rows[r + 1] == ref.rows[r]);
+  // The same to rounding: Dymola's restart when its dynamic state set switches lists the instant
+  // twice with a quaternion element 4e-15 apart (SphericalDoublePendulum's at t = 0.3444).
+  auto same = [&](size_t a, size_t b) {
+    if (ref.rows[a][0] != ref.rows[b][0]) return false;
+    for (size_t c = 1; c < ref.rows[a].size(); ++c) {
+      const double x = ref.rows[a][c], y = ref.rows[b][c];
+      if (!(std::fabs(x - y) <= 1e-12 * std::max({1.0, std::fabs(x), std::fabs(y)}))) return false;
+    }
+    return true;
+  };
+  return (r > 0 && same(r - 1, r)) || (r + 1 < ref.rows.size() && same(r + 1, r));
 }
 
 /// True when our row k is an output grid row (start + j*interval, to 1e-9 of an interval) and
