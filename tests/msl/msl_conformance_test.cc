@@ -198,7 +198,7 @@ TEST(MslInitialConditionsTest, TightToleranceApproachesTheExactSolution) {
     only.rows.push_back({row[0], row[ref.Index("sd1.v_rel")], row[ref.Index("m1.v")]});
   }
   Worst worst;
-  Compare("InitialConditions at rtol 1e-10", ours, only, opt.interval, [](double, double, double) { return 1e-3; },
+  Compare("InitialConditions at rtol 1e-10", ours, only, opt.interval, [](double, double) { return 1e-3; },
           &worst, false, "", 0, /*same_time=*/true);
   RecordProperty("worst_error", worst.ToString());
   std::printf("[   INFO   ] InitialConditions at rtol 1e-10: worst %s\n", worst.ToString().c_str());

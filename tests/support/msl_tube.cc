@@ -13,7 +13,7 @@
 
 namespace momenta::testing {
 
-double CsvCompareTube(double /*max_abs*/, double range, double lowest) {
+double CsvCompareTube(double range, double lowest) {
   return kTubeTolerance * std::max({range, std::fabs(lowest), 1e-3});
 }
 
@@ -100,7 +100,7 @@ bool OnGridAlone(const Trajectory& ours, size_t k, double interval) {
 }  // namespace
 
 void Compare(const std::string& model, const Trajectory& ours, const Csv& ref, double interval,
-             const std::function<double(double, double, double)>& tube, Worst* worst, bool single_precision,
+             const std::function<double(double, double)>& tube, Worst* worst, bool single_precision,
              const std::string& settle_column, double settle_until, bool same_time) {
   // Match each reference row to our rows at the same time. Rows within 1e-11 of the time's
   // magnitude are at the same time: grid times (start + k*interval in both tools, printed to 17
@@ -164,13 +164,12 @@ void Compare(const std::string& model, const Trajectory& ours, const Csv& ref, d
     const std::string& col = ref.header[c];
     size_t ours_col = 0;
     ASSERT_NO_THROW(ours_col = ours.Index(col)) << model << ": no output " << col;
-    double max_abs = 0, lowest = HUGE_VAL, highest = -HUGE_VAL;
+    double lowest = HUGE_VAL, highest = -HUGE_VAL;
     for (const auto& row : ref.rows) {
-      max_abs = std::max(max_abs, std::fabs(row[c]));
       lowest = std::min(lowest, row[c]);
       highest = std::max(highest, row[c]);
     }
-    const double allowed = tube(max_abs, highest - lowest, lowest);
+    const double allowed = tube(highest - lowest, lowest);
     auto record = [&](double err, double t, double mine, double theirs) {
       if (!(err / allowed <= worst->ratio)) {  // also catches a NaN of ours
         *worst = Worst{err / allowed, err, allowed, t, mine, theirs, col};

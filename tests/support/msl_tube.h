@@ -20,15 +20,15 @@ constexpr double kTubeTolerance = 2e-3;
 /// fails; our rows at events are checked against the reference's curve (DistanceToReference).
 constexpr double kEventTimeWindow = kTubeTolerance;
 
-/// The allowed absolute deviation (the tube's half height) of a signal whose largest |ref| is
-/// max_abs, whose range (max - min over time) is range and whose lowest value is lowest.
-using TubeWidth = double (*)(double max_abs, double range, double lowest);
+/// The allowed absolute deviation (the tube's half height) of a signal whose range (max - min
+/// over time) is range and whose lowest value is lowest.
+using TubeWidth = double (*)(double range, double lowest);
 
 /// CSV-compare's tube as the MSL's regression tests run it (modelica-tools/csv-compare,
 /// CsvFile.cs: TubeSize with the legacy base and the default nominal value 1e-3): 2e-3 of
 /// max(range, |lowest|, 1e-3). Until 2026-11-28 the harness used 2e-3 * max(1, max |ref|), with
 /// no width in time: 500 times too loose for a signal of milliamperes, too strict for a steep one.
-double CsvCompareTube(double max_abs, double range, double lowest);
+double CsvCompareTube(double range, double lowest);
 
 
 /// The worst point of one comparison; ratio = |error| / allowed, so ratio <= 1 passes.
@@ -38,19 +38,19 @@ struct Worst {
   std::string ToString() const;
 };
 
-/// Compares every reference column of `ref` with `ours`; `tube(max_abs, range)` is the allowed
+/// Compares every reference column of `ref` with `ours`; `tube(range, lowest)` is the allowed
 /// absolute deviation of a column. Fails the test when a reference time is missing from our
 /// output or a column is missing; `worst` receives the worst point.
 ///
 /// The tube is CSV-compare's (modelica-tools/csv-compare, Tube.Validate, as the MSL's regression
-/// tests run it): a rectangle 2 * tube(...) high and 2 * kEventTimeWindow of the run wide swept
+/// tests run it): a rectangle 2 * tube(range, lowest) high and 2 * kEventTimeWindow of the run wide swept
 /// along the reference's curve (rows joined by straight lines, an event's two rows by a vertical
 /// one), and each of our rows at a reference time or an event must lie inside it. With
 /// `same_time`, the stricter comparison: our row at each reference time against that row's value
 /// (no width in time), as the harness applied it before 2026-11-28; the tests of the harness's
 /// row pairing use it, and CheckAgainstReference prints its figure beside the MSL's.
 void Compare(const std::string& model, const Trajectory& ours, const Csv& ref, double interval,
-             const std::function<double(double, double, double)>& tube, Worst* worst, bool single_precision = false,
+             const std::function<double(double, double)>& tube, Worst* worst, bool single_precision = false,
              const std::string& settle_column = "", double settle_until = 0, bool same_time = false);
 
 /// How one example is checked: the model's experiment must have this tolerance and output
