@@ -7,6 +7,7 @@
 #include <unordered_map>
 #include <unordered_set>
 
+#include "core/expr/expr_affine.h"
 #include "core/expr/expr_eval.h"
 #include "core/base/graph.h"
 
@@ -56,8 +57,25 @@ std::string DerName(const std::string& name, uint32_t order) {
 /// One level of the selection: equations `rows` and the derivatives they may be solved for.
 class LevelChoice {
  public:
-  LevelChoice(EquationSystem* sys, const std::vector<double>& params, const std::vector<double>& start)
-      : sys_(*sys), p_(*sys->pool), params_(params), start_(start) {}
+  LevelChoice(EquationSystem* sys, const DifferentiatedSystem& differentiated, const std::vector<double>& params,
+              const std::vector<double>& start)
+      : sys_(*sys), p_(*sys->pool), params_(params), start_(start), appears_differentiated_(sys->role.size(), false) {
+    // The variables whose derivative the model's own equations hold (not only their derivatives),
+    // and those an equation of the model defines as a derivative, v = c*der(x) + offset (der(v)
+    // is der(der(x)): a pendulum's w = der(phi)).
+    AffineForm form;
+    for (uint32_t e = 0; e < sys->equations.size(); ++e) {
+      if (e < differentiated.antiderivative.size() && differentiated.antiderivative[e] >= 0) continue;
+      const ExprId res = sys->equations[e].residual;
+      if (!res.valid() || !(p_.mask(res) & kHasDer)) continue;
+      for (ExprId leaf : CollectLeaves(p_, res, kHasDer)) MarkDifferentiated(p_.node(leaf).a);
+      if (DecomposeAffine(&p_, res, 2, &form) && form.terms.size() == 2 &&
+          (p_.op(form.terms[0].first) == Op::kDer) != (p_.op(form.terms[1].first) == Op::kDer)) {
+        for (const auto& [leaf, c] : form.terms) MarkDifferentiated(p_.node(leaf).a);
+      }
+    }
+    MergeAliasPriorities();
+  }
 
   /// Chooses |rows| candidates; returns them. `choices` gets a line where there was a choice.
   std::vector<Candidate> Choose(const std::vector<uint32_t>& rows, const std::vector<Candidate>& cands,
@@ -112,12 +130,12 @@ class LevelChoice {
         // among the candidates of the highest stateSelect priority. One such candidate alone is
         // the state throughout (the static choice made above).
         DynamicSet set;
-        int top = kStateNever;
-        for (uint32_t c : comp_cols) top = std::max(top, Priority(cands[c]));
+        int top = Rank(cands[comp_cols[0]]);
+        for (uint32_t c : comp_cols) top = std::max(top, Rank(cands[c]));
         int32_t kept = -1;
         for (uint32_t c : comp_cols) {
           const bool is_kept = std::find(chosen.begin(), chosen.end(), c) == chosen.end();
-          if (Priority(cands[c]) == top) {
+          if (Rank(cands[c]) == top) {
             if (is_kept) kept = static_cast<int32_t>(set.selectable.size());
             set.selectable.push_back(static_cast<uint32_t>(set.cands.size()));
           }
@@ -128,7 +146,7 @@ class LevelChoice {
           for (uint32_t r : comp_rows) set.rows.push_back(rows[r]);
           for (const Candidate& c : set.cands) selected.push_back(c);
           choices->push_back(DescribeDynamic(set));
-          if (top == kStateNever && set.cands[set.selectable[0]].order == 1) {
+          if (Priority(set.cands[set.selectable[0]]) == kStateNever && set.cands[set.selectable[0]].order == 1) {
             warnings_.push_back("stateSelect: never on each of " + SelectableNames(set) +
                                 ", but one of them must be a state (a state set selects it during the run)");
           }
@@ -147,11 +165,49 @@ class LevelChoice {
 
  private:
   /// The candidate's variable's stateSelect priority (its derivatives of every order share it).
-  int Priority(const Candidate& c) const { return sys_.flat->variables[c.var].state_priority; }
+  int Priority(const Candidate& c) const { return priority_[c.var]; }
+
+  void MarkDifferentiated(uint32_t v) {
+    if (v < appears_differentiated_.size()) appears_differentiated_[v] = true;
+  }
+
+  /// The priority of each variable as its alias set has it: a variable left with the default
+  /// takes the stateSelect its aliases declare (the highest where they differ), as a body's r_0
+  /// (avoid) gives it to its frame's r_0, the variable that stays.
+  void MergeAliasPriorities() {
+    const FlatSystem& flat = *sys_.flat;
+    priority_.resize(sys_.role.size());
+    for (uint32_t v = 0; v < priority_.size(); ++v) priority_[v] = flat.variables[v].state_priority;
+    std::vector<bool> merged(priority_.size(), false);
+    for (uint32_t v = 0; v < priority_.size(); ++v) {
+      const int prio = flat.variables[v].state_priority;
+      if (sys_.role[v] != VarRole::kAlias || prio == kStateDefault) continue;
+      AffineForm form;
+      if (!DecomposeAffine(&p_, sys_.eliminated->Apply(p_.Var(VarId(v))), 1, &form) || form.terms.size() != 1 ||
+          p_.op(form.terms[0].first) != Op::kVar) {
+        continue;
+      }
+      const uint32_t root = p_.node(form.terms[0].first).a;
+      if (flat.variables[root].state_priority != kStateDefault) continue;
+      priority_[root] = merged[root] ? std::max(priority_[root], prio) : prio;
+      merged[root] = true;
+    }
+  }
+
+  /// The order in which candidates stay states, finer than the priority as the MSL's StateSelect
+  /// reads: `default` and `avoid` are states only if the variable appears differentiated in the
+  /// model, so one that appears differentiated only through index reduction ranks with `avoid`
+  /// below an `avoid` that does (a body's quaternions, whose der(Q) the body's equations hold,
+  /// stay states where its frame's transformation matrix is made dummy, as Dymola chooses).
+  int Rank(const Candidate& c) const {
+    const int prio = Priority(c);
+    if (prio >= kStatePrefer || appears_differentiated_[c.var]) return 2 * prio + 1;
+    return 2 * std::min(prio, kStateDefault - 1);
+  }
 
   /// Smaller is made dummy first: `never` before `avoid` before `default` before `prefer`
-  /// before `always`, higher derivatives first.
-  std::tuple<int, int> Preference(const Candidate& c) const { return {Priority(c), -static_cast<int>(c.order)}; }
+  /// before `always` (see Rank), higher derivatives first.
+  std::tuple<int, int> Preference(const Candidate& c) const { return {Rank(c), -static_cast<int>(c.order)}; }
 
   /// Gaussian elimination with a pivot search that honours the preferences; returns the chosen
   /// columns, or fewer than the rows when the start values make the block singular.
@@ -204,7 +260,7 @@ class LevelChoice {
           const int prio = Priority(cands[comp_cols[j]]);
           const double fraction = prio == kStateNever ? kNeverPivotFraction : kPivotFraction;
           if (col_done[j] || v < fraction * row_max || (prio == kStateAlways && !forced) || !(v > 0)) continue;
-          std::tuple<int, int, int, double, double> key{prio, prio < kStateDefault && col_rows[j] == 1 ? 0 : 1,
+          std::tuple<int, int, int, double, double> key{Rank(cands[comp_cols[j]]), prio < kStateDefault && col_rows[j] == 1 ? 0 : 1,
                                                         -static_cast<int>(cands[comp_cols[j]].order), -v / row_max, -v};
           if (bi < 0 || key < best) {
             best = key;
@@ -304,7 +360,7 @@ class LevelChoice {
     std::unordered_set<uint32_t> dummy(chosen.begin(), chosen.end());
     std::vector<int> priorities;
     for (uint32_t c : comp_cols) {
-      if (!dummy.count(c)) priorities.push_back(Priority(cands[c]));
+      if (!dummy.count(c)) priorities.push_back(Rank(cands[c]));
     }
     std::sort(priorities.rbegin(), priorities.rend());
     return priorities;
@@ -394,6 +450,8 @@ class LevelChoice {
   const std::vector<double>& params_;
   const std::vector<double>& start_;
   const std::vector<uint32_t>* rows_ = nullptr;  ///< the level's equations (indices into sys_.equations)
+  std::vector<bool> appears_differentiated_;     ///< by variable: der of it is in an equation of the model
+  std::vector<int> priority_;                    ///< by variable: stateSelect, merged over its alias set
 };
 
 /// Adds an equation index reduction made, described as belonging to `instance`.
@@ -550,7 +608,7 @@ std::vector<uint32_t> ChooseLevels(EquationSystem* sys, const DifferentiatedSyst
     if (differentiated.max_order[v] >= 1) cands.push_back({v, differentiated.max_order[v]});
   }
   std::vector<uint32_t> lowest_dummy(nv, UINT32_MAX);
-  LevelChoice chooser(sys, params, start);
+  LevelChoice chooser(sys, differentiated, params, start);
   while (!rows.empty()) {
     std::vector<Candidate> chosen = chooser.Choose(rows, cands, &out->choices, sets);
     cands.clear();

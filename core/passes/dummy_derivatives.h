@@ -11,9 +11,12 @@
 /// the next level works on the equations h differentiated once less with z_selected's lower
 /// derivatives as candidates. The block is chosen by elimination with pivoting on dh/dz at the
 /// start values (a pivot must be within a factor of ten of its row's largest entry; among those,
-/// lower stateSelect priorities are made dummy first — never, avoid, default, prefer, always —
-/// then higher derivatives, then larger pivots; `never` takes any nonzero pivot and `always` only
-/// when its row has no other), falling back to the structure where the start values give zeros.
+/// lower stateSelect priorities are made dummy first — never, avoid, default, prefer, always,
+/// with a `default` or `avoid` variable whose derivative the model's own equations do not hold
+/// below every `avoid` that they do; a variable left with the default by alias elimination takes
+/// its aliases' stateSelect — then higher derivatives, then larger pivots; `never` takes any
+/// nonzero pivot and `always` only when its row has no other), falling back to the structure
+/// where the start values give zeros.
 /// A block whose choice depends on the motion becomes a state set over the candidates of its
 /// highest priority (one such candidate alone is kept statically).
 ///

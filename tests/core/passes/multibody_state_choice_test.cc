@@ -1,7 +1,9 @@
 // Which variables a 3-D multibody model keeps as states: the joints' coordinates, as the MSL's
 // stateSelect asks, also in blocks too large for the pivoting choice (a chain of eight links), and
 // `stateSelect: always` on a spherical joint's relative angular velocity with quaternion states
-// (the MSL's Spherical with enforceStates), at the world and between two moving bodies.
+// (the MSL's Spherical with enforceStates), at the world and between two moving bodies; and the
+// bodies' own quaternions and angular velocities where the joints have no states and the bodies'
+// frames are the roots of the connection graph.
 
 #include <gtest/gtest.h>
 
@@ -72,6 +74,67 @@ outputs: ["s1.w_rel[1]", "s2.w_rel[1]"]
     }
   }
   EXPECT_EQ(states.size(), 12u);
+}
+
+TEST(MultiBodyStateChoiceTest, BodiesAsRootsKeepTheirQuaternionsAndAngularVelocities) {
+  // Spherical joints without enforceStates give the bodies' frames to the connection graph as
+  // roots: each body integrates its quaternion Q (stateSelect avoid, der(Q) in the body's
+  // equations) and w_a (avoid), as Dymola chooses for ModelicaTest.MultiBody.
+  // SphericalDoublePendulum. Neither the frame's transformation matrix R.T (default, but
+  // differentiated only by index reduction) nor the second body's frame position r_0 (default,
+  // an alias of the body's r_0, avoid) may take their place: three elements of T are a choice
+  // that goes singular within half a second of this swing.
+  const std::string yaml = R"(
+model: FreeBodiesPendulum
+components:
+  world: {type: MultiBody.World}
+  s1: {type: MultiBody.Joints.Spherical, angles_fixed: true, w_rel_a_fixed: true, w_rel_a_start: [0.05, 0.03, 0.01]}
+  box1: {type: MultiBody.Parts.BodyBox, width: 0.06, r: [0.4, 0, -0.3]}
+  s2: {type: MultiBody.Joints.Spherical, angles_fixed: true, w_rel_a_fixed: true}
+  box2: {type: MultiBody.Parts.BodyBox, width: 0.06, r: [0.3, -0.4, 0]}
+connections:
+  - [world.frame_b, s1.frame_a]
+  - [s1.frame_b, box1.frame_a]
+  - [box1.frame_b, s2.frame_a]
+  - [s2.frame_b, box2.frame_a]
+outputs: ["box1.body.Q[1]"]
+)";
+  testing::Built built = testing::BuildYaml(yaml);
+  States expected;
+  for (const char* body : {"box1", "box2"}) {
+    for (const char* var : {"w_a", "Q"}) {
+      for (int k = 1; k <= 3; ++k) expected.push_back(std::string(body) + ".body." + var + "[" + std::to_string(k) + "]");
+    }
+  }
+  EXPECT_EQ(built.report.states, expected);
+}
+
+TEST(MultiBodyStateChoiceTest, AContactDoesNotTakeTheBodysStates) {
+  // Two free spheres with a sphere-sphere contact: the bodies' positions (avoid, as the MSL's
+  // Body.r_0, differentiated by each body's v_0 = der(r_0)) would rank with the contact's distance
+  // d and normal velocity v_n, whose der(d) the contact's equations also hold, and d and v_n took
+  // the place of A's r_0[1] and v_0[1]. The contact's are `never`: each body keeps its r_0 and
+  // v_0 as states, as it has without the contact.
+  const std::string yaml = R"(
+model: TwoSpheres
+components:
+  world: {type: MultiBody.World, gravityType: 1}
+  A: {type: MultiBody.Parts.Body, m: 1, r_0: {start: [0, 0, 0], fixed: true}, v_0: {start: [1, 0, 0], fixed: true}, angles_fixed: true, w_0_fixed: true}
+  B: {type: MultiBody.Parts.Body, m: 1, r_0: {start: [2, 0.3, 0.2], fixed: true}, v_0: {start: [0, 0, 0], fixed: true}, angles_fixed: true, w_0_fixed: true}
+  contact: {type: MultiBody.Contacts.SphereSphere, ra: 0.25, rb: 0.25, e: 1}
+connections:
+  - [A.frame_a, contact.frame_a]
+  - [B.frame_a, contact.frame_b]
+outputs: [contact.d]
+)";
+  testing::Built built = testing::BuildYaml(yaml);
+  States expected;
+  for (const char* body : {"A", "B"}) {
+    for (const char* var : {"frame_a.r_0", "v_0", "w_a", "Q"}) {
+      for (int i = 1; i <= 3; ++i) expected.push_back(std::string(body) + "." + var + "[" + std::to_string(i) + "]");
+    }
+  }
+  EXPECT_EQ(built.report.states, expected);
 }
 
 }  // namespace
