@@ -2,6 +2,8 @@
 // (time, unknowns and equations after each pass, and its note), states, index reduction, outputs,
 // what was pruned and, with --verbose, the DAE as IDA sees it in the user's names.
 
+#include <sys/resource.h>
+
 #include <cstdio>
 #include <iostream>
 
@@ -28,6 +30,29 @@ void PrintPasses(std::ostream& o, const LoadedModel& loaded) {
     total += p.seconds;
   }
   o << "  total " << FormatMs(total) << (HugePagesInUse() ? "  (memory on huge pages)" : "") << "\n";
+}
+
+/// The process's peak resident memory so far in bytes (getrusage's ru_maxrss, KiB on Linux);
+/// 0 if the system does not say.
+double PeakResidentBytes() {
+  rusage usage{};
+  if (getrusage(RUSAGE_SELF, &usage) != 0) return 0;
+  return static_cast<double>(usage.ru_maxrss) * 1024.0;
+}
+
+/// The memory line: the whole process's peak resident memory (the built-in library and the
+/// program included) and that peak divided by the number of components, in decimal MB and KB.
+void PrintMemory(std::ostream& o, size_t num_components) {
+  double peak = PeakResidentBytes();
+  if (peak <= 0) return;
+  char line[128];
+  std::snprintf(line, sizeof line, "  peak memory %.3g MB", peak / 1e6);
+  o << line;
+  if (num_components > 0) {
+    std::snprintf(line, sizeof line, ", %.3g KB per component", peak / 1e3 / static_cast<double>(num_components));
+    o << line;
+  }
+  o << "\n";
 }
 
 /// The DAE as IDA sees it, then the initial conditions, events, whens, impacts and outputs, in
@@ -80,6 +105,7 @@ int RunCheck(const CheckArgs& args) {
   o << "model " << model.flat->model_name << " (" << args.model << "): " << report.num_components
     << " components, " << report.num_parameters << " parameters\n";
   PrintPasses(o, loaded);
+  PrintMemory(o, report.num_components);
   o << "code: " << loaded.codegen_report.Summary() << "\n";
   auto list = [&](const std::string& title, const std::vector<std::string>& names) {
     o << title << " (" << names.size() << ")";
