@@ -6,6 +6,7 @@
 
 #include <cstdio>
 #include <iostream>
+#include <string>
 
 #include "app/commands.h"
 #include "app/huge_pages.h"
@@ -40,17 +41,21 @@ double PeakResidentBytes() {
   return static_cast<double>(usage.ru_maxrss) * 1024.0;
 }
 
+/// A figure to three significant digits, without an exponent from 1 000 on ("6.46", "4224").
+std::string ThreeDigits(double x) {
+  char text[32];
+  std::snprintf(text, sizeof text, x < 1000 ? "%.3g" : "%.0f", x);
+  return text;
+}
+
 /// The memory line: the whole process's peak resident memory (the built-in library and the
 /// program included) and that peak divided by the number of components, in decimal MB and KB.
 void PrintMemory(std::ostream& o, size_t num_components) {
   double peak = PeakResidentBytes();
   if (peak <= 0) return;
-  char line[128];
-  std::snprintf(line, sizeof line, "  peak memory %.3g MB", peak / 1e6);
-  o << line;
+  o << "  peak memory " << ThreeDigits(peak / 1e6) << " MB";
   if (num_components > 0) {
-    std::snprintf(line, sizeof line, ", %.3g KB per component", peak / 1e3 / static_cast<double>(num_components));
-    o << line;
+    o << ", " << ThreeDigits(peak / 1e3 / static_cast<double>(num_components)) << " KB per component";
   }
   o << "\n";
 }
