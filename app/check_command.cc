@@ -2,8 +2,11 @@
 // (time, unknowns and equations after each pass, and its note), states, index reduction, outputs,
 // what was pruned and, with --verbose, the DAE as IDA sees it in the user's names.
 
+#include <sys/resource.h>
+
 #include <cstdio>
 #include <iostream>
+#include <string>
 
 #include "app/commands.h"
 #include "app/huge_pages.h"
@@ -28,6 +31,33 @@ void PrintPasses(std::ostream& o, const LoadedModel& loaded) {
     total += p.seconds;
   }
   o << "  total " << FormatMs(total) << (HugePagesInUse() ? "  (memory on huge pages)" : "") << "\n";
+}
+
+/// The process's peak resident memory so far in bytes (getrusage's ru_maxrss, KiB on Linux);
+/// 0 if the system does not say.
+double PeakResidentBytes() {
+  rusage usage{};
+  if (getrusage(RUSAGE_SELF, &usage) != 0) return 0;
+  return static_cast<double>(usage.ru_maxrss) * 1024.0;
+}
+
+/// A figure to three significant digits, without an exponent from 1 000 on ("6.46", "4224").
+std::string ThreeDigits(double x) {
+  char text[32];
+  std::snprintf(text, sizeof text, x < 1000 ? "%.3g" : "%.0f", x);
+  return text;
+}
+
+/// The memory line: the whole process's peak resident memory (the built-in library and the
+/// program included) and that peak divided by the number of components, in decimal MB and KB.
+void PrintMemory(std::ostream& o, size_t num_components) {
+  double peak = PeakResidentBytes();
+  if (peak <= 0) return;
+  o << "  peak memory " << ThreeDigits(peak / 1e6) << " MB";
+  if (num_components > 0) {
+    o << ", " << ThreeDigits(peak / 1e3 / static_cast<double>(num_components)) << " KB per component";
+  }
+  o << "\n";
 }
 
 /// The DAE as IDA sees it, then the initial conditions, events, whens, impacts and outputs, in
@@ -80,6 +110,7 @@ int RunCheck(const CheckArgs& args) {
   o << "model " << model.flat->model_name << " (" << args.model << "): " << report.num_components
     << " components, " << report.num_parameters << " parameters\n";
   PrintPasses(o, loaded);
+  PrintMemory(o, report.num_components);
   o << "code: " << loaded.codegen_report.Summary() << "\n";
   auto list = [&](const std::string& title, const std::vector<std::string>& names) {
     o << title << " (" << names.size() << ")";

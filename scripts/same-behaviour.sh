@@ -66,8 +66,10 @@ fi
 
 # ---- one record: every model's results, program key and structure -----------------------------
 # Times and memory in `check -v` differ from run to run: mask every number followed by a unit of
-# time or memory, and squeeze the spaces that align the table's columns around them.
+# time or memory, and squeeze the spaces that align the table's columns around them. The line of
+# the peak memory is left out (a binary before it printed none).
 mask_figures() {
+  grep -v '^  peak memory ' |
   sed -E 's/[0-9]+(\.[0-9]+)?(e[-+]?[0-9]+)? ?(s|ms|us|µs|ns|MB|KB|kB|GB|B|MiB|KiB|GiB)\b/<fig>/g' |
     tr -s ' '
 }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <unordered_map>
+#include <unordered_set>
 
 #include "core/expr/expr_eval.h"
 
@@ -10,17 +11,18 @@ namespace momenta {
 namespace {
 
 /// True when every parameter `e` depends on, through the parameters' bindings, is Boolean or
-/// Integer, or with `any_type` of any type; `depends` collects them.
+/// Integer, or with `any_type` of any type; `depends` collects them. Called once per condition:
+/// the parameters seen are a set of the few reached, not a flag per parameter of the model (that
+/// made the pass quadratic in an array's size: one condition and one parameter per element).
 bool OnlyDiscreteParameters(const FlatSystem& flat, ExprId e, std::vector<uint32_t>* depends,
                             bool any_type = false) {
   const ExprPool& p = *flat.pool;
   std::vector<ExprId> todo = CollectLeaves(p, e, kHasParam);
-  std::vector<bool> seen(flat.parameters.size(), false);
+  std::unordered_set<uint32_t> seen;
   while (!todo.empty()) {
     uint32_t q = p.node(todo.back()).a;
     todo.pop_back();
-    if (seen[q]) continue;
-    seen[q] = true;
+    if (!seen.insert(q).second) continue;
     const FlatParameter& fp = flat.parameters[q];
     if (fp.type == ValueType::kReal && !any_type) return false;
     depends->push_back(q);
