@@ -25,8 +25,11 @@ constexpr double kNeverPivotFraction = 1e-8;
 
 /// A state set switches when its current choice's pivot falls below this fraction of the best.
 constexpr double kSwitchFraction = 0.5;
-/// Dynamic sets are made for blocks of at most this many equations (symbolic determinants).
+/// Dynamic sets with one state are made for blocks of at most this many equations (symbolic
+/// determinants; a set with one dummy has one equation),
+/// and with at most this many ways of choosing their states (one pivot expression each).
 constexpr size_t kDynamicMaxRows = 3;
+constexpr size_t kDynamicMaxChoices = 10;
 
 struct Candidate {
   uint32_t var, order;
@@ -34,16 +37,38 @@ struct Candidate {
 };
 
 /// A block whose best choice of dummy derivatives depends on where the motion is: all its
-/// candidates become dummy derivatives, and one new state, equal to the lower derivative of the
-/// candidate currently selected, carries the block's degree of freedom.
+/// candidates become dummy derivatives, and new states, equal to the lower derivatives of the
+/// candidates currently selected, carry the block's degrees of freedom (one for a pendulum's
+/// {x, y}; three for a free body's quaternion, "3 states selected from body.Q[]").
 struct DynamicSet {
   std::vector<uint32_t> rows;    ///< indices into sys.equations
   std::vector<Candidate> cands;  ///< derivatives der^k(v), all made dummy
-  /// The candidates (indices into cands) whose der^(k-1)(v) the set state may be: those of the
+  /// The candidates (indices into cands) whose der^(k-1)(v) the set's states may be: those of the
   /// highest stateSelect priority in the block.
   std::vector<uint32_t> selectable;
-  uint32_t start_choice = 0;     ///< index into selectable: the state at the start values
+  /// The ways of choosing the states: each a list of indices into cands, as many as the block
+  /// has degrees of freedom, taken from `selectable` in order (lexicographically).
+  std::vector<std::vector<uint32_t>> choices;
+  uint32_t start_choice = 0;     ///< index into choices: the states at the start values
 };
+
+/// Every way of taking `k` of `items`, in lexicographic order of positions.
+std::vector<std::vector<uint32_t>> Combinations(const std::vector<uint32_t>& items, size_t k) {
+  std::vector<std::vector<uint32_t>> out;
+  if (k == 0 || k > items.size()) return out;
+  std::vector<size_t> pos(k);
+  for (size_t i = 0; i < k; ++i) pos[i] = i;
+  while (true) {
+    std::vector<uint32_t> c;
+    for (size_t i : pos) c.push_back(items[i]);
+    out.push_back(std::move(c));
+    size_t i = k;
+    while (i > 0 && pos[i - 1] == items.size() - k + i - 1) --i;
+    if (i == 0) return out;
+    ++pos[i - 1];
+    for (size_t j = i; j < k; ++j) pos[j] = pos[j - 1] + 1;
+  }
+}
 uint64_t Key(uint32_t v, uint32_t k) { return (static_cast<uint64_t>(v) << 32) | k; }
 
 std::string DerName(const std::string& name, uint32_t order) {
@@ -132,17 +157,16 @@ class LevelChoice {
         DynamicSet set;
         int top = Rank(cands[comp_cols[0]]);
         for (uint32_t c : comp_cols) top = std::max(top, Rank(cands[c]));
-        int32_t kept = -1;
+        std::vector<uint32_t> kept;  // the static choice's states, as indices into set.cands
         for (uint32_t c : comp_cols) {
-          const bool is_kept = std::find(chosen.begin(), chosen.end(), c) == chosen.end();
-          if (Rank(cands[c]) == top) {
-            if (is_kept) kept = static_cast<int32_t>(set.selectable.size());
-            set.selectable.push_back(static_cast<uint32_t>(set.cands.size()));
-          }
+          if (std::find(chosen.begin(), chosen.end(), c) == chosen.end()) kept.push_back(static_cast<uint32_t>(set.cands.size()));
+          if (Rank(cands[c]) == top) set.selectable.push_back(static_cast<uint32_t>(set.cands.size()));
           set.cands.push_back(cands[c]);
         }
-        if (set.selectable.size() >= 2 && kept >= 0) {
-          set.start_choice = static_cast<uint32_t>(kept);
+        if (set.selectable.size() > kept.size()) set.choices = Combinations(set.selectable, kept.size());
+        const auto start = std::find(set.choices.begin(), set.choices.end(), kept);
+        if (set.choices.size() <= kDynamicMaxChoices && start != set.choices.end()) {
+          set.start_choice = static_cast<uint32_t>(start - set.choices.begin());
           for (uint32_t r : comp_rows) set.rows.push_back(rows[r]);
           for (const Candidate& c : set.cands) selected.push_back(c);
           choices->push_back(DescribeDynamic(set));
@@ -371,7 +395,11 @@ class LevelChoice {
   /// One state among the candidates of a small block whose pivots depend on the motion.
   bool IsDynamic(const std::vector<uint32_t>& comp_rows, const std::vector<uint32_t>& comp_cols,
                  const std::vector<std::vector<std::pair<uint32_t, ExprId>>>& row_cols) const {
-    if (comp_cols.size() != comp_rows.size() + 1 || comp_rows.size() > kDynamicMaxRows) return false;
+    // One state among rows + 1 candidates (a pendulum's {x, y}), or all but one of a single
+    // equation's candidates (a free body's Q*der(Q) = 0: three of the four elements of Q).
+    const bool one_state = comp_cols.size() == comp_rows.size() + 1 && comp_rows.size() <= kDynamicMaxRows;
+    const bool one_dummy = comp_rows.size() == 1 && comp_cols.size() > 2;
+    if (!one_state && !one_dummy) return false;
     for (uint32_t r : comp_rows) {
       ExprId res = sys_.equations[(*rows_)[r]].residual;
       for (auto [c, leaf] : row_cols[r]) {
@@ -393,9 +421,18 @@ class LevelChoice {
 
   std::string DescribeDynamic(const DynamicSet& set) const {
     std::ostringstream s;
-    const Candidate& start = set.cands[set.selectable[set.start_choice]];
-    s << "dynamic: one of " << SelectableNames(set) << " is a state, chosen during the run by the largest pivot (at the start: "
-      << DerName(sys_.flat->VariableName(VarId(start.var)), start.order - 1) << ")";
+    const std::vector<uint32_t>& start = set.choices[set.start_choice];
+    if (start.size() == 1) {
+      s << "dynamic: one of " << SelectableNames(set) << " is a state";
+    } else {
+      s << "dynamic: " << start.size() << " of " << SelectableNames(set) << " are states";
+    }
+    s << ", chosen during the run by the largest pivot (at the start: ";
+    for (size_t i = 0; i < start.size(); ++i) {
+      const Candidate& c = set.cands[start[i]];
+      s << (i ? ", " : "") << DerName(sys_.flat->VariableName(VarId(c.var)), c.order - 1);
+    }
+    s << ")";
     return s.str();
   }
 
@@ -497,44 +534,54 @@ ExprId Determinant(ExprPool* pool, const std::vector<std::vector<ExprId>>& a) {
   return det;
 }
 
-/// Makes a state set: the state `stateSetK.x` = the lower derivative of the selected candidate,
-/// its derivative = the selected candidate, and a when-clause that switches the selection (and
-/// reinitialises the state) when the current choice's pivot |det| falls below kSwitchFraction of
-/// the best one's. Expressions are in the candidates' derivative leaves; the dummy-derivative
-/// substitution that follows rewrites them.
-void AddStateSet(EquationSystem* sys, const DynamicSet& set, size_t number) {
+/// The pivot of each of the set's choices: |det| of the block's Jacobian in the candidates'
+/// derivatives without the choice's columns (those stay states; the rest are solved for).
+std::vector<ExprId> ChoicePivots(EquationSystem* sys, const DynamicSet& set, const std::vector<ExprId>& der) {
   ExprPool& p = *sys->pool;
-  const std::string prefix = "stateSet" + std::to_string(number);
-  const Candidate& start = set.cands[set.selectable[set.start_choice]];
-  const FlatVariable first = sys->flat->variables[set.cands[set.selectable[0]].var];  // a copy: AddVariable grows the vector
-  const InstanceId instance = first.instance;
-  const SourceLoc loc = first.loc;
-  const size_t n = set.selectable.size();
-  // The candidates, the selectable ones' lower derivatives and the pivot of each choice.
-  std::vector<ExprId> der, lower, pivot;
-  for (const Candidate& c : set.cands) der.push_back(p.Der(VarId(c.var), c.order));
-  for (uint32_t k : set.selectable) {
-    const Candidate& c = set.cands[k];
-    lower.push_back(c.order == 1 ? p.Var(VarId(c.var)) : p.Der(VarId(c.var), c.order - 1));
-  }
   std::vector<std::vector<ExprId>> jac;
   for (uint32_t r : set.rows) {
     std::vector<ExprId> row;
     for (ExprId d : der) row.push_back(PartialDerivative(&p, sys->equations[r].residual, d));
     jac.push_back(row);
   }
-  for (uint32_t j : set.selectable) {
+  std::vector<ExprId> pivot;
+  for (const std::vector<uint32_t>& choice : set.choices) {
     std::vector<std::vector<ExprId>> rest;
     for (const auto& row : jac) {
       std::vector<ExprId> r;
-      for (size_t c = 0; c < row.size(); ++c) {
-        if (c != j) r.push_back(row[c]);
+      for (uint32_t c = 0; c < row.size(); ++c) {
+        if (std::find(choice.begin(), choice.end(), c) == choice.end()) r.push_back(row[c]);
       }
       rest.push_back(r);
     }
     pivot.push_back(p.Unary(Op::kAbs, Determinant(&p, rest)));
   }
-  // The selection (Integer, 1-based) and the state.
+  return pivot;
+}
+
+/// Makes a state set: the states `stateSetK.x` (`x[1]`, `x[2]`, ... where the block has several
+/// degrees of freedom) = the lower derivatives of the selected candidates, their derivatives =
+/// the selected candidates, and a when-clause that switches the selection (and reinitialises the
+/// states) when the current choice's pivot |det| falls below kSwitchFraction of the best one's.
+/// Expressions are in the candidates' derivative leaves; the dummy-derivative substitution that
+/// follows rewrites them.
+void AddStateSet(EquationSystem* sys, const DynamicSet& set, size_t number) {
+  ExprPool& p = *sys->pool;
+  const std::string prefix = "stateSet" + std::to_string(number);
+  const std::vector<uint32_t>& start = set.choices[set.start_choice];
+  const FlatVariable first = sys->flat->variables[set.cands[set.selectable[0]].var];  // a copy: AddVariable grows the vector
+  const InstanceId instance = first.instance;
+  const SourceLoc loc = first.loc;
+  const size_t n = set.choices.size(), k = start.size();
+  // The candidates, the selectable ones' lower derivatives and the pivot of each choice.
+  std::vector<ExprId> der, lower(set.cands.size());
+  for (const Candidate& c : set.cands) der.push_back(p.Der(VarId(c.var), c.order));
+  for (uint32_t s : set.selectable) {
+    const Candidate& c = set.cands[s];
+    lower[s] = c.order == 1 ? p.Var(VarId(c.var)) : p.Der(VarId(c.var), c.order - 1);
+  }
+  const std::vector<ExprId> pivot = ChoicePivots(sys, set, der);
+  // The selection (Integer, 1-based) and the states.
   FlatVariable sel_var;
   sel_var.name = sys->MutableFlat().Own(prefix + ".select");
   sel_var.type = ValueType::kInteger;
@@ -543,36 +590,46 @@ void AddStateSet(EquationSystem* sys, const DynamicSet& set, size_t number) {
   sel_var.instance = instance;
   sel_var.loc = loc;
   VarId sel = sys->AddVariable(std::move(sel_var), p.Const(static_cast<double>(set.start_choice + 1)));
-  FlatVariable state_var;
-  state_var.name = sys->MutableFlat().Own(prefix + ".x");
-  state_var.nominal = first.nominal;
-  state_var.instance = instance;
-  state_var.loc = loc;
-  VarId state = sys->AddVariable(std::move(state_var), sys->guess[start.var]);
   std::string candidates;
-  for (size_t k = 0; k < n; ++k) {
-    const Candidate& c = set.cands[set.selectable[k]];
-    candidates += (k ? ", " : "") + DerName(sys->flat->VariableName(VarId(c.var)), c.order - 1);
+  for (size_t j = 0; j < set.selectable.size(); ++j) {
+    const Candidate& c = set.cands[set.selectable[j]];
+    candidates += (j ? ", " : "") + DerName(sys->flat->VariableName(VarId(c.var)), c.order - 1);
   }
   auto equation = [&](ExprId residual, const std::string& text) { AddMadeEquation(sys, residual, instance, text, loc); };
-  ExprId sel_now = p.Var(sel);
-  equation(p.Sub(p.Var(state), Choice(&p, sel_now, lower)), prefix + ".x = the selected one of " + candidates);
-  std::vector<ExprId> selectable_der;
-  for (uint32_t k : set.selectable) selectable_der.push_back(der[k]);
-  equation(p.Sub(p.Der(state), Choice(&p, sel_now, selectable_der)), "der(" + prefix + ".x) = der(the selected one of " + candidates + ")");
+  const ExprId sel_now = p.Var(sel);
+  std::vector<VarId> states;
+  std::vector<std::vector<ExprId>> lowers(k);  // by state: its lower derivative in each choice
+  for (size_t i = 0; i < k; ++i) {
+    const std::string x = k == 1 ? prefix + ".x" : prefix + ".x[" + std::to_string(i + 1) + "]";
+    const std::string which = k == 1 ? "the selected one" : "selected " + std::to_string(i + 1);
+    FlatVariable state_var;
+    state_var.name = sys->MutableFlat().Own(x);
+    state_var.nominal = first.nominal;
+    state_var.instance = instance;
+    state_var.loc = loc;
+    const VarId state = sys->AddVariable(std::move(state_var), sys->guess[set.cands[start[i]].var]);
+    states.push_back(state);
+    std::vector<ExprId> ders;
+    for (const std::vector<uint32_t>& choice : set.choices) {
+      lowers[i].push_back(lower[choice[i]]);
+      ders.push_back(der[choice[i]]);
+    }
+    equation(p.Sub(p.Var(state), Choice(&p, sel_now, lowers[i])), x + " = " + which + " of " + candidates);
+    equation(p.Sub(p.Der(state), Choice(&p, sel_now, ders)), "der(" + x + ") = der(" + which + " of " + candidates + ")");
+  }
   // Switch to the best pivot when the current one is much worse.
   ExprId best = pivot[0];
   for (size_t j = 1; j < n; ++j) best = p.Binary(Op::kMax, best, pivot[j]);
   ExprId argmax = p.Const(static_cast<double>(n));
   for (size_t j = n - 1; j-- > 0;) {
     ExprId others = p.Zero();
-    for (size_t k = j + 1; k < n; ++k) others = p.Binary(Op::kMax, others, pivot[k]);
+    for (size_t m = j + 1; m < n; ++m) others = p.Binary(Op::kMax, others, pivot[m]);
     argmax = p.If(p.NoEvent(p.Binary(Op::kGe, pivot[j], others)), p.Const(static_cast<double>(j + 1)), argmax);
   }
   FlatWhen w;
   w.condition = p.Binary(Op::kLt, Choice(&p, p.Pre(sel), pivot), p.Mul(p.Const(kSwitchFraction), best));
   w.assigns.push_back({sel, argmax});
-  w.reinits.push_back({state, Choice(&p, argmax, lower)});
+  for (size_t i = 0; i < k; ++i) w.reinits.push_back({states[i], Choice(&p, argmax, lowers[i])});
   w.instance = instance;
   FlatSystem& flat = sys->MutableFlat();
   w.text = flat.Own("the pivot of " + prefix + "'s choice among " + candidates + " falls below half the best");

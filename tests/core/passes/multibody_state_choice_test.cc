@@ -100,13 +100,19 @@ connections:
 outputs: ["box1.body.Q[1]"]
 )";
   testing::Built built = testing::BuildYaml(yaml);
-  States expected;
-  for (const char* body : {"box1", "box2"}) {
-    for (const char* var : {"w_a", "Q"}) {
-      for (int k = 1; k <= 3; ++k) expected.push_back(std::string(body) + ".body." + var + "[" + std::to_string(k) + "]");
-    }
-  }
+  // box1's Q is chosen with its frame's R.T in one block (its position is held by the joint at
+  // the world): three of Q, statically. box2's Q block is Q*der(Q) = 0 alone: three of its four
+  // elements, chosen during the run (Dymola: "3 states to be selected from body.Q[]").
+  const States expected{"box1.body.w_a[1]", "box1.body.w_a[2]", "box1.body.w_a[3]", "box1.body.Q[1]",
+                        "box1.body.Q[2]",   "box1.body.Q[3]",   "box2.body.w_a[1]", "box2.body.w_a[2]",
+                        "box2.body.w_a[3]", "stateSet1.x[1]",   "stateSet1.x[2]",   "stateSet1.x[3]"};
   EXPECT_EQ(built.report.states, expected);
+  bool dynamic = false;
+  for (const std::string& c : built.report.state_choices) {
+    dynamic |= c.find("dynamic: 3 of {box2.body.Q[1], box2.body.Q[2], box2.body.Q[3], box2.body.Q[4]} are states") !=
+               std::string::npos;
+  }
+  EXPECT_TRUE(dynamic);
 }
 
 TEST(MultiBodyStateChoiceTest, AContactDoesNotTakeTheBodysStates) {
@@ -130,9 +136,12 @@ outputs: [contact.d]
   testing::Built built = testing::BuildYaml(yaml);
   States expected;
   for (const char* body : {"A", "B"}) {
-    for (const char* var : {"frame_a.r_0", "v_0", "w_a", "Q"}) {
+    for (const char* var : {"frame_a.r_0", "v_0", "w_a"}) {
       for (int i = 1; i <= 3; ++i) expected.push_back(std::string(body) + "." + var + "[" + std::to_string(i) + "]");
     }
+  }
+  for (const char* set : {"stateSet1", "stateSet2"}) {  // three of each body's Q
+    for (int i = 1; i <= 3; ++i) expected.push_back(std::string(set) + ".x[" + std::to_string(i) + "]");
   }
   EXPECT_EQ(built.report.states, expected);
 }
