@@ -213,6 +213,8 @@ Template PartCondition(const TypeLayout& layout, const ComponentSpec& c) {
                                           "'; a part's condition may read parameters only (it is decided when the " +
                                           "model is built)");
   }
+  // Unknown names are reported by the template, with the valid ones.
+  Template t = MakeTemplate(layout, *c.condition, c.condition_text, c.condition_loc, true);
   if (!IsTruth(layout, *c.condition)) {
     std::string found = "'" + c.condition_text + "'";
     if (c.condition->kind == Ast::Kind::kName) {
@@ -224,7 +226,7 @@ Template PartCondition(const TypeLayout& layout, const ComponentSpec& c) {
     throw ModelError(c.condition_loc, what + " must be a Boolean: a Boolean parameter, a comparison or and/or/not " +
                                           "of them (e.g. use_v, m > 0), found " + found);
   }
-  return MakeTemplate(layout, *c.condition, c.condition_text, c.condition_loc, true);
+  return t;
 }
 
 }  // namespace

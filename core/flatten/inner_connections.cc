@@ -185,6 +185,7 @@ void InnerConnectionSets::Write() {
 }
 
 void InnerConnectionSets::CheckJoinedWithout(const std::vector<uint32_t>& set) const {
+  // (`set` is in slot order.)
   std::vector<uint32_t> always;
   for (uint32_t s : set) {
     if (!slots_[s].conditional) always.push_back(s);
@@ -196,12 +197,12 @@ void InnerConnectionSets::CheckJoinedWithout(const std::vector<uint32_t>& set) c
   }
   for (uint32_t s : always) {
     if (joined.Find(s) == joined.Find(always[0])) continue;
-    // The connection through a conditional member that joins them, for the message.
+    // A connection of the set's between a conditional member and another, for the message.
     SourceLoc at;
     std::string through;
     for (size_t k = 0; k < edges_.size(); ++k) {
       const auto [x, y] = edges_[k];
-      if (slots_[x].conditional != slots_[y].conditional) {
+      if (slots_[x].conditional != slots_[y].conditional && std::binary_search(set.begin(), set.end(), x)) {
         at = edge_locs_[k];
         through = slots_[x].conditional ? slots_[x].name : slots_[y].name;
         break;

@@ -195,8 +195,9 @@ size_t ResolveConditionalConnectors(EquationSystem* sys, const std::vector<doubl
     if (v.valid()) throw ModelError(f.outputs[k].loc, "the output '" + f.outputs[k].text + "' names " + absent_text(v));
   }
   // An absent part's when-clauses and impacts go with it.
-  std::erase_if(sys->whens, [&](const SystemWhen& w) { return absent.instances[f.whens[w.origin].instance.value()]; });
-  std::erase_if(sys->impacts, [&](const SystemImpact& im) { return absent.instances[f.impacts[im.origin].instance.value()]; });
+  auto gone_with_part = [&](InstanceId i) { return i.valid() && absent.instances[i.value()]; };
+  std::erase_if(sys->whens, [&](const SystemWhen& w) { return gone_with_part(f.whens[w.origin].instance); });
+  std::erase_if(sys->impacts, [&](const SystemImpact& im) { return gone_with_part(f.impacts[im.origin].instance); });
 
   // Absent, the variables are constants: zero (the flows, being unconnected, are).
   for (uint32_t v = 0; v < absent.vars.size(); ++v) {
