@@ -127,6 +127,21 @@ bool KeepConnection(ExprPool* pool, const FlatSystem& flat, const std::vector<bo
                                "condition, or connect it to something that is always there");
 }
 
+/// Absent, the variables are constants: zero (the flows, being unconnected, are). The equations,
+/// initial equations and outputs left name none of them (those that did are gone, or were an
+/// error): only the event parts can still hold them.
+void ZeroAbsentVariables(EquationSystem* sys, const std::vector<bool>& absent) {
+  ExprPool& p = *sys->pool;
+  for (uint32_t v = 0; v < absent.size(); ++v) {
+    if (!absent[v]) continue;
+    sys->eliminated->Set(p.Var(VarId(v)), p.Zero());
+    if (ExprId der = p.FindLeaf(Op::kDer, v); der.valid()) sys->eliminated->Set(der, p.Zero());
+    if (ExprId pre = p.FindLeaf(Op::kPre, v); pre.valid()) sys->eliminated->Set(pre, p.Zero());
+    sys->role[v] = VarRole::kConstant;
+  }
+  sys->ApplySubstitutionToEvents(sys->eliminated.get());
+}
+
 }  // namespace
 
 size_t ResolveConditionalConnectors(EquationSystem* sys, const std::vector<double>& params, size_t* absent_parts) {
@@ -199,17 +214,7 @@ size_t ResolveConditionalConnectors(EquationSystem* sys, const std::vector<doubl
   std::erase_if(sys->whens, [&](const SystemWhen& w) { return gone_with_part(f.whens[w.origin].instance); });
   std::erase_if(sys->impacts, [&](const SystemImpact& im) { return gone_with_part(f.impacts[im.origin].instance); });
 
-  // Absent, the variables are constants: zero (the flows, being unconnected, are).
-  for (uint32_t v = 0; v < absent.vars.size(); ++v) {
-    if (!absent.vars[v]) continue;
-    sys->eliminated->Set(p.Var(VarId(v)), p.Zero());
-    if (ExprId der = p.FindLeaf(Op::kDer, v); der.valid()) sys->eliminated->Set(der, p.Zero());
-    if (ExprId pre = p.FindLeaf(Op::kPre, v); pre.valid()) sys->eliminated->Set(pre, p.Zero());
-    sys->role[v] = VarRole::kConstant;
-  }
-  // The equations, initial equations and outputs left name none of these variables (those that
-  // did are gone, or were an error above): only the event parts can still hold them.
-  sys->ApplySubstitutionToEvents(sys->eliminated.get());
+  ZeroAbsentVariables(sys, absent.vars);
   return absent.connectors.size();
 }
 
