@@ -101,8 +101,8 @@ struct BuildState {
 // ---- the steps after flattening, in order -------------------------------------------------------
 
 /// Parameters evaluated, the equation system set up, and the branches chosen by Boolean and
-/// Integer parameters fixed before the structure is analysed; then connectors whose condition is
-/// false leave, with the equations that hold only with them.
+/// Integer parameters fixed before the structure is analysed; then connectors and parts whose
+/// condition is false leave, with the equations that hold only with them.
 StepOutcome FixStructuralParameters(BuildState* state) {
   // The passes after flattening about double the expression pool (bench/RESULTS.md): its table is
   // sized for that now, while the build is small, not rehashed at the peak of compilation.
@@ -114,10 +114,11 @@ StepOutcome FixStructuralParameters(BuildState* state) {
   state->sys = MakeEquationSystem(std::move(state->flat));
   EquationSystem& sys = state->sys;
   const size_t folded = FoldStructuralConditions(&sys, state->params);
-  const size_t absent = ResolveConditionalConnectors(&sys, state->params);
-  if (folded + absent == 0) return std::nullopt;
+  size_t absent_parts = 0;
+  const size_t absent = ResolveConditionalConnectors(&sys, state->params, &absent_parts);
+  if (folded + absent + absent_parts == 0) return std::nullopt;
   return StepResult{sys.num_unknowns(), sys.equations.size(),
-                    StructuralParametersNote(folded, absent)};
+                    StructuralParametersNote(folded, absent, absent_parts)};
 }
 
 /// Aliases, derivative aliases and constrained states, in rounds until nothing changes: only

@@ -13,10 +13,11 @@ std::string FlattenNote(const FlatSystem& flat) {
   return note.str();
 }
 
-std::string StructuralParametersNote(size_t folded_conditions, size_t absent_connectors) {
+std::string StructuralParametersNote(size_t folded_conditions, size_t absent_connectors, size_t absent_parts) {
   std::ostringstream note;
   note << folded_conditions << " conditions on Boolean or Integer parameters fixed";
   if (absent_connectors > 0) note << ", " << absent_connectors << " conditional connectors absent";
+  if (absent_parts > 0) note << ", " << absent_parts << " conditional parts absent";
   return note.str();
 }
 

@@ -55,7 +55,7 @@ struct BuildReport {
 // ---- each pass's note, from its statistics ------------------------------------------------------
 
 std::string FlattenNote(const FlatSystem& flat);
-std::string StructuralParametersNote(size_t folded_conditions, size_t absent_connectors);
+std::string StructuralParametersNote(size_t folded_conditions, size_t absent_connectors, size_t absent_parts = 0);
 std::string AliasEliminationNote(const AliasStats& stats);
 std::string IndexReductionNote(const IndexStats& stats);
 /// With the system's when-clauses and impacts, which the partition sets apart too.

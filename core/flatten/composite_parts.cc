@@ -40,6 +40,18 @@ void CheckLayoutBudget(FlattenContext* context, const ComponentSpec& c, const Ty
                               ByteText(budget.bytes) + " (" + budget.source + "); parts of parts multiply");
 }
 
+/// A template with its local variables and parameters moved by the given offsets.
+Template Rebased(const Template& t, uint32_t var_offset, uint32_t param_offset) {
+  Template r;
+  r.nodes = t.nodes;
+  r.root = t.root;
+  for (TNode& n : r.nodes) {
+    if (n.kind == TNode::kLocalVar || n.kind == TNode::kPre) n.local += var_offset;
+    if (n.kind == TNode::kLocalParam) n.local += param_offset;
+  }
+  return r;
+}
+
 /// Element `k` of part `c` (whose type is laid out as `part`), appended to `layout`: its record
 /// in the composite's subs, its parts' records after it, and its variables and parameters under
 /// its path.
@@ -53,10 +65,12 @@ PartPlan AddPart(TypeLayout* layout, const ComponentSpec& c, const TypeLayout& p
   const auto var_off = static_cast<uint32_t>(layout->vars.size());
   const auto param_off = static_cast<uint32_t>(layout->params.size());
   plan.sub = static_cast<int32_t>(layout->subs.size());
-  layout->subs.push_back({plan.path, &part, c.loc, var_off, param_off});
+  layout->subs.push_back({plan.path, &part, c.loc, var_off, param_off, Template(), c.condition_text, c.condition_loc});
   plan.sub_base = static_cast<int32_t>(layout->subs.size());
   for (const SubInstance& ss : part.subs) {
-    layout->subs.push_back({plan.path + "." + ss.path, ss.layout, ss.loc, var_off + ss.first_var, param_off + ss.first_param});
+    layout->subs.push_back({plan.path + "." + ss.path, ss.layout, ss.loc, var_off + ss.first_var, param_off + ss.first_param,
+                            ss.condition.root >= 0 ? Rebased(ss.condition, var_off, param_off) : Template(),
+                            ss.condition_text, ss.condition_loc});
   }
   auto remap = [&](int32_t sub) { return sub < 0 ? plan.sub : plan.sub_base + sub; };
   // The part's variables and parameters under their paths in the composite.
@@ -76,18 +90,6 @@ PartPlan AddPart(TypeLayout* layout, const ComponentSpec& c, const TypeLayout& p
   adopt(part.params, &layout->params, &layout->param_index);
   for (const auto& [var, at] : part.connected) layout->connected.emplace(var_off + var, at);
   return plan;
-}
-
-/// A template with its local variables and parameters moved by the given offsets.
-Template Rebased(const Template& t, uint32_t var_offset, uint32_t param_offset) {
-  Template r;
-  r.nodes = t.nodes;
-  r.root = t.root;
-  for (TNode& n : r.nodes) {
-    if (n.kind == TNode::kLocalVar || n.kind == TNode::kPre) n.local += var_offset;
-    if (n.kind == TNode::kLocalParam) n.local += param_offset;
-  }
-  return r;
 }
 
 /// Part `plan`'s own templates (its parameters' defaults, start values, equations, when-clauses
@@ -167,6 +169,66 @@ void ApplyModifiers(TypeLayout* layout, const PartPlan& plan) {
   }
 }
 
+/// Whether `a` is a truth value: a Boolean parameter of `layout`, true or false, a comparison,
+/// and/or/not, or an if-expression of truth values.
+bool IsTruth(const TypeLayout& layout, const Ast& a) {
+  switch (a.kind) {
+    case Ast::Kind::kBool:
+      return true;
+    case Ast::Kind::kName: {
+      auto p = layout.param_index.find(a.PathText());
+      return p != layout.param_index.end() && layout.params[p->second].decl->type == ValueType::kBoolean;
+    }
+    case Ast::Kind::kUnary:
+      return a.op == "not";
+    case Ast::Kind::kBinary:
+      return a.op == "and" || a.op == "or" || a.op == "<" || a.op == "<=" || a.op == ">" || a.op == ">=" ||
+             a.op == "==" || a.op == "<>";
+    case Ast::Kind::kIf:
+      for (size_t k = 1; k < a.args.size(); k += 2) {
+        if (!IsTruth(layout, *a.args[k])) return false;
+      }
+      return IsTruth(layout, *a.args.back());
+    default:
+      return false;
+  }
+}
+
+/// The first name `a` reads that is a variable of `layout` (a condition may read parameters
+/// only), or null.
+const Ast* VariableNamed(const TypeLayout& layout, const Ast& a) {
+  if (a.kind == Ast::Kind::kName && layout.var_index.count(a.PathText())) return &a;
+  for (const AstPtr& arg : a.args) {
+    if (const Ast* v = VariableNamed(layout, *arg)) return v;
+  }
+  return nullptr;
+}
+
+/// The template of part `c`'s condition in `layout`: a truth value of parameters, fixed when the
+/// model is built (core/passes/conditional_connectors.h).
+Template PartCondition(const TypeLayout& layout, const ComponentSpec& c) {
+  const std::string what = "the condition of part " + c.name + " in " + layout.type->name;
+  if (const Ast* v = VariableNamed(layout, *c.condition)) {
+    throw ModelError(c.condition_loc, what + " reads the variable " + v->PathText() + ", in '" + c.condition_text +
+                                          "'; a part's condition may read parameters only (it is decided when the " +
+                                          "model is built)");
+  }
+  // Unknown names are reported by the template, with the valid ones.
+  Template t = MakeTemplate(layout, *c.condition, c.condition_text, c.condition_loc, true);
+  if (!IsTruth(layout, *c.condition)) {
+    std::string found = "'" + c.condition_text + "'";
+    if (c.condition->kind == Ast::Kind::kName) {
+      auto p = layout.param_index.find(c.condition->PathText());
+      if (p != layout.param_index.end()) {
+        found += " (a " + std::string(ValueTypeName(layout.params[p->second].decl->type)) + " parameter)";
+      }
+    }
+    throw ModelError(c.condition_loc, what + " must be a Boolean: a Boolean parameter, a comparison or and/or/not " +
+                                          "of them (e.g. use_v, m > 0), found " + found);
+  }
+  return t;
+}
+
 }  // namespace
 
 std::vector<PartPlan> LayoutPartNames(TypeLayout* layout, TypeLayoutBuilder* builder, FlattenContext* context) {
@@ -206,6 +268,7 @@ void LayoutPartTemplates(TypeLayout* layout, const std::vector<PartPlan>& plans)
   for (const PartPlan& plan : plans) {
     AdoptPartTemplates(layout, plan);
     ApplyModifiers(layout, plan);
+    if (plan.spec->condition) layout->subs[plan.sub].condition = PartCondition(*layout, *plan.spec);
   }
 }
 

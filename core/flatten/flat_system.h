@@ -206,6 +206,21 @@ struct FlatConditionalConnector {
   SourceLoc connected_at;    ///< the first connection naming it; unknown when unconnected
 };
 
+/// A part of a composite type that exists only when its condition is true (ComponentSpec::condition,
+/// Modelica's `Der derv[3] if use_v`). Its variables and equations are in the flat system either
+/// way; the build decides from the parameters whether the part is there or absent, with every
+/// connection to it (core/passes/conditional_connectors.h).
+struct FlatConditionalPart {
+  InstanceId instance;        ///< the part; its own parts at every depth follow it
+  uint32_t num_instances = 0;  ///< itself and its parts
+  InstanceId owner;           ///< the composite instance whose part it is
+  ExprId condition;           ///< over parameters
+  std::string condition_text;  ///< as written in the composite type, e.g. "use_r and use_v"
+  VarId first_var;
+  uint32_t num_vars = 0;
+  SourceLoc loc;  ///< the condition
+};
+
 struct FlatOutput {
   std::string text;
   ExprId expr;
@@ -233,6 +248,7 @@ struct FlatSystem {
   /// refuses them, unless it holds them as inputs (BuildOptions::hold_free_inputs).
   std::vector<VarId> free_inputs;
   std::vector<FlatConditionalConnector> conditional_connectors;
+  std::vector<FlatConditionalPart> conditional_parts;
   ExperimentSpec experiment;
   std::shared_ptr<const Library> defines;  ///< the model's own types (instances point into them)
   /// The model's own connectors, records and functions laid over the library (null: none), which

@@ -3,6 +3,7 @@
 
 #include "core/flatten/inner_connections.h"
 
+#include <algorithm>
 #include <cmath>
 #include <optional>
 #include <string>
@@ -57,7 +58,7 @@ class InnerConnectionSets {
   /// Joins the slots that the type's connections name.
   void JoinConnections();
   /// Appends the sets' equations to the layout.
-  void Write() { sets_.WriteEquations(sets_.Sets(), this); }
+  void Write();
 
   const ConnectorType& TypeOf(uint32_t slot) const { return *slots_[slot].cs->type; }
   void Unconnected(uint32_t slot);
@@ -72,7 +73,13 @@ class InnerConnectionSets {
     bool outside;
     std::string name;  ///< relative to the composite
     SourceLoc loc;     ///< the part's entry, or the connector's declaration
+    /// Of a conditional part, or a conditional connector of the type's own: its connections
+    /// vanish when it is absent (core/passes/conditional_connectors.h).
+    bool conditional = false;
   };
+  /// Refuses a set whose members that always exist are joined only through conditional ones:
+  /// absent, those would leave them joined here but not in Modelica, where their connections vanish.
+  void CheckJoinedWithout(const std::vector<uint32_t>& set) const;
   /// The slot a connection end names: one of the type's own connectors (alone), or a part's
   /// (mass.flange_a, links[2].frame_b).
   uint32_t Resolve(const Ast& a, const std::string& text, const SourceLoc& loc, const LoopIndex* loop);
@@ -89,12 +96,14 @@ class InnerConnectionSets {
   std::vector<Slot> slots_;
   std::unordered_map<std::string, std::vector<size_t>> plans_of_;  ///< part name -> its elements
   ConnectionSets sets_{0};
+  std::vector<std::pair<uint32_t, uint32_t>> edges_;  ///< the connections, as pairs of slots
+  std::vector<SourceLoc> edge_locs_;
 };
 
 InnerConnectionSets::InnerConnectionSets(TypeLayout* layout, std::vector<PartPlan>* plans)
     : layout_(*layout), plans_(*plans) {
   for (const ConnectorSlot& cs : layout_.connectors) {
-    slots_.push_back({&cs, cs.first_local_var, true, cs.decl->name, cs.decl->loc});
+    slots_.push_back({&cs, cs.first_local_var, true, cs.decl->name, cs.decl->loc, !cs.decl->condition.empty()});
   }
   for (size_t k = 0; k < plans_.size(); ++k) {
     PartPlan& plan = plans_[k];
@@ -102,7 +111,8 @@ InnerConnectionSets::InnerConnectionSets(TypeLayout* layout, std::vector<PartPla
     plan.first_slot = static_cast<uint32_t>(slots_.size());
     const uint32_t var_off = layout_.subs[plan.sub].first_var;
     for (const ConnectorSlot& cs : plan.layout->connectors) {
-      slots_.push_back({&cs, var_off + cs.first_local_var, false, plan.path + "." + cs.decl->name, plan.spec->loc});
+      slots_.push_back({&cs, var_off + cs.first_local_var, false, plan.path + "." + cs.decl->name, plan.spec->loc,
+                        plan.spec->condition != nullptr});
     }
   }
   sets_ = ConnectionSets(slots_.size());
@@ -157,6 +167,51 @@ void InnerConnectionSets::Join(uint32_t x, uint32_t y, const std::string& xt, co
     if (!slots_[s].outside) layout_.connected.emplace(slots_[s].first_var, loc);
   }
   sets_.Join(x, y);
+  edges_.emplace_back(x, y);
+  edge_locs_.push_back(loc);
+}
+
+void InnerConnectionSets::Write() {
+  std::vector<std::vector<uint32_t>> sets = sets_.Sets();
+  for (std::vector<uint32_t>& set : sets) {
+    if (set.size() < 2) continue;
+    CheckJoinedWithout(set);
+    // A member that always exists first: the others' potentials equal its own, so that an
+    // absent member takes only its own equations with it.
+    auto always = std::find_if(set.begin(), set.end(), [&](uint32_t s) { return !slots_[s].conditional; });
+    if (always != set.end()) std::rotate(set.begin(), always, always + 1);
+  }
+  sets_.WriteEquations(sets, this);
+}
+
+void InnerConnectionSets::CheckJoinedWithout(const std::vector<uint32_t>& set) const {
+  // (`set` is in slot order.)
+  std::vector<uint32_t> always;
+  for (uint32_t s : set) {
+    if (!slots_[s].conditional) always.push_back(s);
+  }
+  if (always.size() == set.size() || always.size() < 2) return;
+  DisjointSets joined(slots_.size());
+  for (const auto& [x, y] : edges_) {
+    if (!slots_[x].conditional && !slots_[y].conditional) joined.Join(x, y);
+  }
+  for (uint32_t s : always) {
+    if (joined.Find(s) == joined.Find(always[0])) continue;
+    // A connection of the set's between a conditional member and another, for the message.
+    SourceLoc at;
+    std::string through;
+    for (size_t k = 0; k < edges_.size(); ++k) {
+      const auto [x, y] = edges_[k];
+      if (slots_[x].conditional != slots_[y].conditional && std::binary_search(set.begin(), set.end(), x)) {
+        at = edge_locs_[k];
+        through = slots_[x].conditional ? slots_[x].name : slots_[y].name;
+        break;
+      }
+    }
+    throw ModelError(at, slots_[always[0]].name + " and " + slots_[s].name + " in " + layout_.type->name +
+                             " are connected only through " + through + ", which is conditional: absent, its " +
+                             "connections vanish and would leave them apart; connect them directly");
+  }
 }
 
 void InnerConnectionSets::JoinConnections() {
@@ -225,6 +280,14 @@ uint32_t InnerConnectionSets::Driver(const std::vector<uint32_t>& set, const Sou
     if (slots_[s].cs->type->is_input == slots_[s].outside) drivers.push_back(s);
   }
   if (drivers.size() == 1) return drivers[0];
+  // Without either, an output of the type that its own equations determine drives its parts'
+  // inputs (MSL's FreeMotionScalarInit: [angle_1, derd[1].u]).
+  if (drivers.empty()) {
+    for (uint32_t s : set) {
+      if (slots_[s].outside && !slots_[s].cs->type->is_input) drivers.push_back(s);
+    }
+    if (drivers.size() == 1) return drivers[0];
+  }
   std::string members;
   for (uint32_t s : set) members += (members.empty() ? "" : ", ") + slots_[s].name;
   const std::string& type_name = layout_.type->name;

@@ -80,6 +80,11 @@ void InstanceBuilder::Components() {
     if (context_.components.Find(c.name) || scope_.Declares(c.name)) {
       throw ModelError(c.loc, "the name " + c.name + " is used twice");
     }
+    if (c.condition) {
+      throw ModelError(c.condition_loc, "component " + c.name + " of the model has a condition; condition: is taken " +
+                                            "by the parts of a component type (the model's parameters are set for " +
+                                            "each run), not by a model's components");
+    }
     const ComponentType* type = context_.FindType(c.type);
     if (!type) context_.UnknownType(c);
     const TypeLayout& layout = layouts_.Layout(type, &c);
@@ -257,8 +262,8 @@ int32_t InstanceBuilder::NamesOf(const TypeLayout& layout) {
   return at->second;
 }
 
-/// A local variable of a conditional connector (the layout's or a part's) makes its equations
-/// made: they may go when the connector is absent (ResolveConditionalConnectors).
+/// A local variable of a conditional connector (the layout's or a part's) or of a conditional
+/// part makes its equations made: they may go when it is absent (ResolveConditionalConnectors).
 const std::vector<uint32_t>& InstanceBuilder::SureAliasShapes(const TypeLayout& layout) {
   auto [at, added] = sure_shapes_.emplace(&layout, std::vector<uint32_t>());
   if (!added) return at->second;
@@ -272,6 +277,11 @@ const std::vector<uint32_t>& InstanceBuilder::SureAliasShapes(const TypeLayout& 
   };
   mark(layout, 0);
   for (const SubInstance& sub : layout.subs) mark(*sub.layout, sub.first_var);
+  // A conditional part's variables: all its equations and connections may go.
+  for (const SubInstance& sub : layout.subs) {
+    if (sub.condition.root < 0) continue;
+    std::fill_n(conditional.begin() + sub.first_var, sub.layout->vars.size(), true);
+  }
   std::vector<uint32_t>& shapes = at->second;
   for (const Template& t : layout.equations) {
     const SureAlias form = ReadSureAlias(t, layout.discrete, conditional);
@@ -336,7 +346,8 @@ InstanceBuilder::NewInstance InstanceBuilder::AddRecords(const ComponentSpec& c,
   return {c, layout, inst, data, index};
 }
 
-/// The instance's own conditional connectors (its connections come later) and its parts'.
+/// The instance's own conditional connectors (its connections come later), its parts', and its
+/// conditional parts.
 void InstanceBuilder::AddConditionalConnectors(const NewInstance& instance) {
   const InstanceData& data = instance.data;
   auto conditional = [&](const TypeLayout& connectors_of, int32_t sub, uint32_t var_off, uint32_t param_off) {
@@ -364,6 +375,29 @@ void InstanceBuilder::AddConditionalConnectors(const NewInstance& instance) {
   conditional(layout, -1, 0, 0);
   for (size_t k = 0; k < layout.subs.size(); ++k) {
     conditional(*layout.subs[k].layout, static_cast<int32_t>(k), layout.subs[k].first_var, layout.subs[k].first_param);
+  }
+  // Conditional parts, at every depth (a part's own parts follow it among the subs).
+  for (size_t k = 0; k < layout.subs.size(); ++k) {
+    const SubInstance& sub = layout.subs[k];
+    if (sub.condition.root < 0) continue;
+    FlatConditionalPart cp;
+    cp.instance = instance.InstanceOf(static_cast<int32_t>(k));
+    cp.num_instances = static_cast<uint32_t>(1 + sub.layout->subs.size());
+    // The composite it is a part of: the nearest sub whose path its own path extends.
+    cp.owner = instance.id;
+    for (size_t j = k; j-- > 0;) {
+      const std::string& p = layout.subs[j].path;
+      if (sub.path.size() > p.size() && sub.path.compare(0, p.size(), p) == 0 && sub.path[p.size()] == '.') {
+        cp.owner = instance.InstanceOf(static_cast<int32_t>(j));
+        break;
+      }
+    }
+    cp.condition = Instantiate(instance, sub.condition, sub.condition_text, sub.condition_loc);
+    cp.condition_text = sub.condition_text;
+    cp.first_var = VarId(data.first_var.value() + sub.first_var);
+    cp.num_vars = static_cast<uint32_t>(sub.layout->vars.size());
+    cp.loc = sub.condition_loc;
+    context_.flat.conditional_parts.push_back(std::move(cp));
   }
 }
 

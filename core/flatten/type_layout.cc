@@ -110,8 +110,7 @@ void LayoutOwnParameters(TypeLayout* layout) {
   }
 }
 
-/// A conditional connector's `condition:` names a Boolean parameter of its type; a type with
-/// parts cannot make its own connectors conditional (its inner connections would name them).
+/// A conditional connector's `condition:` names a Boolean parameter of its type.
 void CheckCondition(const TypeLayout& layout, const ConnectorDecl& c) {
   if (c.condition.empty()) return;
   const ComponentType* type = layout.type;
@@ -125,10 +124,6 @@ void CheckCondition(const TypeLayout& layout, const ConnectorDecl& c) {
                                 "parameter of " + type->name + ", found '" + c.condition + "'" +
                                 (p == layout.param_index.end() ? "" : " (a " + std::string(ValueTypeName(type->parameters[p->second].type)) + " parameter)") +
                                 " (Boolean parameters: " + (booleans.empty() ? std::string("none") : JoinNames(booleans)) + ")");
-  }
-  if (!type->components.empty()) {
-    throw ModelError(c.loc, "connector " + type->name + "." + c.name + " of a type with parts cannot be conditional; " +
-                                "make the part's connector conditional instead");
   }
 }
 
@@ -441,7 +436,7 @@ std::pair<bool, uint32_t> ModifierTarget(const ComponentSpec& c, const TypeLayou
   throw ModelError(m.key_loc, "unknown key '" + m.key + "' for " + c.name + " (" + layout.type->name + ")" +
                                   (close.empty() ? "" : " (did you mean " + JoinNames(close) + "?)") +
                                   " (valid parameters and variables: " + JoinNames(names) +
-                                  "; reserved keys: type, count, doc)");
+                                  "; reserved keys: type, count, condition, doc)");
 }
 
 AstPtr ModifierValue(const Modifier& m, const ParameterDecl& target, const std::string& component) {

@@ -54,6 +54,11 @@ struct SubInstance {
   const TypeLayout* layout;
   SourceLoc loc;  ///< its component entry
   uint32_t first_var, first_param;
+  /// A conditional part's condition over the composite's local parameters (root -1: the part
+  /// always exists), as written, and where.
+  Template condition;
+  std::string condition_text;
+  SourceLoc condition_loc;
 };
 
 /// Where an equation or a when-clause of a layout comes from, for messages and instance records.

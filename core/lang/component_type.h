@@ -223,6 +223,11 @@ struct Modifier {
 struct ComponentSpec {
   std::string name, type, doc;
   AstPtr count;  ///< null for a single component
+  /// A part of a composite type that exists only when this expression of the type's parameters
+  /// is true (Modelica's `Der derv[3] if use_v`); null for a part that always exists.
+  AstPtr condition;
+  std::string condition_text;
+  SourceLoc condition_loc;
   std::vector<Modifier> modifiers;
   SourceLoc loc, type_loc;
 };

@@ -38,7 +38,7 @@ void ReadVariableAttributes(const ValueReader& reader, const YamlNode& value, co
   if (const YamlNode choice = value["stateSelect"]) m->state_priority = reader.StateSelect(choice, what);
 }
 
-/// Component `name`: `type:`, and `doc:`, `count:` and a modifier for each other key (a value,
+/// Component `name`: `type:`, and `doc:`, `count:`, `condition:` and a modifier for each other key (a value,
 /// or a mapping of `start:`, `fixed:`, `nominal:`, `min:`, `max:`, `stateSelect:`).
 ComponentSpec ReadComponentEntry(const ValueReader& reader, const std::string& name,
                                  const YamlNode& n) {
@@ -60,6 +60,12 @@ ComponentSpec ReadComponentEntry(const ValueReader& reader, const std::string& n
     }
     if (key == "count") {
       c.count = reader.Expression(it->second, MessageSubject{"count of ", name});
+      continue;
+    }
+    if (key == "condition") {
+      c.condition_text = reader.ValueText(it->second, MessageSubject{"condition of ", name});
+      c.condition = reader.Expression(it->second, c.condition_text, MessageSubject{"condition of ", name});
+      c.condition_loc = reader.TextLoc(it->second);
       continue;
     }
     // Descriptions for messages, made only when there is one.

@@ -264,7 +264,7 @@ components:
        "components:\n"
        "  A: {type: Mass, mass: 1}\n",
        {},
-       {"@:3:19: ", "'mass'", "A (Mass)", "m, L", "type, count, doc"}},
+       {"@:3:19: ", "'mass'", "A (Mass)", "m, L", "type, count, condition, doc"}},
 
       // An unknown key at the top level.
       {"unknown_top_level_key",
