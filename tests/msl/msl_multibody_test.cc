@@ -102,7 +102,7 @@ const MultiBodyExample kExamples[] = {
 };
 
 /// How many of the examples have a model that passes (the count only grows).
-constexpr int kMultiBodyModelled = 58;
+constexpr int kMultiBodyModelled = 59;
 
 const char kReferences[] = "tests/data/msl-multibody/";
 
