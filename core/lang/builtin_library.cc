@@ -17,6 +17,7 @@
 #include "core/lang/builtin_library.h"
 
 #include <algorithm>
+#include <cstdint>
 #include <cstring>
 #include <iterator>
 #include <mutex>
@@ -40,21 +41,23 @@ struct EmbeddedFile {
   const char* name;
   const char* text;
 };
-/// One top-level entry of a library file (a type), found when the binary was built.
+/// One top-level entry of a library file (a type), found when the binary was built. Numbers
+/// only, so that the table is not relocated (written) at start.
 struct EmbeddedEntry {
-  const char* name;
-  size_t file;    ///< index in kEmbeddedLibraryFiles
-  size_t offset;  ///< of its text in the file
-  size_t length;
-  size_t line;  ///< the line of the file the text starts at
-  char kind;    ///< 'f' a function, 'r' a record, 'k' a connector type, 't' a component type
+  uint32_t name;    ///< offset in kEmbeddedLibraryNames
+  uint32_t file;    ///< index in kEmbeddedLibraryFiles
+  uint32_t offset;  ///< of its text in the file
+  uint32_t length;
+  uint32_t line;  ///< the line of the file the text starts at
+  char kind;      ///< 'f' a function, 'r' a record, 'k' a connector type, 't' a component type
 };
 /// A short name (ShortNames) of an entry; sorted by name, then in the files' order.
 struct EmbeddedShortName {
-  const char* name;
-  size_t entry;  ///< index in kEmbeddedLibraryEntries
+  uint32_t name;   ///< offset in kEmbeddedLibraryNames (the tail of the entry's name)
+  uint32_t entry;  ///< index in kEmbeddedLibraryEntries
 };
-// kEmbeddedLibraryFiles; kEmbeddedLibraryEntries sorted by name (every file's but connectors.yaml);
+// kEmbeddedLibraryFiles; kEmbeddedLibraryNames (each name ended by '\0');
+// kEmbeddedLibraryEntries sorted by name (every file's but connectors.yaml);
 // kEmbeddedLibraryShortNames. Written by the build (core/lang/embed_library.cc).
 #include "builtin_library_data.inc"
 
@@ -69,7 +72,7 @@ class BuiltinTypes : public LazyTypes {
   explicit BuiltinTypes(Library* library) : read_(kNumEntries, false) {
     // Every function's name first, so that any text may call one before it is read.
     for (const EmbeddedEntry& entry : kEmbeddedLibraryEntries) {
-      if (entry.kind == 'f') RegisterFunction(entry.name, -1);
+      if (entry.kind == 'f') RegisterFunction(kEmbeddedLibraryNames + entry.name, -1);
     }
     // Records first: connector types use them.
     for (const char kind : {'r', 'k'}) {
@@ -94,16 +97,18 @@ class BuiltinTypes : public LazyTypes {
   void Read(const std::string& name, Library* library) const override {
     std::lock_guard<std::recursive_mutex> lock(mutex_);
     if (!asked_.insert(name).second) return;
-    const auto by_name = [](const auto& entry, const std::string& n) { return std::strcmp(entry.name, n.c_str()) < 0; };
+    const auto by_name = [](const auto& entry, const std::string& n) {
+      return std::strcmp(kEmbeddedLibraryNames + entry.name, n.c_str()) < 0;
+    };
     const EmbeddedEntry* entry =
         std::lower_bound(std::begin(kEmbeddedLibraryEntries), std::end(kEmbeddedLibraryEntries), name, by_name);
-    if (entry != std::end(kEmbeddedLibraryEntries) && entry->name == name) {
+    if (entry != std::end(kEmbeddedLibraryEntries) && kEmbeddedLibraryNames + entry->name == name) {
       const size_t i = static_cast<size_t>(entry - kEmbeddedLibraryEntries);
       if (!read_[i]) ReadEntry(i, library);
     }
     for (const EmbeddedShortName* s = std::lower_bound(std::begin(kEmbeddedLibraryShortNames),
                                                        std::end(kEmbeddedLibraryShortNames), name, by_name);
-         s != std::end(kEmbeddedLibraryShortNames) && s->name == name; ++s) {
+         s != std::end(kEmbeddedLibraryShortNames) && kEmbeddedLibraryNames + s->name == name; ++s) {
       if (!read_[s->entry]) ReadEntry(s->entry, library);
     }
   }

@@ -6,7 +6,7 @@
 //
 // It holds each file's text as a raw string literal and the table of the files' top-level entries
 // (one a type: its name, file, offset, length, first line and kind) with every short name of
-// them, sorted, so that start-up looks a type up without cutting or scanning the text
+// them, sorted, all numbers (no pointer to relocate at start), so that start-up looks a type up without cutting or scanning the text
 // (cutting ~500 KB at every start was a tenth of a small model's whole run). An entry starts at a
 // line that starts with a letter (its key, up to the first ':'); comments, indented and blank
 // lines belong to the entry above. connectors.yaml is read whole at start and has no entries.
@@ -54,9 +54,14 @@ std::vector<std::string> Tails(const std::string& name) {
   return tails;
 }
 
+/// `s` as a C++ string literal ('\0' as an escape; a literal of its own ends each escape).
 std::string Quoted(const std::string& s) {
   std::string out = "\"";
   for (char c : s) {
+    if (c == '\0') {
+      out += "\\0\" \"";
+      continue;
+    }
     if (c == '"' || c == '\\') out += '\\';
     out += c;
   }
@@ -121,27 +126,42 @@ int main(int argc, char** argv) {
       return 1;
     }
   }
-  out << "static const EmbeddedEntry kEmbeddedLibraryEntries[] = {\n";
+  // The names, each ended by '\0', in one literal, and numbers only in the tables: a pointer in a
+  // table would be relocated at every start (its pages written, whether a run reads them or not).
+  std::vector<size_t> name_at;
+  out << "static const char kEmbeddedLibraryNames[] =\n";
+  size_t pool = 0;
   for (const Entry& e : entries) {
-    out << "  {" << Quoted(e.name) << ", " << e.file << ", " << e.offset << ", " << e.length << ", " << e.line
-        << ", '" << e.kind << "'},\n";
+    name_at.push_back(pool);
+    out << "  " << Quoted(e.name + '\0') << "\n";
+    pool += e.name.size() + 1;
+  }
+  out << "  \"\";\n\n";
+  out << "static const EmbeddedEntry kEmbeddedLibraryEntries[] = {\n";
+  for (size_t i = 0; i < entries.size(); ++i) {
+    const Entry& e = entries[i];
+    out << "  {" << name_at[i] << ", " << e.file << ", " << e.offset << ", " << e.length << ", " << e.line << ", '"
+        << e.kind << "'},\n";
   }
   out << "};\n\n";
-  // Short name -> the entries (indices above) that end in it, in the files' order.
+  // Short name -> the entries (indices above) that end in it, in the files' order; a short name
+  // is the tail of its entry's name in the pool.
   std::vector<Entry> in_file_order = entries;
   std::stable_sort(in_file_order.begin(), in_file_order.end(),
                    [](const Entry& a, const Entry& b) { return a.file != b.file ? a.file < b.file : a.offset < b.offset; });
-  std::map<std::string, std::vector<size_t>> by_tail;
+  std::map<std::string, std::vector<std::pair<size_t, size_t>>> by_tail;  // tail -> (entry, pool offset)
   for (const Entry& e : in_file_order) {
     const size_t index = static_cast<size_t>(
         std::lower_bound(entries.begin(), entries.end(), e.name,
                          [](const Entry& a, const std::string& n) { return a.name < n; }) -
         entries.begin());
-    for (const std::string& tail : Tails(e.name)) by_tail[tail].push_back(index);
+    for (const std::string& tail : Tails(e.name)) {
+      by_tail[tail].emplace_back(index, name_at[index] + e.name.size() - tail.size());
+    }
   }
   out << "static const EmbeddedShortName kEmbeddedLibraryShortNames[] = {\n";
-  for (const auto& [tail, indices] : by_tail) {
-    for (size_t index : indices) out << "  {" << Quoted(tail) << ", " << index << "},\n";
+  for (const auto& [tail, found] : by_tail) {
+    for (const auto& [index, at] : found) out << "  {" << at << ", " << index << "},\n";
   }
   out << "};\n";
   // Written only when it changed, so that a rebuild does not recompile builtin_library.cc.
