@@ -8,11 +8,12 @@
 // and each component type the first time a model names it (LazyTypes). The text's top-level
 // entries, one a type, and their short names are found when the binary is built
 // (core/lang/embed_library.cc): cutting the ~500 KB of text at every start was a tenth of a small
-// model's whole run, and start-up now touches only the text of the entries it reads. An entry is read as its own YAML
-// document, preceded by as many empty lines as come before it in its file, so that every location
-// (file:line:col) is the one reading the whole file gives; each type is turned into its scalar
-// form (core/lang/arrays.h) as it is read, which needs only the connector types. The library is
-// one object for the process, never copied (a copy would share the record of what was read).
+// model's whole run, and start-up now touches only the text of the entries it reads. An entry is
+// read as its own YAML document, preceded by as many empty lines as come before it in its file,
+// so that every location (file:line:col) is the one reading the whole file gives; each type is
+// turned into its scalar form (core/lang/arrays.h) as it is read, which needs only the connector
+// types. The library is one object for the process, never copied (a copy would share the record
+// of what was read).
 
 #include "core/lang/builtin_library.h"
 
@@ -22,7 +23,6 @@
 #include <iterator>
 #include <mutex>
 #include <set>
-#include <string_view>
 #include <vector>
 
 #include "core/lang/arrays.h"
@@ -100,15 +100,17 @@ class BuiltinTypes : public LazyTypes {
     const auto by_name = [](const auto& entry, const std::string& n) {
       return std::strcmp(kEmbeddedLibraryNames + entry.name, n.c_str()) < 0;
     };
-    const EmbeddedEntry* entry =
-        std::lower_bound(std::begin(kEmbeddedLibraryEntries), std::end(kEmbeddedLibraryEntries), name, by_name);
+    const EmbeddedEntry* entry = std::lower_bound(std::begin(kEmbeddedLibraryEntries),
+                                                  std::end(kEmbeddedLibraryEntries), name, by_name);
     if (entry != std::end(kEmbeddedLibraryEntries) && kEmbeddedLibraryNames + entry->name == name) {
       const size_t i = static_cast<size_t>(entry - kEmbeddedLibraryEntries);
       if (!read_[i]) ReadEntry(i, library);
     }
-    for (const EmbeddedShortName* s = std::lower_bound(std::begin(kEmbeddedLibraryShortNames),
-                                                       std::end(kEmbeddedLibraryShortNames), name, by_name);
-         s != std::end(kEmbeddedLibraryShortNames) && kEmbeddedLibraryNames + s->name == name; ++s) {
+    for (const EmbeddedShortName* s =
+             std::lower_bound(std::begin(kEmbeddedLibraryShortNames),
+                              std::end(kEmbeddedLibraryShortNames), name, by_name);
+         s != std::end(kEmbeddedLibraryShortNames) && kEmbeddedLibraryNames + s->name == name;
+         ++s) {
       if (!read_[s->entry]) ReadEntry(s->entry, library);
     }
   }

@@ -6,10 +6,11 @@
 //
 // It holds each file's text as a raw string literal and the table of the files' top-level entries
 // (one a type: its name, file, offset, length, first line and kind) with every short name of
-// them, sorted, all numbers (no pointer to relocate at start), so that start-up looks a type up without cutting or scanning the text
-// (cutting ~500 KB at every start was a tenth of a small model's whole run). An entry starts at a
-// line that starts with a letter (its key, up to the first ':'); comments, indented and blank
-// lines belong to the entry above. connectors.yaml is read whole at start and has no entries.
+// them, sorted, all numbers (no pointer to relocate at start), so that start-up looks a type up
+// without cutting or scanning the text (cutting ~500 KB at every start was a tenth of a small
+// model's whole run). An entry starts at a line that starts with a letter (its key, up to the
+// first ':'); comments, indented and blank lines belong to the entry above. connectors.yaml is
+// read whole at start and has no entries.
 //
 // Plain C++17 and the standard library only: it runs on the build machine before momenta exists.
 
@@ -118,7 +119,8 @@ int main(int argc, char** argv) {
   out << "};\n\n";
   // Sorted by name (std::string's order, as a std::map of the names iterates); a name defined
   // twice would make which one a model gets depend on the files' order.
-  std::stable_sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) { return a.name < b.name; });
+  std::stable_sort(entries.begin(), entries.end(),
+                   [](const Entry& a, const Entry& b) { return a.name < b.name; });
   for (size_t i = 1; i < entries.size(); ++i) {
     if (entries[i].name == entries[i - 1].name) {
       std::cerr << names[entries[i].file] << ":" << entries[i].line << ": " << entries[i].name
@@ -140,16 +142,18 @@ int main(int argc, char** argv) {
   out << "static const EmbeddedEntry kEmbeddedLibraryEntries[] = {\n";
   for (size_t i = 0; i < entries.size(); ++i) {
     const Entry& e = entries[i];
-    out << "  {" << name_at[i] << ", " << e.file << ", " << e.offset << ", " << e.length << ", " << e.line << ", '"
-        << e.kind << "'},\n";
+    out << "  {" << name_at[i] << ", " << e.file << ", " << e.offset << ", " << e.length << ", "
+        << e.line << ", '" << e.kind << "'},\n";
   }
   out << "};\n\n";
   // Short name -> the entries (indices above) that end in it, in the files' order; a short name
   // is the tail of its entry's name in the pool.
   std::vector<Entry> in_file_order = entries;
-  std::stable_sort(in_file_order.begin(), in_file_order.end(),
-                   [](const Entry& a, const Entry& b) { return a.file != b.file ? a.file < b.file : a.offset < b.offset; });
-  std::map<std::string, std::vector<std::pair<size_t, size_t>>> by_tail;  // tail -> (entry, pool offset)
+  std::stable_sort(in_file_order.begin(), in_file_order.end(), [](const Entry& a, const Entry& b) {
+    return a.file != b.file ? a.file < b.file : a.offset < b.offset;
+  });
+  std::map<std::string, std::vector<std::pair<size_t, size_t>>>
+      by_tail;  // tail -> (entry, pool offset)
   for (const Entry& e : in_file_order) {
     const size_t index = static_cast<size_t>(
         std::lower_bound(entries.begin(), entries.end(), e.name,
@@ -168,7 +172,8 @@ int main(int argc, char** argv) {
   const std::string text = out.str();
   {
     std::ifstream old(argv[1], std::ios::binary);
-    const std::string before((std::istreambuf_iterator<char>(old)), std::istreambuf_iterator<char>());
+    const std::string before((std::istreambuf_iterator<char>(old)),
+                             std::istreambuf_iterator<char>());
     if (old && before == text) return 0;
   }
   std::ofstream file(argv[1], std::ios::binary);
