@@ -376,7 +376,11 @@ void SolveUntestedAt(IntegrationState* run, double t) {
     state->Residual(t, y.data(), yp.data(), f.data());
     if (std::all_of(f.begin(), f.end(), [](double r) { return r == 0; })) return;
     if (!ida.interpolation_matrix || ida.interpolated_at != step_time || (it == 3 && !fresh)) {
-      ida.interpolation_matrix = std::make_unique<MixedJacobian>(state, t, y.data(), yp.data());
+      if (ida.interpolation_matrix) {
+        ida.interpolation_matrix->Evaluate(state, t, y.data(), yp.data());  // keeps its ordering
+      } else {
+        ida.interpolation_matrix = std::make_unique<MixedJacobian>(state, t, y.data(), yp.data());
+      }
       ida.interpolated_at = step_time;
       fresh = true;
       if (!ida.interpolation_matrix->Factor()) {

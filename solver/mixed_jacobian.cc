@@ -4,12 +4,18 @@
 
 #include "solver/mixed_jacobian.h"
 
+#include <algorithm>
+
 #include "solver/minimum_norm_newton.h"
 
 namespace momenta {
 
 MixedJacobian::MixedJacobian(ModelState* state, double t, const double* y, const double* yp)
     : model_(state->model()) {
+  Evaluate(state, t, y, yp);
+}
+
+void MixedJacobian::Evaluate(ModelState* state, double t, const double* y, const double* yp) {
   dfdy_.resize(model_.jacobian_pattern.nnz());
   dfdyp_.resize(model_.jacobian_pattern.nnz());
   state->JacobianParts(t, y, yp, dfdy_.data(), dfdyp_.data());
@@ -37,7 +43,15 @@ bool MixedJacobian::Factor() {
   Eigen::SparseMatrix<double> matrix(n, n);
   matrix.setFromTriplets(triplets.begin(), triplets.end());
   matrix.makeCompressed();
-  lu_.compute(matrix);
+  const int* outer = matrix.outerIndexPtr();
+  const int* inner = matrix.innerIndexPtr();
+  if (!std::equal(analysed_outer_.begin(), analysed_outer_.end(), outer, outer + n + 1) ||
+      !std::equal(analysed_inner_.begin(), analysed_inner_.end(), inner, inner + matrix.nonZeros())) {
+    lu_.analyzePattern(matrix);
+    analysed_outer_.assign(outer, outer + n + 1);
+    analysed_inner_.assign(inner, inner + matrix.nonZeros());
+  }
+  lu_.factorize(matrix);
   return lu_.info() == Eigen::Success;
 }
 

@@ -20,11 +20,15 @@ class MixedJacobian {
  public:
   /// Evaluates dF/dy and dF/dy' at (t, y, y') in the Jacobian's pattern.
   MixedJacobian(ModelState* state, double t, const double* y, const double* yp);
+  /// Evaluates them again at another (t, y, y'), to be factored anew (Factor).
+  void Evaluate(ModelState* state, double t, const double* y, const double* yp);
 
   /// M as a dense matrix into *dense (n x n, zero outside the pattern).
   void FillDense(Eigen::MatrixXd* dense) const;
 
-  /// Factors M; false when it is singular.
+  /// Factors M; false when it is singular. The ordering of the columns (Eigen's analyzePattern)
+  /// depends on the nonzero pattern alone and is kept while that holds: the same factors as
+  /// computed afresh.
   bool Factor();
   /// M⁻¹ b, once factored.
   Eigen::VectorXd Solve(const Eigen::VectorXd& b) const { return lu_.solve(b); }
@@ -36,6 +40,8 @@ class MixedJacobian {
   const CompiledModel& model_;
   std::vector<double> dfdy_, dfdyp_;
   Eigen::SparseLU<Eigen::SparseMatrix<double>> lu_;
+  /// The nonzero pattern lu_ was analysed for (empty before the first Factor).
+  std::vector<int> analysed_outer_, analysed_inner_;
 };
 
 /// The states' rates and the algebraic unknowns in *y, *yp (the states held) such that

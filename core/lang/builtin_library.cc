@@ -5,19 +5,25 @@
 // CPU, most of a small model's whole run, which uses a handful of types. So the records and the
 // connector types are read at once, the functions together when a text first calls one or a
 // lookup first asks for one (a fifth of the ball and pendulum's whole run when read at start),
-// and each component type the first time a model names it (LazyTypes): at start
-// the text is only cut into its top-level entries, one a type. An entry is read as its own YAML
-// document, preceded by as many empty lines as come before it in its file, so that every location
-// (file:line:col) is the one reading the whole file gives; each type is turned into its scalar
-// form (core/lang/arrays.h) as it is read, which needs only the connector types. The library is
-// one object for the process, never copied (a copy would share the record of what was read).
+// and each component type the first time a model names it (LazyTypes). The text's top-level
+// entries, one a type, and their short names are found when the binary is built
+// (core/lang/embed_library.cc): cutting the ~500 KB of text at every start was a tenth of a small
+// model's whole run, and start-up now touches only the text of the entries it reads. An entry is
+// read as its own YAML document, preceded by as many empty lines as come before it in its file,
+// so that every location (file:line:col) is the one reading the whole file gives; each type is
+// turned into its scalar form (core/lang/arrays.h) as it is read, which needs only the connector
+// types. The library is one object for the process, never copied (a copy would share the record
+// of what was read).
 
 #include "core/lang/builtin_library.h"
 
+#include <algorithm>
+#include <cstdint>
 #include <cstring>
+#include <iterator>
 #include <mutex>
 #include <set>
-#include <string_view>
+#include <vector>
 
 #include "core/lang/arrays.h"
 #include "core/lang/component_type.h"
@@ -35,35 +41,43 @@ struct EmbeddedFile {
   const char* name;
   const char* text;
 };
+/// One top-level entry of a library file (a type), found when the binary was built. Numbers
+/// only, so that the table is not relocated (written) at start.
+struct EmbeddedEntry {
+  uint32_t name;    ///< offset in kEmbeddedLibraryNames
+  uint32_t file;    ///< index in kEmbeddedLibraryFiles
+  uint32_t offset;  ///< of its text in the file
+  uint32_t length;
+  uint32_t line;  ///< the line of the file the text starts at
+  char kind;      ///< 'f' a function, 'r' a record, 'k' a connector type, 't' a component type
+};
+/// A short name (ShortNames) of an entry; sorted by name, then in the files' order.
+struct EmbeddedShortName {
+  uint32_t name;   ///< offset in kEmbeddedLibraryNames (the tail of the entry's name)
+  uint32_t entry;  ///< index in kEmbeddedLibraryEntries
+};
+// kEmbeddedLibraryFiles; kEmbeddedLibraryNames (each name ended by '\0');
+// kEmbeddedLibraryEntries sorted by name (every file's but connectors.yaml);
+// kEmbeddedLibraryShortNames. Written by the build (core/lang/embed_library.cc).
 #include "builtin_library_data.inc"
 
-/// One top-level entry of a library file: a type's name and text.
-struct Entry {
-  const char* file;
-  std::string_view text;
-  size_t line = 1;  ///< the line of the file the text starts at
-  bool read = false;
-};
+constexpr size_t kNumEntries = sizeof(kEmbeddedLibraryEntries) / sizeof(kEmbeddedLibraryEntries[0]);
 
 /// The entries of the embedded files other than the connectors, each read on first use.
 class BuiltinTypes : public LazyTypes {
  public:
-  /// Cuts every file but connectors.yaml into its entries; reads at once the records and the
-  /// connector types (so that every connector type is known without a lookup). The functions are
-  /// read together on first use (ReadFunctions): most models call none.
-  explicit BuiltinTypes(Library* library) {
-    for (const EmbeddedFile& f : kEmbeddedLibraryFiles) {
-      if (std::strcmp(f.name, "components/connectors.yaml") != 0) Cut(f);
-    }
+  /// Reads at once the records and the connector types (so that every connector type is known
+  /// without a lookup). The functions are read together on first use (ReadFunctions): most
+  /// models call none.
+  explicit BuiltinTypes(Library* library) : read_(kNumEntries, false) {
     // Every function's name first, so that any text may call one before it is read.
-    for (auto& [name, entry] : entries_) {
-      if (IsFunction(entry)) RegisterFunction(name, -1);
+    for (const EmbeddedEntry& entry : kEmbeddedLibraryEntries) {
+      if (entry.kind == 'f') RegisterFunction(kEmbeddedLibraryNames + entry.name, -1);
     }
     // Records first: connector types use them.
-    for (const bool first : {true, false}) {
-      for (auto& [name, entry] : entries_) {
-        if (entry.read || IsFunction(entry) || entry.text.find("\n  kind:") == std::string_view::npos) continue;
-        if ((entry.text.find("\n  kind: record") != std::string_view::npos) == first) ReadEntry(&entry, library);
+    for (const char kind : {'r', 'k'}) {
+      for (size_t i = 0; i < kNumEntries; ++i) {
+        if (kEmbeddedLibraryEntries[i].kind == kind) ReadEntry(i, library);
       }
     }
   }
@@ -72,8 +86,8 @@ class BuiltinTypes : public LazyTypes {
     std::lock_guard<std::recursive_mutex> lock(mutex_);
     if (functions_read_) return;
     functions_read_ = true;
-    for (auto& [name, entry] : entries_) {
-      if (!entry.read && IsFunction(entry)) ReadEntry(&entry, library);
+    for (size_t i = 0; i < kNumEntries; ++i) {
+      if (!read_[i] && kEmbeddedLibraryEntries[i].kind == 'f') ReadEntry(i, library);
     }
   }
 
@@ -83,56 +97,43 @@ class BuiltinTypes : public LazyTypes {
   void Read(const std::string& name, Library* library) const override {
     std::lock_guard<std::recursive_mutex> lock(mutex_);
     if (!asked_.insert(name).second) return;
-    if (auto it = entries_.find(name); it != entries_.end() && !it->second.read) ReadEntry(&it->second, library);
-    if (auto s = by_short_name_.find(name); s != by_short_name_.end()) {
-      for (const std::string& full : s->second) {
-        Entry& entry = entries_.at(full);
-        if (!entry.read) ReadEntry(&entry, library);
-      }
+    const auto by_name = [](const auto& entry, const std::string& n) {
+      return std::strcmp(kEmbeddedLibraryNames + entry.name, n.c_str()) < 0;
+    };
+    const EmbeddedEntry* entry = std::lower_bound(std::begin(kEmbeddedLibraryEntries),
+                                                  std::end(kEmbeddedLibraryEntries), name, by_name);
+    if (entry != std::end(kEmbeddedLibraryEntries) && kEmbeddedLibraryNames + entry->name == name) {
+      const size_t i = static_cast<size_t>(entry - kEmbeddedLibraryEntries);
+      if (!read_[i]) ReadEntry(i, library);
+    }
+    for (const EmbeddedShortName* s =
+             std::lower_bound(std::begin(kEmbeddedLibraryShortNames),
+                              std::end(kEmbeddedLibraryShortNames), name, by_name);
+         s != std::end(kEmbeddedLibraryShortNames) && kEmbeddedLibraryNames + s->name == name;
+         ++s) {
+      if (!read_[s->entry]) ReadEntry(s->entry, library);
     }
   }
 
   void ReadAll(Library* library) const override {
     std::lock_guard<std::recursive_mutex> lock(mutex_);
     ReadFunctions(library);
-    for (auto& [name, entry] : entries_) {
-      if (!entry.read) ReadEntry(&entry, library);
+    for (size_t i = 0; i < kNumEntries; ++i) {
+      if (!read_[i]) ReadEntry(i, library);
     }
   }
 
  private:
-  static bool IsFunction(const Entry& entry) {
-    return entry.text.find("\n  kind: function") != std::string_view::npos;
-  }
-
-  /// Records the top-level entries of `f`: a line that starts with a letter starts one (keys are
-  /// type names; comments, indented lines and blank lines belong to the entry above).
-  void Cut(const EmbeddedFile& f) {
-    const std::string_view text(f.text);
-    Entry* open = nullptr;
-    size_t line = 1;
-    for (size_t at = 0; at < text.size(); ++line) {
-      size_t end = text.find('\n', at);
-      end = end == std::string_view::npos ? text.size() : end + 1;
-      const char c = text[at];
-      if ((c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z')) {
-        if (open) open->text = text.substr(open->text.data() - text.data(), at - (open->text.data() - text.data()));
-        const std::string name(text.substr(at, text.find(':', at) - at));
-        open = &entries_[name];
-        *open = Entry{f.name, text.substr(at), line, false};
-        for (const std::string& tail : ShortNames(name)) by_short_name_[tail].push_back(name);
-      }
-      at = end;
-    }
-  }
-
-  /// Reads one entry into `library`, in its scalar form.
-  void ReadEntry(Entry* entry, Library* library) const {
-    entry->read = true;
-    std::string text(entry->line - 1, '\n');
-    text += entry->text;
-    const ValueReader reader(entry->file);
-    std::unique_ptr<YamlDoc> doc = ParseYamlFile(text, entry->file, "library file");
+  /// Reads entry `i` into `library`, in its scalar form. The entry is read as its own YAML
+  /// document, preceded by as many empty lines as come before it in its file.
+  void ReadEntry(size_t i, Library* library) const {
+    read_[i] = true;
+    const EmbeddedEntry& entry = kEmbeddedLibraryEntries[i];
+    const char* file = kEmbeddedLibraryFiles[entry.file].name;
+    std::string text(entry.line - 1, '\n');
+    text.append(kEmbeddedLibraryFiles[entry.file].text + entry.offset, entry.length);
+    const ValueReader reader(file);
+    std::unique_ptr<YamlDoc> doc = ParseYamlFile(text, file, "library file");
     Library read;
     read.AddRecordsAndFunctions(*library);
     ReadLibraryEntries(reader, doc->root(), &read, nullptr, false);
@@ -145,9 +146,7 @@ class BuiltinTypes : public LazyTypes {
     }
   }
 
-  mutable std::map<std::string, Entry> entries_;
-  /// Last dotted part -> the qualified names that end in it.
-  std::map<std::string, std::vector<std::string>> by_short_name_;
+  mutable std::vector<bool> read_;  ///< by index in kEmbeddedLibraryEntries
   mutable std::set<std::string> asked_;  ///< names Read has resolved already
   mutable bool functions_read_ = false;
   mutable std::recursive_mutex mutex_;
