@@ -598,7 +598,8 @@ void ArrayEvaluator::BindInputs(const Ast& a, const FunctionDecl& f, ArrayEvalua
                        " deep (does a function call itself?)");
   }
   if (a.args.size() != f.inputs.size()) {
-    Fail(a.column, a.op + "() takes " + std::to_string(f.inputs.size()) + " arguments, found " + std::to_string(a.args.size()));
+    Fail(a.column, a.op + "() takes " + std::to_string(f.inputs.size()) + (f.inputs.size() == 1 ? " argument" : " arguments") +
+                       ", found " + std::to_string(a.args.size()));
   }
   for (size_t k = 0; k < f.inputs.size(); ++k) {
     const FunctionDecl::Input& in = f.inputs[k];

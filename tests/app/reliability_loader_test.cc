@@ -86,7 +86,7 @@ TEST(ReliabilityLoaderTest, LibraryFunctionReadOnFirstUseChecksItsArgumentCount)
                           "  - der(x) = Frames.skew(1, 2)\n");
   CliResult r = RunMomenta({"check", "arity.yaml"}, dir.path());
   EXPECT_EQ(r.exit_code, kExitModel);
-  EXPECT_EQ(r.err, "arity.yaml:6:14: Frames.skew() takes 1 arguments, found 2, in 'der(x) = Frames.skew(1, 2)'\n");
+  EXPECT_EQ(r.err, "arity.yaml:6:14: Frames.skew() takes 1 argument, found 2, in 'der(x) = Frames.skew(1, 2)'\n");
 }
 
 }  // namespace
