@@ -287,17 +287,27 @@ components:
   };
   Memory small = memory_of(10);
   Memory large = memory_of(2000);
-  // The program alone is a few MB resident; a model this small stays far below 100 MB.
+  // The program alone is a few MB resident; a model this small stays far below 100 MB. Under
+  // AddressSanitizer (CI's sanitizer stage builds the CLI with it too) the resident memory holds
+  // ASan's shadow, redzones and quarantine: 121 MB for the 2 000 masses there, so the upper
+  // bounds are stated for an ordinary build only.
+#if defined(__SANITIZE_ADDRESS__)
+  constexpr bool kPlainBuild = false;
+#else
+  constexpr bool kPlainBuild = true;
+#endif
   EXPECT_GT(small.peak_mb, 1.0);
-  EXPECT_LT(small.peak_mb, 100.0);
-  EXPECT_LT(large.peak_mb, 100.0);
+  if (kPlainBuild) {
+    EXPECT_LT(small.peak_mb, 100.0);
+    EXPECT_LT(large.peak_mb, 100.0);
+  }
   // Per component = peak / components, both printed to 3 significant digits (0.5 % each).
   EXPECT_NEAR(small.per_component_kb * 10, small.peak_mb * 1e3, 0.01 * small.peak_mb * 1e3);
   EXPECT_NEAR(large.per_component_kb * 2000, large.peak_mb * 1e3, 0.01 * large.peak_mb * 1e3);
   // 1 990 more masses take memory: at least 500 bytes each (a Mass has 4 variables, 2 parameters
   // and 4 equations), and under 20 KB each.
   EXPECT_GT(large.peak_mb - small.peak_mb, 1990 * 500e-6);
-  EXPECT_LT(large.peak_mb - small.peak_mb, 1990 * 20e-3);
+  if (kPlainBuild) EXPECT_LT(large.peak_mb - small.peak_mb, 1990 * 20e-3);
 }
 
 TEST_F(CliTest, ListShowsTheLibrary) {
