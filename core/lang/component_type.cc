@@ -21,18 +21,6 @@ const char* ValueTypeName(ValueType t) {
   return "?";
 }
 
-std::vector<std::string> ShortNames(const std::string& name) {
-  std::vector<std::string> tails;
-  const size_t dots = static_cast<size_t>(std::count(name.begin(), name.end(), '.'));
-  for (size_t dot = name.find('.'); dot != std::string::npos; dot = name.find('.', dot + 1)) {
-    const std::string tail = name.substr(dot + 1);
-    // The last part alone only for a package one level deep (Planar.Body, not MultiBody.Parts.Body).
-    if (tail.find('.') == std::string::npos && dots > 1) continue;
-    tails.push_back(tail);
-  }
-  return tails;
-}
-
 namespace {
 
 /// Records `name` under its dotted tails (ShortNames); a short name that two qualified names

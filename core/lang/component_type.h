@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/lang/ast.h"
+#include "core/lang/short_names.h"
 #include "core/base/error.h"
 #include "core/base/messages.h"
 
@@ -283,11 +284,6 @@ struct ComponentType {
   SourceLoc loc;
   bool user_defined = false;  ///< from a model's define: section, a uses: file or a model file
 };
-
-/// The shorter names a qualified type name is found by: its dotted tails, the last part alone only
-/// for a package one level deep. `Rotational.Inertia` by `Inertia`; `MultiBody.Parts.Body` by
-/// `Parts.Body` (the MSL's own spelling inside MultiBody), so that `Body` stays `Planar.Body`.
-std::vector<std::string> ShortNames(const std::string& name);
 
 /// The types a model can use: the built-in library plus the model's own definitions.
 /// Domain libraries name their types with a package prefix (`Rotational.Fixed`,

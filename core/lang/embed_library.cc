@@ -23,6 +23,8 @@
 #include <string>
 #include <vector>
 
+#include "core/lang/short_names.h"
+
 namespace {
 
 struct Entry {
@@ -40,19 +42,6 @@ char KindOf(const std::string& text) {
   if (text.find("\n  kind: function") != std::string::npos) return 'f';
   if (text.find("\n  kind:") == std::string::npos) return 't';
   return text.find("\n  kind: record") != std::string::npos ? 'r' : 'k';
-}
-
-/// Every dotted tail of `name` a lookup may use (as ShortNames in core/lang/component_type.cc):
-/// the last part alone only for a package one level deep.
-std::vector<std::string> Tails(const std::string& name) {
-  std::vector<std::string> tails;
-  const size_t dots = static_cast<size_t>(std::count(name.begin(), name.end(), '.'));
-  for (size_t dot = name.find('.'); dot != std::string::npos; dot = name.find('.', dot + 1)) {
-    const std::string tail = name.substr(dot + 1);
-    if (tail.find('.') == std::string::npos && dots > 1) continue;
-    tails.push_back(tail);
-  }
-  return tails;
 }
 
 /// `s` as a C++ string literal ('\0' as an escape; a literal of its own ends each escape).
@@ -159,7 +148,7 @@ int main(int argc, char** argv) {
         std::lower_bound(entries.begin(), entries.end(), e.name,
                          [](const Entry& a, const std::string& n) { return a.name < n; }) -
         entries.begin());
-    for (const std::string& tail : Tails(e.name)) {
+    for (const std::string& tail : momenta::ShortNames(e.name)) {
       by_tail[tail].emplace_back(index, name_at[index] + e.name.size() - tail.size());
     }
   }

@@ -3,6 +3,7 @@
 #include <map>
 #include <string>
 #include <unordered_map>
+#include <unordered_set>
 
 #include "core/base/error.h"
 #include "core/expr/expr_algebra.h"
@@ -25,17 +26,18 @@ VarId NamedAbsent(const ExprPool& p, ExprId e, const std::vector<bool>& absent) 
   return VarId();
 }
 
-/// The parameters `e` reads, through the parameters' bindings.
+/// The parameters `e` reads, through the parameters' bindings. Called once per conditional part:
+/// the parameters seen are a set of the few reached, not a flag per parameter of the model (an
+/// array of conditional parts would make that quadratic, as it made structural_conditions.cc).
 std::vector<uint32_t> ParametersRead(const FlatSystem& flat, ExprId e) {
   const ExprPool& p = *flat.pool;
   std::vector<ExprId> todo = CollectLeaves(p, e, kHasParam);
-  std::vector<bool> seen(flat.parameters.size(), false);
+  std::unordered_set<uint32_t> seen;
   std::vector<uint32_t> read;
   while (!todo.empty()) {
     const uint32_t q = p.node(todo.back()).a;
     todo.pop_back();
-    if (seen[q]) continue;
-    seen[q] = true;
+    if (!seen.insert(q).second) continue;
     read.push_back(q);
     const ExprId binding = flat.parameters[q].binding;
     if (binding.valid() && (p.mask(binding) & kHasParam)) {

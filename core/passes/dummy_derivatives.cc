@@ -25,9 +25,9 @@ constexpr double kNeverPivotFraction = 1e-8;
 
 /// A state set switches when its current choice's pivot falls below this fraction of the best.
 constexpr double kSwitchFraction = 0.5;
-/// Dynamic sets with one state are made for blocks of at most this many equations (symbolic
-/// determinants; a set with one dummy has one equation),
-/// and with at most this many ways of choosing their states (one pivot expression each).
+/// A state set with one state is made for a block of at most this many equations (its pivots are
+/// symbolic determinants; a set with one dummy has one equation), and any set only with at most
+/// kDynamicMaxChoices ways of choosing its states (one pivot expression each).
 constexpr size_t kDynamicMaxRows = 3;
 constexpr size_t kDynamicMaxChoices = 10;
 
@@ -69,6 +69,7 @@ std::vector<std::vector<uint32_t>> Combinations(const std::vector<uint32_t>& ite
     for (size_t j = i; j < k; ++j) pos[j] = pos[j - 1] + 1;
   }
 }
+
 uint64_t Key(uint32_t v, uint32_t k) { return (static_cast<uint64_t>(v) << 32) | k; }
 
 std::string DerName(const std::string& name, uint32_t order) {

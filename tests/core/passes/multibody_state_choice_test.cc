@@ -18,6 +18,25 @@ namespace {
 
 using States = std::vector<std::string>;
 
+/// Two box bodies hanging from the world on spherical joints s1 and s2, as the MSL's
+/// SphericalDoublePendulum; `joint` is each joint's entry after its type, `outputs` the list.
+std::string SphericalBoxPendulum(const std::string& model, const std::string& joint1, const std::string& joint2,
+                                 const std::string& outputs) {
+  return "model: " + model + R"(
+components:
+  world: {type: MultiBody.World}
+  s1: {type: MultiBody.Joints.Spherical, )" + joint1 + R"(}
+  box1: {type: MultiBody.Parts.BodyBox, width: 0.06, r: [0.4, 0, -0.3]}
+  s2: {type: MultiBody.Joints.Spherical, )" + joint2 + R"(}
+  box2: {type: MultiBody.Parts.BodyBox, width: 0.06, r: [0.3, -0.4, 0]}
+connections:
+  - [world.frame_b, s1.frame_a]
+  - [s1.frame_b, box1.frame_a]
+  - [box1.frame_b, s2.frame_a]
+  - [s2.frame_b, box2.frame_a]
+outputs: )" + outputs + "\n";
+}
+
 TEST(MultiBodyStateChoiceTest, ALongChainKeepsTheJointAngles) {
   // Eight links make one block of more than 200 differentiated equations, chosen by matching
   // rather than by pivoting: each Revolute's phi and w (stateSelect prefer) stay the states, not
@@ -50,21 +69,11 @@ TEST(MultiBodyStateChoiceTest, AlwaysOnASphericalJointsAngularVelocityIsHonoured
   // w_rel always): at the world, w_rel is an alias of the body's w_a, whose derivative appears
   // and its own does not; between two bodies, w_rel appears only in der(Q)'s equation. Both are
   // states, with three elements of each Q.
-  const std::string yaml = R"(
-model: SphericalPair
-components:
-  world: {type: MultiBody.World}
-  s1: {type: MultiBody.Joints.Spherical, enforceStates: true, angles_fixed: true, w_rel_a_fixed: true, w_rel_a_start: [0.05, 0.03, 0.01], Q: {stateSelect: prefer}, w_rel: {stateSelect: always}}
-  box1: {type: MultiBody.Parts.BodyBox, width: 0.06, r: [0.4, 0, -0.3]}
-  s2: {type: MultiBody.Joints.Spherical, enforceStates: true, angles_fixed: true, w_rel_a_fixed: true, Q: {stateSelect: prefer}, w_rel: {stateSelect: always}}
-  box2: {type: MultiBody.Parts.BodyBox, width: 0.06, r: [0.3, -0.4, 0]}
-connections:
-  - [world.frame_b, s1.frame_a]
-  - [s1.frame_b, box1.frame_a]
-  - [box1.frame_b, s2.frame_a]
-  - [s2.frame_b, box2.frame_a]
-outputs: ["s1.w_rel[1]", "s2.w_rel[1]"]
-)";
+  const std::string yaml = SphericalBoxPendulum(
+      "SphericalPair",
+      "enforceStates: true, angles_fixed: true, w_rel_a_fixed: true, w_rel_a_start: [0.05, 0.03, 0.01], Q: {stateSelect: prefer}, w_rel: {stateSelect: always}",
+      "enforceStates: true, angles_fixed: true, w_rel_a_fixed: true, Q: {stateSelect: prefer}, w_rel: {stateSelect: always}",
+      R"(["s1.w_rel[1]", "s2.w_rel[1]"])");
   testing::Built built = testing::BuildYaml(yaml);
   const States& states = built.report.states;
   for (const char* joint : {"s1", "s2"}) {
@@ -84,21 +93,9 @@ TEST(MultiBodyStateChoiceTest, BodiesAsRootsKeepTheirQuaternionsAndAngularVeloci
   // differentiated only by index reduction) nor the second body's frame position r_0 (default,
   // an alias of the body's r_0, avoid) may take their place: three elements of T are a choice
   // that goes singular within half a second of this swing.
-  const std::string yaml = R"(
-model: FreeBodiesPendulum
-components:
-  world: {type: MultiBody.World}
-  s1: {type: MultiBody.Joints.Spherical, angles_fixed: true, w_rel_a_fixed: true, w_rel_a_start: [0.05, 0.03, 0.01]}
-  box1: {type: MultiBody.Parts.BodyBox, width: 0.06, r: [0.4, 0, -0.3]}
-  s2: {type: MultiBody.Joints.Spherical, angles_fixed: true, w_rel_a_fixed: true}
-  box2: {type: MultiBody.Parts.BodyBox, width: 0.06, r: [0.3, -0.4, 0]}
-connections:
-  - [world.frame_b, s1.frame_a]
-  - [s1.frame_b, box1.frame_a]
-  - [box1.frame_b, s2.frame_a]
-  - [s2.frame_b, box2.frame_a]
-outputs: ["box1.body.Q[1]"]
-)";
+  const std::string yaml = SphericalBoxPendulum(
+      "FreeBodiesPendulum", "angles_fixed: true, w_rel_a_fixed: true, w_rel_a_start: [0.05, 0.03, 0.01]",
+      "angles_fixed: true, w_rel_a_fixed: true", R"(["box1.body.Q[1]"])");
   testing::Built built = testing::BuildYaml(yaml);
   // box1's Q is chosen with its frame's R.T in one block (its position is held by the joint at
   // the world): three of Q, statically. box2's Q block is Q*der(Q) = 0 alone: three of its four
