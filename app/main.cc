@@ -69,8 +69,9 @@ void AddSolverChoices(CLI::App* command, SimulateOverrides* options) {
       ->check(CLI::IsMember({"auto", "native", "interp"}));
 }
 
-CLI::App* AddSimulate(CLI::App* app, SimulateArgs* sim) {
+CLI::App* AddSimulate(CLI::App* app, SimulateArgs* sim, const std::string& named) {
   auto* simulate = app->add_subcommand("simulate", "simulate a model and write its outputs as CSV (or a MAT v4 result file: -o FILE.mat)");
+  if (simulate->get_name() != named) return simulate;
   simulate->add_option("model", sim->model, "model file (YAML)")->required();
   simulate->add_option("-p,--param", sim->params, "override a parameter: NAME=VALUE (repeatable)");
   AddRunOptions(simulate, &sim->options,
@@ -85,8 +86,9 @@ CLI::App* AddSimulate(CLI::App* app, SimulateArgs* sim) {
   return simulate;
 }
 
-CLI::App* AddReport(CLI::App* app, ReportArgs* rep) {
+CLI::App* AddReport(CLI::App* app, ReportArgs* rep, const std::string& named) {
   auto* report = app->add_subcommand("report", "write the HTML report of a result file simulate wrote");
+  if (report->get_name() != named) return report;
   report->add_option("result", rep->result, "result file (CSV or MAT)")->required();
   report->add_option("-m,--model", rep->model, "the model file the result was simulated from")->required();
   report->add_option("-p,--param", rep->params, "the -p values it was simulated with (repeatable)");
@@ -94,8 +96,9 @@ CLI::App* AddReport(CLI::App* app, ReportArgs* rep) {
   return report;
 }
 
-CLI::App* AddPlot(CLI::App* app, PlotArgs* plt) {
+CLI::App* AddPlot(CLI::App* app, PlotArgs* plt, const std::string& named) {
   auto* plot = app->add_subcommand("plot", "plot columns of a result file as SVG or PNG (with gnuplot)");
+  if (plot->get_name() != named) return plot;
   plot->add_option("result", plt->result, "result file (CSV or MAT)")->required();
   plot->add_option("-y", plt->columns, "columns to plot: A.v,B.v (repeatable)")->required();
   plot->add_option("-o,--out", plt->out, "the image, .svg or .png (default: <result stem>.svg)");
@@ -104,16 +107,18 @@ CLI::App* AddPlot(CLI::App* app, PlotArgs* plt) {
   return plot;
 }
 
-CLI::App* AddCheck(CLI::App* app, CheckArgs* chk) {
+CLI::App* AddCheck(CLI::App* app, CheckArgs* chk, const std::string& named) {
   auto* check = app->add_subcommand("check", "validate a model and show what each pass made of it");
+  if (check->get_name() != named) return check;
   check->add_option("model", chk->model, "model file (YAML)")->required();
   check->add_option("-p,--param", chk->params, "override a parameter: NAME=VALUE (repeatable)");
   check->add_flag("-v,--verbose", chk->verbose, "list every state and pruned variable");
   return check;
 }
 
-CLI::App* AddSweep(CLI::App* app, SweepArgs* swp) {
+CLI::App* AddSweep(CLI::App* app, SweepArgs* swp, const std::string& named) {
   auto* sweep = app->add_subcommand("sweep", "simulate a model for many parameter values on several threads (and MPI ranks under mpirun)");
+  if (sweep->get_name() != named) return sweep;
   sweep->add_option("model", swp->model, "model file (YAML)")->required();
   sweep->add_option("-p,--param", swp->params,
                     "NAME=SPEC: a value, a list a,b,c, a grid a:b:n or a:b:log:n, normal(mu,sigma) or "
@@ -132,9 +137,10 @@ CLI::App* AddSweep(CLI::App* app, SweepArgs* swp) {
   return sweep;
 }
 
-CLI::App* AddLinearize(CLI::App* app, LinearizeArgs* lin) {
+CLI::App* AddLinearize(CLI::App* app, LinearizeArgs* lin, const std::string& named) {
   auto* linearize = app->add_subcommand(
       "linearize", "the model's state-space form A, B, C, D at a time (JSON, or a MAT file in Dymola's dslin layout)");
+  if (linearize->get_name() != named) return linearize;
   linearize->add_option("model", lin->model, "model file (YAML)")->required();
   linearize->add_option("-p,--param", lin->params, "override a parameter: NAME=VALUE (repeatable)");
   linearize->add_option_function<double>("--at", [lin](const double& t) { lin->at = t; },
@@ -149,9 +155,10 @@ CLI::App* AddLinearize(CLI::App* app, LinearizeArgs* lin) {
   return linearize;
 }
 
-CLI::App* AddAccuracy(CLI::App* app, AccuracyArgs* acc) {
+CLI::App* AddAccuracy(CLI::App* app, AccuracyArgs* acc, const std::string& named) {
   auto* accuracy = app->add_subcommand(
       "accuracy", "run a model at a range of tolerances: each run's error and cost (the work-precision table and plot)");
+  if (accuracy->get_name() != named) return accuracy;
   accuracy->add_option("model", acc->model, "model file (YAML)")->required();
   accuracy->add_option("-p,--param", acc->params, "override a parameter: NAME=VALUE (repeatable)");
   accuracy->add_option("--rtol", acc->rtol, "the tolerances, LOOSE:TIGHT a decade apart (default 1e-3:1e-10)");
@@ -164,8 +171,9 @@ CLI::App* AddAccuracy(CLI::App* app, AccuracyArgs* acc) {
   return accuracy;
 }
 
-CLI::App* AddFmu(CLI::App* app, FmuArgs* fmu) {
+CLI::App* AddFmu(CLI::App* app, FmuArgs* fmu, const std::string& named) {
   auto* cmd = app->add_subcommand("fmu", "export the model as an FMI 2.0 FMU (Model Exchange and Co-Simulation)");
+  if (cmd->get_name() != named) return cmd;
   cmd->add_option("model", fmu->model, "model file (YAML)")->required();
   cmd->add_option("-p,--param", fmu->params, "override a parameter: NAME=VALUE (repeatable); the FMU's start value");
   cmd->add_option("-o,--out", fmu->out, "the FMU (default: <model stem>.fmu)");
@@ -208,14 +216,18 @@ int main(int argc, char** argv) {
   AccuracyArgs acc;
   FmuArgs fmu;
   std::string list_name;
-  CLI::App* simulate = AddSimulate(&app, &sim);
-  CLI::App* report = AddReport(&app, &rep);
-  CLI::App* plot = AddPlot(&app, &plt);
-  CLI::App* check = AddCheck(&app, &chk);
-  CLI::App* sweep = AddSweep(&app, &swp);
-  CLI::App* linearize = AddLinearize(&app, &lin);
-  CLI::App* accuracy = AddAccuracy(&app, &acc);
-  CLI::App* fmu_cmd = AddFmu(&app, &fmu);
+  // Every command is defined (the help lists them), but only the one being run gets its options:
+  // CLI11 builds an option with a few dozen allocations, and a small model's whole run is a few
+  // milliseconds (bench/RESULTS.md, "Read this first").
+  const std::string named = argc > 1 ? argv[1] : "";
+  CLI::App* simulate = AddSimulate(&app, &sim, named);
+  CLI::App* report = AddReport(&app, &rep, named);
+  CLI::App* plot = AddPlot(&app, &plt, named);
+  CLI::App* check = AddCheck(&app, &chk, named);
+  CLI::App* sweep = AddSweep(&app, &swp, named);
+  CLI::App* linearize = AddLinearize(&app, &lin, named);
+  CLI::App* accuracy = AddAccuracy(&app, &acc, named);
+  CLI::App* fmu_cmd = AddFmu(&app, &fmu, named);
   CLI::App* list = app.add_subcommand("list", "list the component library, or describe one component");
   list->add_option("name", list_name, "component or connector type");
 

@@ -102,6 +102,10 @@ class IdaSession {
   /// factored once per step: at IDA's time interpolated_at.
   std::unique_ptr<MixedJacobian> interpolation_matrix;
   double interpolated_at = NAN;
+  /// SolveUntestedAt's residual, right-hand side and step, kept from call to call (it runs at
+  /// every sample of the crossing search: allocating them was a tenth of a small model's run).
+  std::vector<double> untested_residual;
+  Eigen::VectorXd untested_rhs, untested_step;
   VectorPtr interpolated_y, interpolated_yp;
   VectorPtr abstol;
   VectorPtr restart_abstol;  ///< abstol with dummy derivatives tested (null when none is untested)
@@ -367,8 +371,11 @@ void SolveUntestedAt(IntegrationState* run, double t) {
   const size_t n = run->num_unknowns;
   std::vector<double>& y = run->y;
   std::vector<double>& yp = run->yp;
-  std::vector<double> f(n);
-  Eigen::VectorXd b(static_cast<int>(n));
+  std::vector<double>& f = ida.untested_residual;
+  Eigen::VectorXd& b = ida.untested_rhs;
+  Eigen::VectorXd& dx = ida.untested_step;
+  f.resize(n);
+  b.resize(static_cast<int>(n));
   double step_time = NAN;
   CheckFlag(IDAGetCurrentTime(ida.mem.get(), &step_time), "IDAGetCurrentTime");
   bool fresh = false;
@@ -389,7 +396,7 @@ void SolveUntestedAt(IntegrationState* run, double t) {
       }
     }
     for (size_t r = 0; r < n; ++r) b[static_cast<int>(r)] = -f[r];
-    const Eigen::VectorXd dx = ida.interpolation_matrix->Solve(b);
+    ida.interpolation_matrix->Solve(b, &dx);
     if (!dx.allFinite()) return;
     for (size_t c = 0; c < n; ++c) (is_state[c] ? yp[c] : y[c]) += dx[static_cast<int>(c)];
     if (Converged(*run, ida.abstol.get(), dx, y, yp, is_state)) return;
@@ -429,7 +436,7 @@ void Restart(const CompiledModel& model, ModelState* state, IntegrationState* ru
   ida.before_restart.error_test_failures = stats->error_test_failures;
   ida.before_restart.nonlinear_failures = stats->nonlinear_failures;
   ++stats->restarts;
-  ida.interpolation_matrix.reset();
+  ida.interpolated_at = NAN;  // evaluated anew at the next step; factored anew if it changed
   void* mem = ida.mem.get();
   SetAlgebraicRates(run);
   Load(run);

@@ -1,6 +1,6 @@
 // The mixed Jacobian of mixed_jacobian.h, assembled from the IDA Jacobian's two parts in its
-// sparse pattern and factored by Eigen's sparse LU: IDA's own linear solver holds a different
-// matrix, dF/dy + cj dF/dy'.
+// sparse pattern and factored by a dense LU (up to MixedJacobian::kDenseUpTo unknowns) or Eigen's
+// sparse LU: IDA's own linear solver holds a different matrix, dF/dy + cj dF/dy'.
 
 #include "solver/mixed_jacobian.h"
 
@@ -32,14 +32,44 @@ void MixedJacobian::FillDense(Eigen::MatrixXd* dense) const {
 
 bool MixedJacobian::Factor() {
   const SparsePattern& pattern = model_.jacobian_pattern;
+  mixed_.resize(dfdy_.size());
+  for (int32_t c = 0; c < pattern.cols; ++c) {
+    const std::vector<double>& part = model_.is_state[c] ? dfdyp_ : dfdy_;
+    std::copy(part.begin() + pattern.col_start[c], part.begin() + pattern.col_start[c + 1],
+              mixed_.begin() + pattern.col_start[c]);
+  }
+  // The same matrix, value for value, as the one factored last: its factors stand (a linear
+  // model's matrix at every step of a mode; Eigen's factorisation of a small matrix costs more
+  // than the rest of a step).
+  if (factored_ && mixed_ == factored_values_) return true;
+  const auto n = static_cast<int>(model_.num_unknowns());
+  dense_ = n <= kDenseUpTo;
+  factored_ = dense_ ? FactorDense(n) : FactorSparse(n);
+  if (factored_) {
+    factored_values_ = mixed_;
+  } else {
+    factored_values_.clear();
+  }
+  return factored_;
+}
+
+bool MixedJacobian::FactorDense(int n) {
+  dense_matrix_.setZero(n, n);
+  FillDense(&dense_matrix_);
+  dense_lu_.compute(dense_matrix_);
+  // Singular as the sparse LU finds it: a pivot that is exactly zero (partial pivoting takes the
+  // largest of its column, so the whole column below it was zero).
+  return (dense_lu_.matrixLU().diagonal().array() != 0).all();
+}
+
+bool MixedJacobian::FactorSparse(int n) {
+  const SparsePattern& pattern = model_.jacobian_pattern;
   std::vector<Eigen::Triplet<double>> triplets;
   for (int32_t c = 0; c < pattern.cols; ++c) {
     for (int32_t k = pattern.col_start[c]; k < pattern.col_start[c + 1]; ++k) {
-      double v = model_.is_state[c] ? dfdyp_[k] : dfdy_[k];
-      if (v != 0) triplets.emplace_back(pattern.row_index[k], c, v);
+      if (mixed_[k] != 0) triplets.emplace_back(pattern.row_index[k], c, mixed_[k]);
     }
   }
-  const auto n = static_cast<int>(model_.num_unknowns());
   Eigen::SparseMatrix<double> matrix(n, n);
   matrix.setFromTriplets(triplets.begin(), triplets.end());
   matrix.makeCompressed();

@@ -27,21 +27,48 @@ class MixedJacobian {
   void FillDense(Eigen::MatrixXd* dense) const;
 
   /// Factors M; false when it is singular. The ordering of the columns (Eigen's analyzePattern)
-  /// depends on the nonzero pattern alone and is kept while that holds: the same factors as
-  /// computed afresh.
+  /// depends on the nonzero pattern alone and is kept while that holds, and the factors are kept
+  /// while every value does: the same factors as computed afresh.
   bool Factor();
   /// M⁻¹ b, once factored.
-  Eigen::VectorXd Solve(const Eigen::VectorXd& b) const { return lu_.solve(b); }
+  Eigen::VectorXd Solve(const Eigen::VectorXd& b) const {
+    Eigen::VectorXd x;
+    Solve(b, &x);
+    return x;
+  }
+  /// M⁻¹ b into *x, reusing its storage.
+  void Solve(const Eigen::VectorXd& b, Eigen::VectorXd* x) const {
+    if (dense_) {
+      *x = dense_lu_.solve(b);
+    } else {
+      *x = lu_.solve(b);
+    }
+  }
 
   /// dF/dy in the Jacobian's pattern (CompiledModel::jacobian_pattern).
   const std::vector<double>& dfdy() const { return dfdy_; }
 
  private:
+  bool FactorDense(int n);
+  bool FactorSparse(int n);
+
   const CompiledModel& model_;
   std::vector<double> dfdy_, dfdyp_;
+  /// Up to kDenseUpTo unknowns M is factored as a dense matrix (dense_): Eigen's sparse LU
+  /// costs about as much as a dense one of a few hundred unknowns, and small models solve with
+  /// this matrix at every sample of the crossing search (the carrier collision, 14 unknowns: the
+  /// factorisations and solves went from 22 % to 4 % of its whole run; bench/RESULTS.md).
+  static constexpr int kDenseUpTo = 32;
+  bool dense_ = false;
+  Eigen::PartialPivLU<Eigen::MatrixXd> dense_lu_;
+  Eigen::MatrixXd dense_matrix_;
   Eigen::SparseLU<Eigen::SparseMatrix<double>> lu_;
   /// The nonzero pattern lu_ was analysed for (empty before the first Factor).
   std::vector<int> analysed_outer_, analysed_inner_;
+  /// M's values in the Jacobian's pattern (zeros included), and those lu_ holds the factors of
+  /// when the last Factor succeeded (factored_).
+  std::vector<double> mixed_, factored_values_;
+  bool factored_ = false;
 };
 
 /// The states' rates and the algebraic unknowns in *y, *yp (the states held) such that

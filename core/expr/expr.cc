@@ -63,8 +63,8 @@ int LeafIndexKind(const Node& n) {
 }  // namespace
 
 ExprPool::ExprPool() {
-  table_.assign(1024, kEmptySlot);
-  young_.assign(kYoungSlots, kEmptySlot);
+  table_.assign(256, kEmptySlot);
+  young_.assign(kFirstYoungSlots, kEmptySlot);
   Node z;
   z.op = Op::kConst;
   zero_ = Intern(z);
@@ -134,7 +134,9 @@ void ExprPool::Mature() {
     table_[slot] = young_[k];
   }
   table_used_ += young_used_;
-  std::fill(young_.begin(), young_.end(), kEmptySlot);
+  // A pool that keeps growing gets the full nursery; a small one (a template's scratch pool, a
+  // small model's) never fills more than its first.
+  young_.assign(std::min(young_.size() * 4, kYoungSlots), kEmptySlot);
   young_used_ = 0;
   young_first_ = static_cast<uint32_t>(nodes_.size());
 }

@@ -166,6 +166,8 @@ class ExprPool {
   /// would be younger than that child, so it is in the nursery, and such a node never probes
   /// table_. On the 100 003-component chain that spares 2.5 of 6 million probes of table_.
   static constexpr size_t kYoungSlots = 4096;
+  /// The nursery's size in a new pool, grown fourfold at each move up to kYoungSlots.
+  static constexpr size_t kFirstYoungSlots = 256;
   std::vector<uint64_t> young_;
   size_t young_used_ = 0;
   uint32_t young_first_ = 0;
