@@ -38,15 +38,20 @@ std::string CsvHeader(const std::vector<std::string>& names) {
 }
 
 void AppendCsvRow(double t, const std::vector<double>& values, std::string* out) {
-  char buf[32];
-  auto r = std::to_chars(buf, buf + sizeof buf, t);
-  out->append(buf, r.ptr);
+  // Written in place: room for the longest form of every number (24 characters, "-2.2250738585072014e-308")
+  // and its separator, then cut to what was written.
+  constexpr size_t kLongest = 25;
+  const size_t start = out->size();
+  out->resize(start + (values.size() + 1) * kLongest);
+  char* at = out->data() + start;
+  char* const end = out->data() + out->size();
+  at = std::to_chars(at, end, t).ptr;
   for (double v : values) {
-    *out += ',';
-    r = std::to_chars(buf, buf + sizeof buf, v);
-    out->append(buf, r.ptr);
+    *at++ = ',';
+    at = std::to_chars(at, end, v).ptr;
   }
-  *out += '\n';
+  *at++ = '\n';
+  out->resize(static_cast<size_t>(at - out->data()));
 }
 
 CsvWriter::CsvWriter(const std::string& path, const std::vector<std::string>& names) : path_(path) {
