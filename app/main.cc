@@ -18,6 +18,7 @@
 #include "app/sweep_cluster.h"
 #include "app/sweep_plan.h"
 #include "app/terminal_output.h"
+#include "core/lang/compiled_types.h"
 #include "solver/simulator.h"
 
 namespace momenta {
@@ -201,6 +202,8 @@ bool KnownCommand(int argc, char** argv) {
 int main(int argc, char** argv) {
   using namespace momenta;
   MaybeRestartWithHugePages(argc, argv);
+  // The library's types as the build parsed them: a run reads none of their text.
+  UseCompiledLibraryTypes(CompiledBuiltinTypes());
   // Every message and summary from here on reaches the terminal with its control characters
   // escaped (app/terminal_output.h).
   TerminalOutput terminal;

@@ -102,6 +102,7 @@ const std::set<std::string>& AppFace() {
       "core/build_report.h",          //
       "core/lang/yaml_loader.h",      // LoadModelFile
       "core/lang/builtin_library.h",  // the library `list` shows and models are built from
+      "core/lang/compiled_types.h",   // its types as the build parsed them (main)
       "core/lang/model_spec.h",       // the experiment section, outputs
       "core/lang/units.h",            // `-p k=10kN/m`
       "core/lang/instance_scope.h",   // the report's scene: a type's expressions in an instance

@@ -23,12 +23,15 @@
 #include <iterator>
 #include <mutex>
 #include <set>
+#include <stdexcept>
+#include <string_view>
 #include <vector>
 
 #include "core/lang/arrays.h"
 #include "core/lang/component_type.h"
 #include "core/lang/model_spec.h"
 #include "core/lang/parser.h"
+#include "core/lang/type_serial.h"
 #include "core/lang/yaml_loader.h"
 #include "core/lang/yaml_loader_document.h"
 #include "core/lang/yaml_loader_types.h"
@@ -62,6 +65,16 @@ struct EmbeddedShortName {
 #include "builtin_library_data.inc"
 
 constexpr size_t kNumEntries = sizeof(kEmbeddedLibraryEntries) / sizeof(kEmbeddedLibraryEntries[0]);
+
+/// The component types as the build parsed them, when UseCompiledLibraryTypes was given them.
+CompiledLibraryTypes compiled_types;
+
+/// Entry i's bytes in compiled_types, or empty.
+std::string_view CompiledEntry(size_t i) {
+  if (compiled_types.bytes == nullptr) return {};
+  const uint32_t begin = compiled_types.offsets[i], end = compiled_types.offsets[i + 1];
+  return std::string_view(compiled_types.bytes + begin, end - begin);
+}
 
 /// The entries of the embedded files other than the connectors, each read on first use.
 class BuiltinTypes : public LazyTypes {
@@ -128,6 +141,11 @@ class BuiltinTypes : public LazyTypes {
   /// document, preceded by as many empty lines as come before it in its file.
   void ReadEntry(size_t i, Library* library) const {
     read_[i] = true;
+    // A component type the build parsed already: read from its bytes (a tenth of the parse).
+    if (const std::string_view bytes = CompiledEntry(i); !bytes.empty()) {
+      library->AddComponent(DeserializeComponentType(bytes));
+      return;
+    }
     const EmbeddedEntry& entry = kEmbeddedLibraryEntries[i];
     const char* file = kEmbeddedLibraryFiles[entry.file].name;
     std::string text(entry.line - 1, '\n');
@@ -152,7 +170,56 @@ class BuiltinTypes : public LazyTypes {
   mutable std::recursive_mutex mutex_;
 };
 
+/// `bytes` as adjacent C++ string literals of three-digit octal escapes and plain characters.
+void AppendLiteral(std::string_view bytes, std::string* out) {
+  constexpr size_t kLine = 96;
+  for (size_t at = 0; at < bytes.size(); at += kLine) {
+    *out += "  \"";
+    for (const char ch : bytes.substr(at, kLine)) {
+      const auto c = static_cast<unsigned char>(ch);
+      if (c >= 0x20 && c < 0x7f && c != '"' && c != '\\' && c != '?') {
+        *out += static_cast<char>(c);
+      } else {
+        const char escape[5] = {'\\', static_cast<char>('0' + (c >> 6)), static_cast<char>('0' + ((c >> 3) & 7)),
+                                static_cast<char>('0' + (c & 7)), '\0'};
+        *out += escape;
+      }
+    }
+    *out += "\"\n";
+  }
+}
+
 }  // namespace
+
+bool UseCompiledLibraryTypes(const CompiledLibraryTypes& types) {
+  if (types.library_hash != kEmbeddedLibraryHash || types.entries != kNumEntries) return false;
+  compiled_types = types;
+  return true;
+}
+
+std::string CompileLibraryTypes() {
+  const Library& library = BuiltinLibrary();
+  std::string bytes;
+  std::vector<uint32_t> offsets{0};
+  for (const EmbeddedEntry& entry : kEmbeddedLibraryEntries) {
+    if (entry.kind == 't') {
+      const std::string name = kEmbeddedLibraryNames + entry.name;
+      const ComponentType* type = library.FindComponent(name);
+      if (type == nullptr) throw std::runtime_error("library entry " + name + " is not a component type");
+      bytes += SerializeComponentType(*type);
+    }
+    offsets.push_back(static_cast<uint32_t>(bytes.size()));
+  }
+  std::string out = "// Written by momenta_compile_types (core/lang/compile_types_tool.cc) when the binary is built.\n";
+  out += "static constexpr uint64_t kCompiledLibraryHash = " + std::to_string(kEmbeddedLibraryHash) + "ull;\n";
+  out += "static const char kCompiledLibraryBytes[] =\n";
+  AppendLiteral(bytes, &out);
+  out += "  \"\";\n";
+  out += "static const uint32_t kCompiledLibraryOffsets[] = {";
+  for (size_t k = 0; k < offsets.size(); ++k) out += (k % 12 == 0 ? "\n  " : " ") + std::to_string(offsets[k]) + ",";
+  out += "\n};\n";
+  return out;
+}
 
 const Library& BuiltinLibrary() {
   static Library* library = [] {

@@ -15,6 +15,7 @@
 // Plain C++17 and the standard library only: it runs on the build machine before momenta exists.
 
 #include <algorithm>
+#include <cstdint>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -90,6 +91,13 @@ int main(int argc, char** argv) {
   std::sort(names.begin(), names.end());
   std::ostringstream out;
   std::vector<Entry> entries;
+  // FNV-1a over every file's name and text: the compiled types (core/lang/compiled_types.cc) are
+  // used only with the text they were compiled from.
+  uint64_t hash = 1469598103934665603ull;
+  const auto mix = [&hash](const std::string& bytes) {
+    for (const unsigned char c : bytes) hash = (hash ^ c) * 1099511628211ull;
+    hash = (hash ^ 0xff) * 1099511628211ull;
+  };
   out << "static const EmbeddedFile kEmbeddedLibraryFiles[] = {\n";
   for (size_t f = 0; f < names.size(); ++f) {
     std::ifstream in(names[f], std::ios::binary);
@@ -103,9 +111,12 @@ int main(int argc, char** argv) {
       return 1;
     }
     out << "  {" << Quoted(names[f]) << ", R\"momenta_yaml(" << text << ")momenta_yaml\"},\n";
+    mix(names[f]);
+    mix(text);
     if (names[f] != "components/connectors.yaml") Cut(text, f, &entries);
   }
   out << "};\n\n";
+  out << "static constexpr uint64_t kEmbeddedLibraryHash = " << hash << "ull;\n\n";
   // Sorted by name (std::string's order, as a std::map of the names iterates); a name defined
   // twice would make which one a model gets depend on the files' order.
   std::stable_sort(entries.begin(), entries.end(),
