@@ -66,10 +66,11 @@ struct EmbeddedShortName {
 
 constexpr size_t kNumEntries = sizeof(kEmbeddedLibraryEntries) / sizeof(kEmbeddedLibraryEntries[0]);
 
-/// The component types as the build parsed them, when UseCompiledLibraryTypes was given them.
+/// The library as the build parsed it, when UseCompiledLibraryTypes was given it.
 CompiledLibraryTypes compiled_types;
 
-/// Entry i's bytes in compiled_types, or empty.
+/// Entry i's bytes in compiled_types (i = kNumEntries: the records and connector types the
+/// library starts with), or empty.
 std::string_view CompiledEntry(size_t i) {
   if (compiled_types.bytes == nullptr) return {};
   const uint32_t begin = compiled_types.offsets[i], end = compiled_types.offsets[i + 1];
@@ -82,7 +83,8 @@ class BuiltinTypes : public LazyTypes {
   /// Reads at once the records and the connector types (so that every connector type is known
   /// without a lookup). The functions are read together on first use (ReadFunctions): most
   /// models call none.
-  explicit BuiltinTypes(Library* library) : read_(kNumEntries, false) {
+  /// With `started`, the library holds them already (compiled: ReadStart).
+  BuiltinTypes(Library* library, bool started) : read_(kNumEntries, false) {
     // Every function's name first, so that any text may call one before it is read.
     for (const EmbeddedEntry& entry : kEmbeddedLibraryEntries) {
       if (entry.kind == 'f') RegisterFunction(kEmbeddedLibraryNames + entry.name, -1);
@@ -90,7 +92,12 @@ class BuiltinTypes : public LazyTypes {
     // Records first: connector types use them.
     for (const char kind : {'r', 'k'}) {
       for (size_t i = 0; i < kNumEntries; ++i) {
-        if (kEmbeddedLibraryEntries[i].kind == kind) ReadEntry(i, library);
+        if (kEmbeddedLibraryEntries[i].kind != kind) continue;
+        if (started) {
+          read_[i] = true;
+        } else {
+          ReadEntry(i, library);
+        }
       }
     }
   }
@@ -141,9 +148,14 @@ class BuiltinTypes : public LazyTypes {
   /// document, preceded by as many empty lines as come before it in its file.
   void ReadEntry(size_t i, Library* library) const {
     read_[i] = true;
-    // A component type the build parsed already: read from its bytes (a tenth of the parse).
+    // A component type or function the build parsed already: read from its bytes (a tenth of
+    // the parse).
     if (const std::string_view bytes = CompiledEntry(i); !bytes.empty()) {
-      library->AddComponent(DeserializeComponentType(bytes));
+      if (kEmbeddedLibraryEntries[i].kind == 'f') {
+        library->AddFunction(DeserializeFunction(bytes));
+      } else {
+        library->AddComponent(DeserializeComponentType(bytes));
+      }
       return;
     }
     const EmbeddedEntry& entry = kEmbeddedLibraryEntries[i];
@@ -192,24 +204,38 @@ void AppendLiteral(std::string_view bytes, std::string* out) {
 }  // namespace
 
 bool UseCompiledLibraryTypes(const CompiledLibraryTypes& types) {
-  if (types.library_hash != kEmbeddedLibraryHash || types.entries != kNumEntries) return false;
+  // The entries' ranges and one more, the records and connectors the library starts with.
+  if (types.library_hash != kEmbeddedLibraryHash || types.entries != kNumEntries + 1) return false;
   compiled_types = types;
   return true;
 }
 
-std::string CompileLibraryTypes() {
+SerializedLibrary SerializeLibrary() {
   const Library& library = BuiltinLibrary();
+  // What it holds before any type is read: the records and connector types.
+  const std::string start = SerializeRecordsAndConnectors(library);
   std::string bytes;
   std::vector<uint32_t> offsets{0};
   for (const EmbeddedEntry& entry : kEmbeddedLibraryEntries) {
+    const std::string name = kEmbeddedLibraryNames + entry.name;
     if (entry.kind == 't') {
-      const std::string name = kEmbeddedLibraryNames + entry.name;
       const ComponentType* type = library.FindComponent(name);
       if (type == nullptr) throw std::runtime_error("library entry " + name + " is not a component type");
       bytes += SerializeComponentType(*type);
+    } else if (entry.kind == 'f') {
+      const FunctionDecl* function = library.FindFunction(name);
+      if (function == nullptr) throw std::runtime_error("library entry " + name + " is not a function");
+      bytes += SerializeFunction(*function);
     }
     offsets.push_back(static_cast<uint32_t>(bytes.size()));
   }
+  bytes += start;
+  offsets.push_back(static_cast<uint32_t>(bytes.size()));
+  return {std::move(bytes), std::move(offsets)};
+}
+
+std::string CompileLibraryTypes() {
+  const auto [bytes, offsets] = SerializeLibrary();
   std::string out = "// Written by momenta_compile_types (core/lang/compile_types_tool.cc) when the binary is built.\n";
   out += "static constexpr uint64_t kCompiledLibraryHash = " + std::to_string(kEmbeddedLibraryHash) + "ull;\n";
   out += "static const char kCompiledLibraryBytes[] =\n";
@@ -225,10 +251,15 @@ const Library& BuiltinLibrary() {
   static Library* library = [] {
     auto* lib = new Library();
     // Connector types first: component types refer to them.
-    for (const EmbeddedFile& f : kEmbeddedLibraryFiles) {
-      if (std::string(f.name) == "components/connectors.yaml") LoadLibraryString(f.text, f.name, lib);
+    const std::string_view start = CompiledEntry(kNumEntries);
+    if (!start.empty()) {
+      DeserializeRecordsAndConnectors(start, lib);
+    } else {
+      for (const EmbeddedFile& f : kEmbeddedLibraryFiles) {
+        if (std::string(f.name) == "components/connectors.yaml") LoadLibraryString(f.text, f.name, lib);
+      }
     }
-    auto types = std::make_shared<BuiltinTypes>(lib);
+    auto types = std::make_shared<BuiltinTypes>(lib, !start.empty());
     lib->SetLazyTypes(types);
     // A call to a library function in any text read from now on reads the functions first, so
     // that the parser checks its argument count.

@@ -16,7 +16,7 @@ CompiledLibraryTypes CompiledBuiltinTypes() {
   types.library_hash = kCompiledLibraryHash;
   types.bytes = kCompiledLibraryBytes;
   types.offsets = kCompiledLibraryOffsets;
-  types.entries = std::size(kCompiledLibraryOffsets) - 1;
+  types.entries = std::size(kCompiledLibraryOffsets) - 1;  // the entries' ranges and the start's
   return types;
 }
 

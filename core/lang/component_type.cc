@@ -169,6 +169,12 @@ std::vector<std::string> Library::ComponentNames() const {
   return out;
 }
 
+std::vector<std::string> Library::RecordNames() const {
+  std::vector<std::string> out = base_ ? base_->RecordNames() : std::vector<std::string>();
+  for (const auto& [name, r] : records_) out.push_back(name);
+  return out;
+}
+
 std::vector<std::string> Library::ConnectorNames() const {
   std::vector<std::string> out = base_ ? base_->ConnectorNames() : std::vector<std::string>();
   for (const auto& [name, t] : connectors_) out.push_back(name);

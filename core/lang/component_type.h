@@ -347,6 +347,8 @@ class Library {
   bool HasComponent(const std::string& name) const;
   std::vector<std::string> ComponentNames() const;
   std::vector<std::string> ConnectorNames() const;
+  /// The records' names, this library's own and its base's.
+  std::vector<std::string> RecordNames() const;
 
  private:
   std::map<std::string, std::shared_ptr<ConnectorType>> connectors_;

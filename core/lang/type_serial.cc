@@ -38,6 +38,11 @@ static_assert(sizeof(Modifier) == 216, "a field added to Modifier: add it to its
 static_assert(sizeof(ComponentSpec) == 224, "a field added to ComponentSpec: add it to its Io");
 static_assert(sizeof(ConnectionSpec) == 240, "a field added to ConnectionSpec: add it to its Io");
 static_assert(sizeof(GraphDecl) == 120, "a field added to GraphDecl: add it to its Io");
+static_assert(sizeof(ConnectorVariable) == 160, "a field added to ConnectorVariable: add it to its Io");
+static_assert(sizeof(RecordType) == 104, "a field added to RecordType: add it to its Io");
+static_assert(sizeof(ConnectorType) == 232, "a field added to ConnectorType: add it to its Io");
+static_assert(sizeof(FunctionDecl) == 232, "a field added to FunctionDecl: add it to its Io");
+static_assert(sizeof(FunctionDecl::Input) == 88, "a field added to FunctionDecl::Input: add it to its Io");
 static_assert(sizeof(ComponentType) == 600, "a field added to ComponentType: add it to its Io");
 #endif
 
@@ -257,6 +262,9 @@ template <class A> void Io(A& a, Modifier& m);
 template <class A> void Io(A& a, ComponentSpec& c);
 template <class A> void Io(A& a, ConnectionSpec& c);
 template <class A> void Io(A& a, GraphDecl& g);
+template <class A> void Io(A& a, ConnectorVariable& v);
+template <class A> void Io(A& a, FunctionDecl::Input& i);
+template <class A, class T> void Io(A& a, std::pair<std::string, T>& p);
 
 template <class A, class T>
 void Io(A& a, std::vector<T>& v) {
@@ -351,6 +359,26 @@ template <class A> void Io(A& a, ConnectionSpec& c) {
 template <class A> void Io(A& a, GraphDecl& g) {
   Io(a, g.a); Io(a, g.b); Io(a, g.priority); Io(a, g.condition); Io(a, g.loc);
 }
+template <class A> void Io(A& a, ConnectorVariable& v) {
+  Io(a, v.name); Io(a, v.unit); Io(a, v.doc); Io(a, v.shape); Io(a, v.record); Io(a, v.counted);
+}
+template <class A> void Io(A& a, FunctionDecl::Input& i) {
+  Io(a, i.name); Io(a, i.shape); Io(a, i.record);
+}
+template <class A, class T> void Io(A& a, std::pair<std::string, T>& p) {
+  Io(a, p.first); Io(a, p.second);
+}
+template <class A> void Io(A& a, RecordType& r) {
+  Io(a, r.name); Io(a, r.doc); Io(a, r.fields); Io(a, r.residues); Io(a, r.loc);
+}
+template <class A> void Io(A& a, ConnectorType& c) {
+  Io(a, c.name); Io(a, c.doc); Io(a, c.is_signal); Io(a, c.is_input); Io(a, c.signal_type); Io(a, c.potentials);
+  Io(a, c.flows); Io(a, c.arrays); Io(a, c.records); Io(a, c.loc);
+}
+template <class A> void Io(A& a, FunctionDecl& f) {
+  Io(a, f.name); Io(a, f.doc); Io(a, f.inputs); Io(a, f.value); Io(a, f.value_text); Io(a, f.record); Io(a, f.fields);
+  Io(a, f.field_texts); Io(a, f.loc);
+}
 template <class A> void Io(A& a, ComponentType& t) {
   Io(a, t.name); Io(a, t.doc); Io(a, t.parameters); Io(a, t.tables); Io(a, t.connectors); Io(a, t.variables);
   Io(a, t.equations); Io(a, t.initial_equations); Io(a, t.whens); Io(a, t.impacts); Io(a, t.animation);
@@ -359,21 +387,52 @@ template <class A> void Io(A& a, ComponentType& t) {
   Io(a, t.scalar_form); Io(a, t.loc); Io(a, t.user_defined);
 }
 
-}  // namespace
+/// What the library holds before any type is read: its records and connector types.
+struct LibraryStart {
+  std::vector<RecordType> records;
+  std::vector<ConnectorType> connectors;
+};
+template <class A> void Io(A& a, LibraryStart& s) {
+  Io(a, s.records); Io(a, s.connectors);
+}
 
-std::string SerializeComponentType(const ComponentType& type) {
+/// `value` as bytes.
+template <class T>
+std::string Serialize(const T& value) {
   Writer writer;
   // The writer only reads the fields: Io takes them by reference so that the reader can share it.
-  Io(writer, const_cast<ComponentType&>(type));
+  Io(writer, const_cast<T&>(value));
   return writer.Finish();
 }
 
-ComponentType DeserializeComponentType(std::string_view bytes) {
+/// The value Serialize wrote into `bytes`.
+template <class T>
+T Deserialize(std::string_view bytes) {
   Reader reader(bytes);
-  ComponentType type;
-  Io(reader, type);
+  T value;
+  Io(reader, value);
   if (!reader.done()) throw std::runtime_error("compiled type: bytes left after the type");
-  return type;
+  return value;
+}
+
+}  // namespace
+
+std::string SerializeComponentType(const ComponentType& type) { return Serialize(type); }
+ComponentType DeserializeComponentType(std::string_view bytes) { return Deserialize<ComponentType>(bytes); }
+std::string SerializeFunction(const FunctionDecl& function) { return Serialize(function); }
+FunctionDecl DeserializeFunction(std::string_view bytes) { return Deserialize<FunctionDecl>(bytes); }
+
+std::string SerializeRecordsAndConnectors(const Library& library) {
+  LibraryStart start;
+  for (const std::string& name : library.RecordNames()) start.records.push_back(*library.FindRecord(name));
+  for (const std::string& name : library.ConnectorNames()) start.connectors.push_back(*library.FindConnector(name));
+  return Serialize(start);
+}
+
+void DeserializeRecordsAndConnectors(std::string_view bytes, Library* library) {
+  LibraryStart start = Deserialize<LibraryStart>(bytes);
+  for (RecordType& r : start.records) library->AddRecord(std::move(r));
+  for (ConnectorType& c : start.connectors) library->AddConnector(std::move(c));
 }
 
 }  // namespace momenta

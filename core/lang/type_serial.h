@@ -1,5 +1,5 @@
 #pragma once
-/// A component type as bytes and back: the library's types are parsed when the binary is built
+/// A component type (a function, the records and connectors) as bytes and back: the library's types are parsed when the binary is built
 /// and stored in this form (core/lang/compiled_types.cc), so that a run reads the few it uses
 /// without parsing their YAML and equations again (bench/RESULTS.md, "Read this first").
 ///
@@ -18,7 +18,16 @@ namespace momenta {
 std::string SerializeComponentType(const ComponentType& type);
 
 /// The type SerializeComponentType wrote into `bytes`. Throws std::runtime_error on bytes it did
-/// not write (cut short, or with a count past their end).
+/// not write (cut short, or with a count past their end); so do the readers below.
 ComponentType DeserializeComponentType(std::string_view bytes);
+
+/// A library function as bytes and back.
+std::string SerializeFunction(const FunctionDecl& function);
+FunctionDecl DeserializeFunction(std::string_view bytes);
+
+/// The records and connector types of `library` (its own, none it reads lazily) as bytes, and
+/// back into another library.
+std::string SerializeRecordsAndConnectors(const Library& library);
+void DeserializeRecordsAndConnectors(std::string_view bytes, Library* library);
 
 }  // namespace momenta
