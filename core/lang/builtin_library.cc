@@ -14,6 +14,12 @@
 // turned into its scalar form (core/lang/arrays.h) as it is read, which needs only the connector
 // types. The library is one object for the process, never copied (a copy would share the record
 // of what was read).
+//
+// A program that links momenta_compiled_types (the CLI) goes further: the build parsed every
+// entry once (CompileLibraryTypes, run by momenta_compile_types) and the program hands the
+// serialised result to UseCompiledLibraryTypes, so the records and connector types are read from
+// bytes at start and each component type or function from its bytes on first use; no library
+// text is parsed at run time (the ball and pendulum's whole run 23.3 M -> 20.6 M instructions).
 
 #include "core/lang/builtin_library.h"
 
