@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "core/base/error.h"
+#include "core/lang/compiled_types.h"
 #include "python/python_model.h"
 
 namespace py = pybind11;
@@ -162,6 +163,8 @@ PYBIND11_MODULE(_momenta, m) {
   using namespace momenta;
   using namespace momenta::python;
   m.doc() = "momenta's compiled core; use the momenta package (momenta.load) rather than this module.";
+  // The library's types as the build parsed them: no library text is parsed in this process.
+  UseCompiledLibraryTypes(CompiledBuiltinTypes());
 
   m.def("_set_exceptions", [](py::object model_error, py::object usage_error) {
     g_model_error = model_error.release().ptr();
