@@ -89,7 +89,7 @@ class BuiltinTypes : public LazyTypes {
   /// Reads at once the records and the connector types (so that every connector type is known
   /// without a lookup). The functions are read together on first use (ReadFunctions): most
   /// models call none.
-  /// With `started`, the library holds them already (compiled: ReadStart).
+  /// With `started`, the library holds them already (read from their compiled bytes).
   BuiltinTypes(Library* library, bool started) : read_(kNumEntries, false) {
     // Every function's name first, so that any text may call one before it is read.
     for (const EmbeddedEntry& entry : kEmbeddedLibraryEntries) {

@@ -161,6 +161,13 @@ class Reader {
   void Number(T* v) {
     Raw(v, sizeof *v);
   }
+  /// A flag is a byte 0 or 1: any other byte is refused, not loaded into a bool.
+  void Number(bool* v) {
+    uint8_t byte = 0;
+    Raw(&byte, 1);
+    if (byte > 1) throw std::runtime_error("compiled type: a flag that is neither 0 nor 1");
+    *v = byte != 0;
+  }
   void Count(uint32_t* n) {
     Number(n);
     Need(*n);  // every element takes at least a byte
@@ -199,6 +206,7 @@ class Reader {
     auto a = std::make_shared<Ast>();
     uint8_t kind = 0;
     Number(&kind);
+    if (kind > static_cast<uint8_t>(Ast::Kind::kArray)) throw std::runtime_error("compiled type: an unknown node kind");
     a->kind = static_cast<Ast::Kind>(kind);
     Number(&a->number);
     uint32_t segments = 0;
