@@ -7,8 +7,9 @@
 // cubic through its values and time derivatives (crossing_model.h) and sampled again where that
 // cubic dips more than halfway to zero, so a crossing there and back between samples is found too
 // (README, "Events and impacts", says when); an open contact's gap is watched the same way, with
-// the contact's velocity as its rate. The crossing is then located by the Illinois method on the
-// interpolant, and the event placed just past it.
+// the contact's velocity as its rate. The crossing is then located by bisection on the
+// interpolant (on whether anything has switched, which covers every condition and contact at
+// once), and the event placed just past it.
 //
 // Relations of time alone that are affine in it (Step, Ramp, startTime) are not searched for:
 // their times are computed and hit exactly as IDA stop times (NextTimeEvent).
@@ -90,8 +91,10 @@ bool Crossed(const CompiledModel& model, ModelState* state, IntegrationState* ru
   return ContactCloses(model, state, run, t);
 }
 
-/// Illinois (regula falsi) on "crossed or not", shrinking [lo, hi] until it is below the time
-/// resolution; the event is placed at hi, where the switch has happened.
+/// Bisection on "crossed or not", shrinking [lo, hi] until it is below the time resolution (about
+/// 50 halvings of a step); the event is placed at hi, where the switch has happened. Regula falsi
+/// on the crossing functions' values would take fewer, but would place events elsewhere at
+/// rounding.
 double Locate(const CompiledModel& model, ModelState* state, IntegrationState* run, double lo, double hi) {
   const double tol = 100 * 2.2e-16 * (std::fabs(hi) + std::fabs(hi - lo)) + 1e-15;
   for (int it = 0; it < 200 && hi - lo > tol; ++it) {
