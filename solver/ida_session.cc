@@ -102,8 +102,8 @@ class IdaSession {
   /// factored once per step: at IDA's time interpolated_at.
   std::unique_ptr<MixedJacobian> interpolation_matrix;
   double interpolated_at = NAN;
-  /// SolveUntestedAt's residual, right-hand side and step, kept from call to call (it runs at
-  /// every sample of the crossing search: allocating them was a tenth of a small model's run).
+  /// SolveUntestedAt's residual, right-hand side and step, kept from call to call: it runs at
+  /// every sample of the crossing search (about 500 times in the carrier collision's run).
   std::vector<double> untested_residual;
   Eigen::VectorXd untested_rhs, untested_step;
   VectorPtr interpolated_y, interpolated_yp;

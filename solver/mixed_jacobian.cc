@@ -11,7 +11,7 @@
 namespace momenta {
 
 MixedJacobian::MixedJacobian(ModelState* state, double t, const double* y, const double* yp)
-    : model_(state->model()) {
+    : model_(state->model()), dense_(model_.num_unknowns() <= static_cast<size_t>(kDenseUpTo)) {
   Evaluate(state, t, y, yp);
 }
 
@@ -43,7 +43,6 @@ bool MixedJacobian::Factor() {
   // than the rest of a step).
   if (factored_ && mixed_ == factored_values_) return true;
   const auto n = static_cast<int>(model_.num_unknowns());
-  dense_ = n <= kDenseUpTo;
   factored_ = dense_ ? FactorDense(n) : FactorSparse(n);
   if (factored_) {
     factored_values_ = mixed_;

@@ -54,12 +54,12 @@ class MixedJacobian {
 
   const CompiledModel& model_;
   std::vector<double> dfdy_, dfdyp_;
-  /// Up to kDenseUpTo unknowns M is factored as a dense matrix (dense_): Eigen's sparse LU
-  /// costs about as much as a dense one of a few hundred unknowns, and small models solve with
-  /// this matrix at every sample of the crossing search (the carrier collision, 14 unknowns: the
-  /// factorisations and solves went from 22 % to 4 % of its whole run; bench/RESULTS.md).
+  /// Up to kDenseUpTo unknowns M is factored as a dense matrix (dense_): small models solve with
+  /// it at every sample of the crossing search, and for the carrier collision's 14 unknowns
+  /// Eigen's sparse LU took 37 k instructions a factorisation and 2.8 k a solve, the dense one
+  /// 1.4 k a solve (callgrind; bench/RESULTS.md, "Read this first").
   static constexpr int kDenseUpTo = 32;
-  bool dense_ = false;
+  const bool dense_;
   Eigen::PartialPivLU<Eigen::MatrixXd> dense_lu_;
   Eigen::MatrixXd dense_matrix_;
   Eigen::SparseLU<Eigen::SparseMatrix<double>> lu_;

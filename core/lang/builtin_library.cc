@@ -16,7 +16,7 @@
 // of what was read).
 //
 // A program that links momenta_compiled_types (the CLI) goes further: the build parsed every
-// entry once (CompileLibraryTypes, run by momenta_compile_types) and the program hands the
+// entry once (SerializeLibrary, run by momenta_compile_types) and the program hands the
 // serialised result to UseCompiledLibraryTypes, so the records and connector types are read from
 // bytes at start and each component type or function from its bytes on first use; no library
 // text is parsed at run time (the ball and pendulum's whole run 23.3 M -> 20.6 M instructions).
@@ -188,25 +188,6 @@ class BuiltinTypes : public LazyTypes {
   mutable std::recursive_mutex mutex_;
 };
 
-/// `bytes` as adjacent C++ string literals of three-digit octal escapes and plain characters.
-void AppendLiteral(std::string_view bytes, std::string* out) {
-  constexpr size_t kLine = 96;
-  for (size_t at = 0; at < bytes.size(); at += kLine) {
-    *out += "  \"";
-    for (const char ch : bytes.substr(at, kLine)) {
-      const auto c = static_cast<unsigned char>(ch);
-      if (c >= 0x20 && c < 0x7f && c != '"' && c != '\\' && c != '?') {
-        *out += static_cast<char>(c);
-      } else {
-        const char escape[5] = {'\\', static_cast<char>('0' + (c >> 6)), static_cast<char>('0' + ((c >> 3) & 7)),
-                                static_cast<char>('0' + (c & 7)), '\0'};
-        *out += escape;
-      }
-    }
-    *out += "\"\n";
-  }
-}
-
 }  // namespace
 
 bool UseCompiledLibraryTypes(const CompiledLibraryTypes& types) {
@@ -220,10 +201,13 @@ SerializedLibrary SerializeLibrary() {
   const Library& library = BuiltinLibrary();
   // What it holds before any type is read: the records and connector types.
   const std::string start = SerializeRecordsAndConnectors(library);
-  std::string bytes;
-  std::vector<uint32_t> offsets{0};
+  SerializedLibrary out;
+  out.library_hash = kEmbeddedLibraryHash;
+  std::string& bytes = out.bytes;
+  out.offsets.push_back(0);
   for (const EmbeddedEntry& entry : kEmbeddedLibraryEntries) {
     const std::string name = kEmbeddedLibraryNames + entry.name;
+    out.kinds.push_back(entry.kind);
     if (entry.kind == 't') {
       const ComponentType* type = library.FindComponent(name);
       if (type == nullptr) throw std::runtime_error("library entry " + name + " is not a component type");
@@ -233,23 +217,10 @@ SerializedLibrary SerializeLibrary() {
       if (function == nullptr) throw std::runtime_error("library entry " + name + " is not a function");
       bytes += SerializeFunction(*function);
     }
-    offsets.push_back(static_cast<uint32_t>(bytes.size()));
+    out.offsets.push_back(static_cast<uint32_t>(bytes.size()));
   }
   bytes += start;
-  offsets.push_back(static_cast<uint32_t>(bytes.size()));
-  return {std::move(bytes), std::move(offsets)};
-}
-
-std::string CompileLibraryTypes() {
-  const auto [bytes, offsets] = SerializeLibrary();
-  std::string out = "// Written by momenta_compile_types (core/lang/compile_types_tool.cc) when the binary is built.\n";
-  out += "static constexpr uint64_t kCompiledLibraryHash = " + std::to_string(kEmbeddedLibraryHash) + "ull;\n";
-  out += "static const char kCompiledLibraryBytes[] =\n";
-  AppendLiteral(bytes, &out);
-  out += "  \"\";\n";
-  out += "static const uint32_t kCompiledLibraryOffsets[] = {";
-  for (size_t k = 0; k < offsets.size(); ++k) out += (k % 12 == 0 ? "\n  " : " ") + std::to_string(offsets[k]) + ",";
-  out += "\n};\n";
+  out.offsets.push_back(static_cast<uint32_t>(bytes.size()));
   return out;
 }
 

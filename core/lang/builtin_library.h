@@ -31,18 +31,15 @@ struct CompiledLibraryTypes {
 /// returned). Call it before the first BuiltinLibrary().
 bool UseCompiledLibraryTypes(const CompiledLibraryTypes& types);
 
-/// The library parsed from its text and serialised: the bytes and offsets CompiledLibraryTypes
-/// points to.
+/// Every record, connector type, component type (in its scalar form) and function of the library
+/// parsed from its text and serialised: what CompiledLibraryTypes points to, which the build-time
+/// tool momenta_compile_types writes as C++ tables (core/lang/compile_types_tool.cc).
 struct SerializedLibrary {
+  uint64_t library_hash = 0;  ///< of the library text
   std::string bytes;
   std::vector<uint32_t> offsets;
+  std::vector<char> kinds;  ///< by entry: 't' a component type, 'f' a function, 'r' a record, 'k' a connector type
 };
 SerializedLibrary SerializeLibrary();
-
-/// Every record, connector type, component type (in its scalar form) and function of the library
-/// parsed from its text and serialised,
-/// as the C++ text of the tables CompiledLibraryTypes points to: what the build-time tool
-/// momenta_compile_types writes (core/lang/compile_types_tool.cc).
-std::string CompileLibraryTypes();
 
 }  // namespace momenta

@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "core/lang/short_names.h"
+#include "core/lang/write_if_changed.h"
 
 namespace {
 
@@ -169,14 +170,5 @@ int main(int argc, char** argv) {
   }
   out << "};\n";
   // Written only when it changed, so that a rebuild does not recompile builtin_library.cc.
-  const std::string text = out.str();
-  {
-    std::ifstream old(argv[1], std::ios::binary);
-    const std::string before((std::istreambuf_iterator<char>(old)),
-                             std::istreambuf_iterator<char>());
-    if (old && before == text) return 0;
-  }
-  std::ofstream file(argv[1], std::ios::binary);
-  file << text;
-  return file ? 0 : 1;
+  return momenta::WriteIfChanged(argv[1], out.str()) ? 0 : 1;
 }
