@@ -133,11 +133,11 @@ int Sweep::CheckSweptNames() const {
                 << flat.model_name << (close.empty() ? "" : " (did you mean " + JoinNames(close) + "?)") << "\n";
       return kExitUsage;
     }
-    if (auto it = flat.structural.find(a.name); it != flat.structural.end()) {
+    if (const double* built = flat.StructuralValue(a.name)) {
       std::cerr << "momenta: -p " << a.name << "=" << a.spec << ": " << a.name
                 << " is a structural parameter (a count, a connection index or a Boolean or Integer if-condition; "
                    "the model was built with "
-                << a.name << " = " << FormatDouble(it->second)
+                << a.name << " = " << FormatDouble(*built)
                 << "); a sweep builds the model once, so a structural parameter can only be given one value "
                    "(run one sweep per value)\n";
       return kExitUsage;

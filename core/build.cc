@@ -113,7 +113,8 @@ StepOutcome FixStructuralParameters(BuildState* state) {
   // The system takes the flat system over: passes that extend it need not copy it.
   state->sys = MakeEquationSystem(std::move(state->flat));
   EquationSystem& sys = state->sys;
-  const size_t folded = FoldStructuralConditions(&sys, state->params);
+  // With the conditions folded when the instances were made (decided conditional connectors).
+  const size_t folded = FoldStructuralConditions(&sys, state->params) + sys.flat->conditions_decided;
   size_t absent_parts = 0;
   const size_t absent = ResolveConditionalConnectors(&sys, state->params, &absent_parts);
   if (folded + absent + absent_parts == 0) return std::nullopt;

@@ -49,7 +49,7 @@ FmuLayout MakeLayout(const CompiledModel& model, const std::vector<double>& para
     v.description = flat.ParameterDoc(p);
     v.index = k;
     v.start = parameter_values[k];
-    v.structural = flat.structural.count(v.name) > 0;
+    v.structural = flat.structural.Find(p) != nullptr;
     add(std::move(v));
   }
   // States by name, to find the outputs that are states.

@@ -129,7 +129,7 @@ std::vector<ParameterInfo> PythonModel::Parameters() const {
     info.value = state.parameter_values()[k];
     info.unit = flat.ParameterUnit(p);
     info.description = flat.ParameterDoc(p);
-    info.structural = flat.structural.count(info.name) > 0;
+    info.structural = flat.structural.Find(p) != nullptr;
     out.push_back(std::move(info));
   }
   return out;
@@ -166,10 +166,10 @@ std::vector<ParameterOverrides> PythonModel::RunOverrides(const std::vector<Para
                          "; Model.parameters lists them");
       }
       // A structural parameter keeps the value the model was built with.
-      if (auto it = flat.structural.find(name); it != flat.structural.end() && it->second != value) {
+      if (const double* built = flat.StructuralValue(name); built != nullptr && *built != value) {
         throw UsageError(path_ + ": parameter " + name + "=" + NumberText(value) + ": " + name +
                          " shapes the model's structure (a count, a connection index or a Boolean or Integer "
-                         "if-condition) and the model was built with " + name + " = " + NumberText(it->second) +
+                         "if-condition) and the model was built with " + name + " = " + NumberText(*built) +
                          "; load the model again with params={\"" + name + "\": " + NumberText(value) + "}");
       }
       merged[name] = value;

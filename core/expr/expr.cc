@@ -208,6 +208,7 @@ uint8_t ExprPool::Traits(const Node& n) const {
                             (arity == 2 && nodes_[n.a].op == Op::kConst && nodes_[n.b].op == Op::kConst);
   // A division by the constant zero: x/0 of anything.
   if (n.op == Op::kDiv && nodes_[n.b].op == Op::kConst && nodes_[n.b].value() == 0.0) traits |= kSingular;
+  if (n.op == Op::kIf) traits |= kHasIf;
   if (on_constants) {
     const double v = arity == 1 ? ApplyUnary(n.op, nodes_[n.a].value())
                                 : ApplyBinary(n.op, nodes_[n.a].value(), nodes_[n.b].value());

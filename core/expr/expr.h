@@ -41,6 +41,8 @@ enum NodeTrait : uint8_t {
   /// whose value is not finite (0/0, 1e308*10, sqrt(-1)): the pool keeps it unfolded, and folds no identity (x*0, 0/x, x-x, x^0)
   /// that would drop it, so that the build can name it (CheckBuildTimeValues).
   kSingular = 1,
+  /// The subtree holds an if-expression (a structural condition may fold it: FoldStructuralConditions).
+  kHasIf = 2,
 };
 
 /// One node of the pool: 16 bytes, so that four share a cache line. The operands (a, b, c) are
@@ -137,6 +139,8 @@ class ExprPool {
   uint8_t mask(ExprId id) const { return node(id).mask; }
   /// The subtree holds an operation on constants whose value is not finite (NodeTrait kSingular).
   bool IsSingular(ExprId id) const { return node(id).traits & kSingular; }
+  /// The subtree holds an if-expression (NodeTrait kHasIf).
+  bool HasIf(ExprId id) const { return node(id).traits & kHasIf; }
   /// The order of a kDer leaf (1 for der(x), 2 for der(der(x)), …).
   uint32_t DerOrder(ExprId id) const { return node(id).b + 1; }
 

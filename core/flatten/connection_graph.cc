@@ -131,7 +131,7 @@ class Graph {
     }
     auto p = FindParameter(i, name);
     if (!p) throw ModelError(d.loc, "the condition '" + d.condition + "' names no parameter of " + flat_.instances[i.value()].type->name);
-    context_.flat.structural[flat_.ParameterName(*p)] = params[p->value()];
+    context_.flat.structural.Set(*p, params[p->value()]);
     return (params[p->value()] != 0) != negate;
   }
 

@@ -90,6 +90,19 @@ ExprId CopyTemplate(ExprPool* pool, const Template& t, VarId first_var, ParamId 
 /// For copies of templates that read no table (CopyTemplate's table_node).
 ExprId NoTable(const TNode& node, const std::vector<ExprId>& made);
 
+/// `t` with some local parameters fixed (`values[local]`; NaN: not fixed) and what that decides
+/// folded as the pool would fold its copies: an operation on numbers is their number when it is
+/// finite, an if-expression on a number is its branch, noEvent of a number the number. Only the
+/// nodes its root still reaches are kept, in their order (the root stays the last node). Each
+/// if-expression folded because its condition read a fixed parameter adds its condition's node
+/// index in `t` to `folded` (when given). A template that reads a table is returned unchanged.
+Template FixLocalParameters(const Template& t, const std::vector<double>& values, std::vector<int32_t>* folded);
+
+/// Whether template `t` names one of the local variables [first, first + count) (its value, a
+/// derivative or a left limit), or holds an if-expression.
+bool NamesLocalVariables(const Template& t, uint32_t first, uint32_t count);
+bool HasIfExpression(const Template& t);
+
 /// The form of an equation template that alias elimination always removes: x = ±y + c or x = c,
 /// over continuous variables, with c a number. Whatever aliases come before it, it is consumed or
 /// found redundant (0 = c): it is never needed as an expression.

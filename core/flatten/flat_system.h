@@ -4,6 +4,7 @@
 /// work on an EquationSystem made from it (core/passes/equation_system.h), which shares its
 /// expression pool and refers to its records.
 
+#include <cmath>
 #include <limits>
 #include <map>
 #include <memory>
@@ -204,6 +205,10 @@ struct FlatConditionalConnector {
   VarId first_var;           ///< its potentials, then its flows
   uint32_t num_potentials = 0, num_flows = 0;
   SourceLoc connected_at;    ///< the first connection naming it; unknown when unconnected
+  /// Decided when its instance was made (core/flatten/decided_conditions.h): 0 absent (the
+  /// instance's equations that hold only with it and its unconnected flows' were not made), 1
+  /// present; -1 left to the passes.
+  int8_t decided = -1;
 };
 
 /// A part of a composite type that exists only when its condition is true (ComponentSpec::condition,
@@ -230,6 +235,26 @@ struct FlatOutput {
   std::string unit;
 };
 
+/// The parameters that shaped the structure (a count, a connection index, a structural
+/// condition, a conditional connector's or part's condition), by id, with the values they shaped
+/// it with: a run that gives one another value needs a new build. A value per parameter once one
+/// is set (a million conditional connectors' conditions were as many names in a map).
+class StructuralParameters {
+ public:
+  void Set(ParamId p, double value) {
+    if (values_.size() <= p.value()) values_.resize(p.value() + 1, kNot);
+    values_[p.value()] = value;
+  }
+  /// The value `p` shaped the structure with; null when it did not.
+  const double* Find(ParamId p) const {
+    return p.value() < values_.size() && !std::isnan(values_[p.value()]) ? &values_[p.value()] : nullptr;
+  }
+
+ private:
+  static constexpr double kNot = std::numeric_limits<double>::quiet_NaN();
+  std::vector<double> values_;  ///< by parameter; NaN: not structural
+};
+
 struct FlatSystem {
   std::shared_ptr<ExprPool> pool;
   std::string model_name, file;
@@ -249,12 +274,15 @@ struct FlatSystem {
   std::vector<VarId> free_inputs;
   std::vector<FlatConditionalConnector> conditional_connectors;
   std::vector<FlatConditionalPart> conditional_parts;
+  /// The if-expressions' conditions folded when the instances were made (decided conditional
+  /// connectors), counted as FoldStructuralConditions counts those it folds.
+  size_t conditions_decided = 0;
   ExperimentSpec experiment;
   std::shared_ptr<const Library> defines;  ///< the model's own types (instances point into them)
   /// The model's own connectors, records and functions laid over the library (null: none), which
   /// the layouts point into.
   std::shared_ptr<const Library> model_library;
-  std::map<std::string, double> structural;  ///< parameters that shaped the structure, and their values
+  StructuralParameters structural;
   /// The names of each component type instantiated, shared by the copies passes make.
   std::vector<std::shared_ptr<const TypeNames>> type_names;
   std::vector<std::string> texts;          ///< TextRef::kOwned
@@ -283,6 +311,12 @@ struct FlatSystem {
   /// The parameter of that full name, compared in place with every parameter's (no map of every
   /// name is held); nullopt when there is none.
   std::optional<ParamId> FindParameter(const std::string& name) const;
+  /// The value the parameter called `name` shaped the structure with; null when it did not (or
+  /// there is none of that name).
+  const double* StructuralValue(const std::string& name) const {
+    const std::optional<ParamId> p = FindParameter(name);
+    return p ? structural.Find(*p) : nullptr;
+  }
 
   ExprNamer Namer() const;
   /// "component A (Mass) at model.yaml:12:3, equation 'm*a = flange_a.f + flange_b.f'".

@@ -63,7 +63,6 @@ class Flattener {
     CheckWhenConditions(context_.flat);
     FlatSystem& flat = context_.flat;
     flat.defines = context_.defines;  // instances point into these types
-    flat.structural = context_.structural;
     if (context_.deferred && !context_.deferred->empty()) {
       if (model_assigns_) context_.deferred->MakeDiscrete(&flat);
       context_.deferred->Keep(layouts_.TakeLayouts());
@@ -270,12 +269,12 @@ std::vector<double> EvaluateParameters(const FlatSystem& flat, const ParameterOv
   }
   // A parameter that shaped the structure (count:, indices) keeps the value it was built with.
   for (const auto& [name, value] : overrides) {
-    auto it = flat.structural.find(name);
-    if (it != flat.structural.end() && it->second != value) {
+    const double* built = flat.StructuralValue(name);
+    if (built != nullptr && *built != value) {
       std::ostringstream msg;
       msg << flat.file << ": -p " << name << "=" << value << ": " << name
           << " shapes the model's structure (a count or a connection index) and the model was built with "
-          << name << " = " << it->second << "; build the model again with the new value";
+          << name << " = " << *built << "; build the model again with the new value";
       throw ModelError(msg.str());
     }
   }

@@ -60,9 +60,6 @@ struct FlattenContext {
   std::vector<uint32_t> slot_instance;      ///< connector slot -> instance
   /// The model's conditional connector slots -> their FlatSystem::conditional_connectors entry.
   std::unordered_map<uint32_t, size_t> conditional_slot;
-  /// Parameters that shaped the structure, and the values they shaped it with
-  /// (FlatSystem::structural).
-  std::map<std::string, double> structural;
   /// Parameters a component entry leaves free (`c: {fixed: false}`; free_parameters.h).
   std::vector<ParamId> free_parameters;
   double planned_bytes = 0;  ///< estimated memory of the components so far

@@ -103,7 +103,7 @@ double InstanceTables::OptionValue(ExprId e, const std::string& what, const Sour
     } else {
       throw ModelError(fp.loc, name + " sets the " + what + " of a table, which shapes the equations: give it a number");
     }
-    context_.structural[name] = v;
+    context_.flat.structural.Set(id, v);
   } else {
     throw ModelError(loc, "the " + what + " of a table must be a number or a parameter");
   }

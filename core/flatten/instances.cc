@@ -19,10 +19,21 @@ namespace {
 /// About how many connection equations an instance of a layout adds: a connection set of s
 /// physical connectors makes s times their potentials' count of equations (s - 1 equal potentials
 /// and one flow sum each, as many flows as potentials); a signal set fewer than its connectors.
-size_t Joins(const TypeLayout& layout) {
+size_t Joins(const TypeLayout& layout, const DecidedConditions* decided = nullptr) {
   size_t joins = 0;
-  for (const ConnectorSlot& c : layout.connectors) joins += c.type->is_signal ? 1 : c.type->potentials.size();
+  for (size_t k = 0; k < layout.connectors.size(); ++k) {
+    if (decided && decided->connector[k] == 0) continue;  // absent: no connection, no unconnected flow
+    const ConnectorSlot& c = layout.connectors[k];
+    joins += c.type->is_signal ? 1 : c.type->potentials.size();
+  }
   return joins;
+}
+
+/// How many of a layout's equations (or initial equations) each instance makes.
+size_t Made(const std::vector<Template>& templates, const std::vector<DecidedConditions::Use>* use) {
+  if (!use) return templates.size();
+  return static_cast<size_t>(std::count_if(use->begin(), use->end(),
+                                            [](DecidedConditions::Use u) { return u != DecidedConditions::kLeftOut; }));
 }
 
 /// About how many new nodes of the expression pool an instance of a layout makes: its
@@ -96,9 +107,10 @@ void InstanceBuilder::Components() {
     const Modifiers modifiers = SortModifiers(c, layout);
     const int32_t block = arr.is_array ? BeginBlock(c, layout) : -1;
     const int32_t names = NamesOf(layout);
+    const DecidedConditions* decided = Decided(layout, modifiers);
     for (uint32_t k = 0; k < arr.count; ++k) {
       LoopIndex index{"i", static_cast<double>(k + 1)};
-      AddInstance(c, layout, block, names, modifiers, arr.is_array ? &index : nullptr);
+      AddInstance(c, layout, block, names, modifiers, arr.is_array ? &index : nullptr, decided);
     }
     if (block >= 0) EndBlock(&flat.blocks[block]);
     context_.components.Add(c.name, arr);
@@ -156,12 +168,17 @@ void InstanceBuilder::ReserveComponents() {
     } catch (const ModelError&) {
       return;
     }
+    // As an entry without modifiers decides its conditional connectors (nearly every entry).
+    Modifiers none;
+    none.params.assign(layout->params.size(), nullptr);
+    const DecidedConditions* d = Decided(*layout, none);
     instances += u.count * (1 + layout->subs.size());
     slots += u.count * layout->connectors.size();
     vars += u.count * layout->vars.size();
     params += u.count * layout->params.size();
-    equations += u.count * (layout->equations.size() + layout->impacts.size() + Joins(*layout));
-    initials += u.count * layout->initial_equations.size();
+    equations += u.count * (Made(layout->equations, d ? &d->equation_use : nullptr) + layout->impacts.size() +
+                            Joins(*layout, d));
+    initials += u.count * Made(layout->initial_equations, d ? &d->initial_use : nullptr);
     nodes += u.count * (InstanceNodes(*layout) + Joins(*layout));
   }
   equations += spec.equations.size();
@@ -302,24 +319,46 @@ void InstanceBuilder::MakeBelowRoot(const Template& t, VarId first_var, ParamId 
                leaf_root ? t.nodes.size() : t.nodes.size() - 1);
 }
 
+const DecidedConditions* InstanceBuilder::Decided(const TypeLayout& layout, const Modifiers& modifiers) {
+  if (std::all_of(layout.connectors.begin(), layout.connectors.end(),
+                  [](const ConnectorSlot& cs) { return cs.decl->condition.empty(); })) {
+    return nullptr;
+  }
+  std::vector<int8_t> decidable = DecidableConnectors(layout, modifiers.params, context_.overrides);
+  if (std::all_of(decidable.begin(), decidable.end(), [](int8_t d) { return d < 0; })) return nullptr;
+  auto& made = decided_[&layout];
+  for (const auto& [key, d] : made) {
+    if (key == decidable) return d->Any() ? d.get() : nullptr;
+  }
+  auto d = std::make_unique<DecidedConditions>(DecideConditions(layout, decidable));
+  made.emplace_back(std::move(decidable), std::move(d));
+  return made.back().second->Any() ? made.back().second.get() : nullptr;
+}
+
 void InstanceBuilder::AddInstance(const ComponentSpec& c, const TypeLayout& layout, int32_t block, int32_t names,
-                                  const Modifiers& modifiers, const LoopIndex* index) {
-  const NewInstance instance = AddRecords(c, layout, block, names, index);
+                                  const Modifiers& modifiers, const LoopIndex* index,
+                                  const DecidedConditions* decided) {
+  const NewInstance instance = AddRecords(c, layout, block, names, index, decided);
   AddConditionalConnectors(instance);
   AddParameters(instance, modifiers.params);
   tables_.Add(c, layout, instance.data, instance.id, modifiers.tables, index);
   AddVariables(instance, modifiers.vars);
   // Equations that alias elimination surely removes are not made (DeferredAliases).
   const std::vector<uint32_t>* sure_shapes = context_.deferred ? &SureAliasShapes(layout) : nullptr;
-  AddEquations(instance, layout.equations, layout.equation_info, 0, sure_shapes, &context_.flat.equations);
+  AddEquations(instance, layout.equations, layout.equation_info, 0, sure_shapes,
+               decided ? &decided->equation_use : nullptr, decided ? &decided->equations : nullptr,
+               &context_.flat.equations);
   AddWhens(instance);
   AddImpacts(instance);
   AddEquations(instance, layout.initial_equations, layout.initial_info, static_cast<uint32_t>(layout.equations.size()),
-               nullptr, &context_.flat.initial_equations);
+               nullptr, decided ? &decided->initial_use : nullptr, decided ? &decided->initial_equations : nullptr,
+               &context_.flat.initial_equations);
+  if (decided) context_.flat.conditions_decided += decided->conditions;
 }
 
 InstanceBuilder::NewInstance InstanceBuilder::AddRecords(const ComponentSpec& c, const TypeLayout& layout,
-                                                         int32_t block, int32_t names, const LoopIndex* index) {
+                                                         int32_t block, int32_t names, const LoopIndex* index,
+                                                         const DecidedConditions* decided) {
   FlatSystem& flat = context_.flat;
   InstanceId inst(flat.instances.size());
   // An element of a block is named by the block; a component alone holds its path.
@@ -343,7 +382,7 @@ InstanceBuilder::NewInstance InstanceBuilder::AddRecords(const ComponentSpec& c,
     context_.instance_data.push_back({sub.layout, VarId(data.first_var.value() + sub.first_var),
                                       ParamId(data.first_param.value() + sub.first_param), kNoSlot});
   }
-  return {c, layout, inst, data, index};
+  return {c, layout, inst, data, index, decided};
 }
 
 /// The instance's own conditional connectors (its connections come later), its parts', and its
@@ -367,6 +406,7 @@ void InstanceBuilder::AddConditionalConnectors(const NewInstance& instance) {
         if (at != instance.layout.connected.end()) cc.connected_at = at->second;
       } else {
         context_.conditional_slot[data.first_slot + k] = context_.flat.conditional_connectors.size();
+        if (instance.decided) cc.decided = instance.decided->connector[k];
       }
       context_.flat.conditional_connectors.push_back(std::move(cc));
     }
@@ -474,12 +514,18 @@ void InstanceBuilder::AddVariables(const NewInstance& instance, const std::vecto
 
 void InstanceBuilder::AddEquations(const NewInstance& instance, const std::vector<Template>& templates,
                                    const std::vector<PartInfo>& info, uint32_t first_text,
-                                   const std::vector<uint32_t>* shapes, std::vector<FlatEquation>* out) {
+                                   const std::vector<uint32_t>* shapes,
+                                   const std::vector<DecidedConditions::Use>* use, const std::vector<Template>* fixed,
+                                   std::vector<FlatEquation>* out) {
   const InstanceData& data = instance.data;
   for (size_t k = 0; k < templates.size(); ++k) {
     const PartInfo& part_info = info[k];
+    const DecidedConditions::Use how = use ? (*use)[k] : DecidedConditions::kAsLayout;
+    if (how == DecidedConditions::kLeftOut) continue;
     FlatEquation eq;
-    if (shapes != nullptr && (*shapes)[k] != kNotSure) {
+    if (how == DecidedConditions::kFixed) {
+      eq.residual = Instantiate(instance, (*fixed)[k], part_info.text, instance.component.loc);
+    } else if (shapes != nullptr && (*shapes)[k] != kNotSure) {
       MakeBelowRoot(templates[k], data.first_var, data.first_param);
       context_.deferred->AddCopy(out->size(), (*shapes)[k], data.first_var, data.first_param);
     } else {

@@ -5,10 +5,12 @@
 /// `count:` array makes its elements one after the other as a block (FlatSystem::blocks).
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <unordered_map>
 #include <vector>
 
+#include "core/flatten/decided_conditions.h"
 #include "core/flatten/flatten_context.h"
 #include "core/flatten/instance_tables.h"
 #include "core/flatten/model_scope.h"
@@ -37,6 +39,7 @@ class InstanceBuilder {
     InstanceId id;
     InstanceData data;
     const LoopIndex* index;  ///< the element index of a `count:` array, for its modifiers
+    const DecidedConditions* decided;  ///< its conditional connectors decided (null: none)
     /// The instance of the layout's part `sub` (-1: the component itself).
     InstanceId InstanceOf(int32_t sub) const { return sub < 0 ? id : InstanceId(id.value() + 1 + sub); }
     SourceLoc LocOf(int32_t sub) const { return sub < 0 ? component.loc : layout.subs[sub].loc; }
@@ -66,20 +69,25 @@ class InstanceBuilder {
   /// Holds a text in the flat system (FlatSystem::texts) and returns its index.
   uint32_t HeldText(std::string text);
 
+  /// The conditional connectors of `layout` that component entry `modifiers` leaves to be
+  /// decided now (decided_conditions.h), made once per layout and decision; null for none.
+  const DecidedConditions* Decided(const TypeLayout& layout, const Modifiers& modifiers);
   /// Makes one instance of `layout`: an element of `block` (its `index`), or the component alone
   /// (block -1); `names` are the layout's (NamesOf).
   void AddInstance(const ComponentSpec& c, const TypeLayout& layout, int32_t block, int32_t names,
-                   const Modifiers& modifiers, const LoopIndex* index);
+                   const Modifiers& modifiers, const LoopIndex* index, const DecidedConditions* decided);
   /// The instance records (the component's, then its parts'), its InstanceData and its slots.
   NewInstance AddRecords(const ComponentSpec& c, const TypeLayout& layout, int32_t block, int32_t names,
-                         const LoopIndex* index);
+                         const LoopIndex* index, const DecidedConditions* decided);
   void AddConditionalConnectors(const NewInstance& instance);
   void AddParameters(const NewInstance& instance, const std::vector<const Modifier*>& modifiers);
   void AddVariables(const NewInstance& instance, const std::vector<const Modifier*>& modifiers);
   /// Copies `templates` (with their `info`; their texts from the type's `first_text`) to `out`;
-  /// those with a shape in `shapes` (when given) are deferred, not made.
+  /// those with a shape in `shapes` (when given) are deferred, not made. With decided
+  /// conditions, an equation is copied as `use` says (its fixed template from `fixed`).
   void AddEquations(const NewInstance& instance, const std::vector<Template>& templates,
                     const std::vector<PartInfo>& info, uint32_t first_text, const std::vector<uint32_t>* shapes,
+                    const std::vector<DecidedConditions::Use>* use, const std::vector<Template>* fixed,
                     std::vector<FlatEquation>* out);
   void AddWhens(const NewInstance& instance);
   /// The impacts, each with its contact law as an equation.
@@ -95,6 +103,9 @@ class InstanceBuilder {
   std::unordered_map<const TypeLayout*, int32_t> names_of_;  ///< index in FlatSystem::type_names
   /// SureAliasShapes, by layout.
   std::unordered_map<const TypeLayout*, std::vector<uint32_t>> sure_shapes_;
+  /// Decided, by layout: each decision made for it.
+  std::unordered_map<const TypeLayout*, std::vector<std::pair<std::vector<int8_t>, std::unique_ptr<DecidedConditions>>>>
+      decided_;
   std::vector<ExprId> scratch_;
 };
 

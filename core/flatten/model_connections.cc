@@ -122,6 +122,7 @@ size_t ModelConnections::ConnectionEquationCount(const std::vector<std::vector<u
   size_t n = 0;
   for (const auto& set : sets) {
     const ConnectorType& ct = TypeOf(set[0]);
+    if (set.size() == 1 && DecidedAbsent(set[0])) continue;
     if (ct.is_signal) {
       n += set.size() - 1;
     } else {
@@ -141,6 +142,11 @@ void ModelConnections::CheckConnectedUnits(VarId a, const std::string& a_name, V
     throw ModelError(loc, "dimension mismatch in the connection of " + a_name + " [" + ua + "] to " + b_name +
                               " [" + ub + "]: " + DimensionText(*da) + " against " + DimensionText(*db));
   }
+}
+
+bool ModelConnections::DecidedAbsent(uint32_t slot) const {
+  auto cc = context_.conditional_slot.find(slot);
+  return cc != context_.conditional_slot.end() && context_.flat.conditional_connectors[cc->second].decided == 0;
 }
 
 VarId ModelConnections::VarOf(uint32_t slot, uint32_t k) const {
@@ -183,6 +189,7 @@ void ModelConnections::Unconnected(uint32_t slot) {
     return;
   }
   FlatSystem& flat = context_.flat;
+  if (DecidedAbsent(slot)) return;  // its flows' equations go with it
   ExprPool& pool = context_.pool();
   const uint32_t instance = context_.slot_instance[slot];
   for (size_t k = 0; k < type.flows.size(); ++k) {

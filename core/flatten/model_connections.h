@@ -63,6 +63,8 @@ class ModelConnections {
 
   /// Variable `k` of slot `slot`'s connector.
   VarId VarOf(uint32_t slot, uint32_t k) const;
+  /// A conditional connector decided absent when its instance was made (decided_conditions.h).
+  bool DecidedAbsent(uint32_t slot) const;
   /// "R[3].n": a slot as messages name it.
   std::string NameOf(uint32_t slot) const;
   /// Appends a connection equation (`residual` invalid: deferred).

@@ -71,7 +71,7 @@ double ModelScope::StructuralValue(const Ast& a, const std::string& text, const 
     if (id >= spec.parameters.size()) {
       throw ModelError(loc, "'" + text + "' shapes the model's structure, so it may use model parameters only");
     }
-    context_.structural[context_.flat.ParameterName(ParamId(id))] = structural_values_[id];
+    context_.flat.structural.Set(ParamId(id), structural_values_[id]);
   }
   LeafValues lv;
   lv.params = structural_values_.data();

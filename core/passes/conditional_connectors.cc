@@ -1,5 +1,6 @@
 #include "core/passes/conditional_connectors.h"
 
+#include <algorithm>
 #include <map>
 #include <string>
 #include <unordered_map>
@@ -84,11 +85,11 @@ void FindAbsentConnectors(const FlatSystem& flat, const std::vector<double>& par
 /// The absent conditional parts (after the connectors: `why` counts past them). Their conditions'
 /// parameters, Real ones too, are fixed when the model is built.
 void FindAbsentParts(const FlatSystem& flat, const std::vector<double>& params, Absent* absent,
-                     std::map<std::string, double>* structural) {
+                     std::vector<uint32_t>* structural) {
   LeafValues values;
   values.params = params.data();
   for (const FlatConditionalPart& cp : flat.conditional_parts) {
-    for (uint32_t q : ParametersRead(flat, cp.condition)) (*structural)[flat.ParameterName(ParamId(q))] = params[q];
+    for (uint32_t q : ParametersRead(flat, cp.condition)) structural->push_back(q);
     if (Evaluate(*flat.pool, cp.condition, values) != 0) continue;
     const auto why = static_cast<uint32_t>(absent->connectors.size() + absent->parts.size());
     for (uint32_t k = 0; k < cp.num_vars; ++k) {
@@ -157,13 +158,13 @@ size_t ResolveConditionalConnectors(EquationSystem* sys, const std::vector<doubl
   absent.why.assign(flat.variables.size(), 0);
   absent.instances.assign(flat.instances.size(), false);
   FindAbsentConnectors(flat, params, &absent);
-  std::map<std::string, double> structural;
+  std::vector<uint32_t> structural;
   FindAbsentParts(flat, params, &absent, &structural);
   FlatSystem& f = sys->MutableFlat();
   for (const FlatConditionalConnector& cc : flat.conditional_connectors) {
-    f.structural[flat.ParameterName(cc.condition)] = params[cc.condition.value()];
+    f.structural.Set(cc.condition, params[cc.condition.value()]);
   }
-  for (const auto& [name, value] : structural) f.structural[name] = value;
+  for (uint32_t q : structural) f.structural.Set(ParamId(q), params[q]);
   if (absent_parts != nullptr) *absent_parts = absent.parts.size();
   if (absent.connectors.empty() && absent.parts.empty()) return 0;
   auto absent_text = [&](VarId v) {
@@ -180,6 +181,12 @@ size_t ResolveConditionalConnectors(EquationSystem* sys, const std::vector<doubl
            cp.condition_text + " is false)";
   };
 
+  // Every absent connector decided when its instance was made (the MSL's heat ports left off):
+  // the instances' equations that named them were not made, so only the model's equations,
+  // connections and fixed starts can name them.
+  const bool all_decided = absent.parts.empty() &&
+                           std::all_of(absent.connectors.begin(), absent.connectors.end(),
+                                       [](const FlatConditionalConnector* cc) { return cc->decided == 0; });
   // Equations: an absent part's own go; the component's own that name an absent connector hold
   // only with it; a connection to an absent part or connector vanishes; anything else that names
   // them is an error.
@@ -189,6 +196,7 @@ size_t ResolveConditionalConnectors(EquationSystem* sys, const std::vector<doubl
     }
     const FlatEquation& fe = eq->kind == SystemEquation::Kind::kDynamic ? f.equations[eq->origin]
                                                                         : f.initial_equations[eq->origin];
+    if (all_decided && fe.instance.valid() && fe.origin != EquationOrigin::kConnection) return true;
     if (fe.instance.valid() && absent.instances[fe.instance.value()]) return false;
     // A deferred equation (invalid) names no conditional connector or part.
     const VarId v = eq->residual.valid() ? NamedAbsent(p, eq->residual, absent.vars) : VarId();

@@ -115,8 +115,10 @@ size_t FoldStructuralConditions(EquationSystem* sys, const std::vector<double>& 
   std::unordered_map<uint32_t, ExprId> fixed;
   std::vector<uint32_t> structural;
   std::vector<uint8_t> visited(p.size(), 0);
+  // Only subtrees that hold an if-expression over parameters are walked (the RC ladder's
+  // resistors at 10^6: most equations hold none).
   auto scan = [&](ExprId root) {
-    if (!root.valid() || !(p.mask(root) & kHasParam)) return;  // invalid: deferred (no if-expression)
+    if (!root.valid() || !(p.mask(root) & kHasParam) || !p.HasIf(root)) return;  // invalid: deferred (no if)
     std::vector<uint32_t> stack{root.value()};
     while (!stack.empty()) {
       uint32_t id = stack.back();
@@ -124,7 +126,7 @@ size_t FoldStructuralConditions(EquationSystem* sys, const std::vector<double>& 
       if (id < visited.size() && visited[id]) continue;
       if (id < visited.size()) visited[id] = 1;
       const Node& n = p.node(ExprId(id));
-      if (!(n.mask & kHasParam) || IsLeaf(n.op)) continue;
+      if (!(n.mask & kHasParam) || !(n.traits & kHasIf) || IsLeaf(n.op)) continue;
       if (n.op == Op::kIf && p.IsParamOnly(ExprId(n.a)) && !fixed.count(n.a) &&
           OnlyDiscreteParameters(flat, ExprId(n.a), &structural)) {
         LeafValues lv;
@@ -166,7 +168,7 @@ size_t FoldStructuralConditions(EquationSystem* sys, const std::vector<double>& 
   sys->initial.swap(initial);
   for (auto& o : sys->outputs) o = fold(o);
   FlatSystem& f = sys->MutableFlat();
-  for (uint32_t q : structural) f.structural[f.ParameterName(ParamId(q))] = params[q];
+  for (uint32_t q : structural) f.structural.Set(ParamId(q), params[q]);
   return conditions + evaluated;
 }
 
