@@ -223,6 +223,8 @@ void CompileUnknowns(const EquationSystem& sys, const Structure& structure, Comp
   }
 }
 
+std::string CompiledModel::guard_text(size_t k) const { return ToString(*pool, guards[k].divisor, flat->Namer()); }
+
 void CompileInitialSystem(const EquationSystem& sys, CompileContext* ctx, CompiledModel* m) {
   ExprPool& p = *sys.pool;
   const VariableSlots& slots = ctx->slots;
@@ -246,8 +248,6 @@ void CompileInitialSystem(const EquationSystem& sys, CompileContext* ctx, Compil
     m->initial_origin.push_back(sys.Describe(e));
   }
   m->guards = sys.guards;
-  const ExprNamer names = sys.flat->Namer();
-  for (const auto& g : sys.guards) m->guard_text.push_back(ToString(p, g.divisor, names));
 
   // Redundant initial conditions are left out (and checked at the solution); states without an
   // initial condition take their start value (as Modelica tools do).

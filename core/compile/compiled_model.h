@@ -57,7 +57,8 @@ struct CompiledModel {
 
   // Parameter-dependent checks: divisors that must not be zero.
   std::vector<DivisorGuard> guards;
-  std::vector<std::string> guard_text;
+  /// Guard k's divisor as text, made for its message only (the RC ladder made 500 000 of them).
+  std::string guard_text(size_t k) const;
 
   // Discrete variables: constant between events, updated by event iteration.
   std::vector<VarId> discrete_vars;

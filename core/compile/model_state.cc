@@ -38,7 +38,7 @@ void ModelState::SetParameters(const ParameterOverrides& overrides) {
       if (values[k] == 0.0 || !std::isfinite(values[k])) {
         const DivisorGuard& g = m.guards[k];
         std::ostringstream msg;
-        msg << m.flat->file << ": with these parameter values, " << m.guard_text[k] << " = "
+        msg << m.flat->file << ": with these parameter values, " << m.guard_text(k) << " = "
             << values[k] << ", so the equation "
             << m.flat->DescribeEquation(m.flat->equations[g.equation])
             << " cannot be solved for " << m.flat->VariableName(g.variable)

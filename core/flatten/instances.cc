@@ -55,6 +55,25 @@ size_t InstanceNodes(const TypeLayout& layout) {
   return ops + leaves.size();
 }
 
+/// About how many nodes an element of an array's modifiers makes: each element's values are
+/// expressions of its own (`R: "1/i"`: its index's number and the quotient).
+size_t ModifierNodes(const ComponentSpec& c) {
+  size_t nodes = 0;
+  std::vector<const Ast*> todo;
+  for (const Modifier& m : c.modifiers) {
+    for (const AstPtr& a : {m.value, m.start}) {
+      if (a) todo.push_back(a.get());
+    }
+  }
+  while (!todo.empty()) {
+    const Ast* a = todo.back();
+    todo.pop_back();
+    ++nodes;
+    for (const AstPtr& arg : a->args) todo.push_back(arg.get());
+  }
+  return nodes;
+}
+
 /// `a` with the names that start with component `own`'s name (`bodyCylinder.diameter` in
 /// bodyCylinder's own entry: Modelica reads a modifier in the enclosing scope, where that name is
 /// the component's own parameter) written as its type's local names (`diameter`). Null when it
@@ -103,7 +122,7 @@ void InstanceBuilder::Components() {
                        static_cast<uint32_t>(1 + layout.subs.size())};
     if (c.count) arr.count = ArrayCount(c, layout);
     context_.planned_bytes += arr.count * EstimatedBytes(layout);  // every element, as CheckedCount planned
-    if (arr.is_array) ReserveElements(layout, arr.count);
+    if (arr.is_array) ReserveElements(layout, arr.count, ModifierNodes(c));
     const Modifiers modifiers = SortModifiers(c, layout);
     const int32_t block = arr.is_array ? BeginBlock(c, layout) : -1;
     const int32_t names = NamesOf(layout);
@@ -199,7 +218,7 @@ void InstanceBuilder::ReserveComponents() {
 /// A large array then takes its memory once, at its size, instead of doubling (which copies the
 /// records at every step and leaves up to half of the last block unused). It still grows
 /// geometrically over many small arrays.
-void InstanceBuilder::ReserveElements(const TypeLayout& layout, uint32_t count) {
+void InstanceBuilder::ReserveElements(const TypeLayout& layout, uint32_t count, size_t modifier_nodes) {
   auto room = [count](auto* records, size_t per_element) {
     const size_t needed = records->size() + size_t{count} * per_element;
     if (needed > records->capacity()) records->reserve(std::max(needed, records->capacity() + records->capacity() / 2));
@@ -215,7 +234,8 @@ void InstanceBuilder::ReserveElements(const TypeLayout& layout, uint32_t count) 
   // The pool's table at the size the build reserves after flattening (twice the flattened
   // pool, core/build.cc), so that it is made once per array instead of grown through the sizes
   // on the way (the RC ladder: a rehash every half again).
-  context_.pool().Reserve(2 * (context_.pool().size() + size_t{count} * (InstanceNodes(layout) + Joins(layout))));
+  context_.pool().Reserve(2 * (context_.pool().size() +
+                                size_t{count} * (InstanceNodes(layout) + Joins(layout) + modifier_nodes)));
 }
 
 uint32_t InstanceBuilder::ArrayCount(const ComponentSpec& c, const TypeLayout& layout) {

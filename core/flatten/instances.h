@@ -46,8 +46,9 @@ class InstanceBuilder {
   };
 
   void ReserveComponents();
-  /// Room in the flat system's arrays for `count` instances of `layout`, made before they are added.
-  void ReserveElements(const TypeLayout& layout, uint32_t count);
+  /// Room in the flat system's arrays for `count` instances of `layout`, made before they are
+  /// added, each with about `modifier_nodes` nodes of its modifiers' values.
+  void ReserveElements(const TypeLayout& layout, uint32_t count, size_t modifier_nodes);
   /// The value of `count:`: a whole number of at least 1 whose components fit, with the rest of
   /// the model, in the memory budget (and in momenta's 32-bit indices) — checked before any of
   /// them is made, so an impossible count is refused at once.

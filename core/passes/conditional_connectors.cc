@@ -182,8 +182,9 @@ size_t ResolveConditionalConnectors(EquationSystem* sys, const std::vector<doubl
   };
 
   // Every absent connector decided when its instance was made (the MSL's heat ports left off):
-  // the instances' equations that named them were not made, so only the model's equations,
-  // connections and fixed starts can name them.
+  // the instances' equations that named them were not made, and a connection to one is refused
+  // above (a connection inside a type leaves its connectors to this pass), so only the model's
+  // own equations and the fixed starts can name them.
   const bool all_decided = absent.parts.empty() &&
                            std::all_of(absent.connectors.begin(), absent.connectors.end(),
                                        [](const FlatConditionalConnector* cc) { return cc->decided == 0; });
@@ -192,11 +193,18 @@ size_t ResolveConditionalConnectors(EquationSystem* sys, const std::vector<doubl
   // them is an error.
   auto keep = [&](SystemEquation* eq) {
     if (eq->kind == SystemEquation::Kind::kFixedStart) {
-      return !eq->residual.valid() || !NamedAbsent(p, eq->residual, absent.vars).valid();
+      if (!eq->residual.valid()) return true;
+      // v - start, the start of parameters alone: it names its variable (origin) only.
+      const Node& n = p.node(eq->residual);
+      if (n.op == Op::kSub && p.node(ExprId(n.a)).op == Op::kVar && p.node(ExprId(n.a)).a == eq->origin &&
+          !(p.mask(ExprId(n.b)) & (kHasVar | kHasDer | kHasPre))) {
+        return !absent.vars[eq->origin];
+      }
+      return !NamedAbsent(p, eq->residual, absent.vars).valid();
     }
     const FlatEquation& fe = eq->kind == SystemEquation::Kind::kDynamic ? f.equations[eq->origin]
                                                                         : f.initial_equations[eq->origin];
-    if (all_decided && fe.instance.valid() && fe.origin != EquationOrigin::kConnection) return true;
+    if (all_decided && (fe.instance.valid() || fe.origin == EquationOrigin::kConnection)) return true;
     if (fe.instance.valid() && absent.instances[fe.instance.value()]) return false;
     // A deferred equation (invalid) names no conditional connector or part.
     const VarId v = eq->residual.valid() ? NamedAbsent(p, eq->residual, absent.vars) : VarId();

@@ -148,7 +148,7 @@ std::string HigherIndexMessage(const EquationSystem& sys, const Incidence& incid
   std::vector<uint32_t> over_rows, over_cols, under_rows, under_cols;
   OverDeterminedPart(g, m, &over_rows, &over_cols);
   UnderDeterminedPart(g, m, &under_rows, &under_cols);
-  if (ne == nu && MaximumMatching(incidence.pencil).size == ne) {
+  if (ne == nu && FastMaximumMatching(incidence.pencil).size == ne) {  // its size only
     throw ModelError(HigherIndexMessage(sys, incidence, over_rows));
   }
   std::vector<uint32_t> over_vars, under_vars;
