@@ -27,6 +27,18 @@ VarId NamedAbsent(const ExprPool& p, ExprId e, const std::vector<bool>& absent) 
   return VarId();
 }
 
+/// Whether fixed start `eq` (v - start) names an absent variable: its own, as a start is an
+/// expression of parameters (read without collecting the leaves of 500 000 of them).
+bool NamesAbsentFixedStart(const ExprPool& p, const SystemEquation& eq, const std::vector<bool>& absent) {
+  if (!eq.residual.valid()) return false;
+  const Node& n = p.node(eq.residual);
+  if (n.op == Op::kSub && p.node(ExprId(n.a)).op == Op::kVar && p.node(ExprId(n.a)).a == eq.origin &&
+      !(p.mask(ExprId(n.b)) & (kHasVar | kHasDer | kHasPre))) {
+    return absent[eq.origin];
+  }
+  return NamedAbsent(p, eq.residual, absent).valid();
+}
+
 /// The parameters `e` reads, through the parameters' bindings. Called once per conditional part:
 /// the parameters seen are a set of the few reached, not a flag per parameter of the model (an
 /// array of conditional parts would make that quadratic, as it made structural_conditions.cc).
@@ -192,16 +204,7 @@ size_t ResolveConditionalConnectors(EquationSystem* sys, const std::vector<doubl
   // only with it; a connection to an absent part or connector vanishes; anything else that names
   // them is an error.
   auto keep = [&](SystemEquation* eq) {
-    if (eq->kind == SystemEquation::Kind::kFixedStart) {
-      if (!eq->residual.valid()) return true;
-      // v - start, the start of parameters alone: it names its variable (origin) only.
-      const Node& n = p.node(eq->residual);
-      if (n.op == Op::kSub && p.node(ExprId(n.a)).op == Op::kVar && p.node(ExprId(n.a)).a == eq->origin &&
-          !(p.mask(ExprId(n.b)) & (kHasVar | kHasDer | kHasPre))) {
-        return !absent.vars[eq->origin];
-      }
-      return !NamedAbsent(p, eq->residual, absent.vars).valid();
-    }
+    if (eq->kind == SystemEquation::Kind::kFixedStart) return !NamesAbsentFixedStart(p, *eq, absent.vars);
     const FlatEquation& fe = eq->kind == SystemEquation::Kind::kDynamic ? f.equations[eq->origin]
                                                                         : f.initial_equations[eq->origin];
     if (all_decided && (fe.instance.valid() || fe.origin == EquationOrigin::kConnection)) return true;
