@@ -42,16 +42,49 @@ bool NamesAbsent(const TypeLayout& layout, const std::vector<int8_t>& connector,
   return false;
 }
 
-/// The equations' copies for the connectors decided in `d.connector`: false, with those
-/// connectors left to the passes, when an equation that names an absent one still holds an
-/// if-expression after folding (the passes might fold it away and keep the equation).
+/// Whether `e`, a template's copy with local variable j as variable j, names a variable of a
+/// connector decided absent.
+bool NamesAbsent(const TypeLayout& layout, const std::vector<int8_t>& connector, const ExprPool& pool, ExprId e) {
+  if (!(pool.mask(e) & (kHasVar | kHasDer | kHasPre))) return false;
+  for (ExprId leaf : CollectLeaves(pool, e, kHasVar | kHasDer | kHasPre)) {
+    const uint32_t local = pool.node(leaf).a;
+    for (size_t k = 0; k < connector.size(); ++k) {
+      const ConnectorSlot& cs = layout.connectors[k];
+      if (connector[k] == 0 && local >= cs.first_local_var && local < cs.first_local_var + SlotVariables(cs)) {
+        return true;
+      }
+    }
+  }
+  return false;
+}
+
+/// Leaves to the passes every decided connector whose condition `t` reads or whose variables it
+/// names.
+void LeaveToThePasses(const TypeLayout& layout, const Template& t, DecidedConditions* d) {
+  for (size_t k = 0; k < d->connector.size(); ++k) {
+    if (d->connector[k] < 0) continue;
+    const ConnectorSlot& cs = layout.connectors[k];
+    const uint32_t q = layout.param_index.at(cs.decl->condition);
+    const bool reads = std::any_of(t.nodes.begin(), t.nodes.end(),
+                                   [&](const TNode& n) { return n.kind == TNode::kLocalParam && n.local == q; });
+    if (reads || NamesLocalVariables(t, cs.first_local_var, SlotVariables(cs))) d->connector[k] = -1;
+  }
+}
+
+/// The equations' copies for the connectors decided in `d.connector`, as the passes would leave
+/// them: false, with some connectors left to the passes, when an equation reads a condition
+/// outside an if-condition that it decides (`b and x`, `b*x`: the passes fold whole conditions
+/// of parameters only), or names an absent connector while an if-expression is left (the passes
+/// might fold it away and keep the equation). Whether an equation names the absent connector, or
+/// is 0 = 0, is read from its copy in a pool of its own, which folds as the model's pool folds
+/// (`0*heatPort.T` names nothing).
 bool FixEquations(const TypeLayout& layout, DecidedConditions* d) {
   std::vector<double> values(layout.params.size(), std::nan(""));
   for (size_t k = 0; k < d->connector.size(); ++k) {
     if (d->connector[k] >= 0) values[layout.param_index.at(layout.connectors[k].decl->condition)] = d->connector[k];
   }
-  // The folded conditions, each made once in a pool of its own: distinct conditions are
-  // distinct nodes there, as in the model's pool.
+  // The folded conditions, each made once in the pool: distinct conditions are distinct nodes
+  // there, as in the model's pool.
   ExprPool pool;
   std::set<uint32_t> conditions;
   std::vector<ExprId> made;
@@ -62,33 +95,33 @@ bool FixEquations(const TypeLayout& layout, DecidedConditions* d) {
     fixed->assign(templates.size(), Template());
     for (size_t j = 0; j < templates.size(); ++j) {
       const Template& t = templates[j];
-      std::vector<int32_t> folded;
       const bool reads = ReadsFixed(t, values);
-      Template f = reads ? FixLocalParameters(t, values, &folded) : Template();
-      const Template& now = reads ? f : t;
-      if (NamesAbsent(layout, d->connector, now)) {
-        if (HasIfExpression(now)) {
-          // Left to the passes: every connector this equation names.
-          for (size_t k = 0; k < d->connector.size(); ++k) {
-            const ConnectorSlot& cs = layout.connectors[k];
-            if (d->connector[k] == 0 && NamesLocalVariables(now, cs.first_local_var, SlotVariables(cs))) {
-              d->connector[k] = -1;
-            }
-          }
+      if (!reads && !NamesAbsent(layout, d->connector, t)) continue;
+      std::vector<int32_t> folded;
+      bool outside = false;
+      Template f = reads ? FixLocalParameters(t, values, &folded, &outside) : t;
+      if (outside || ReadsTable(f)) {
+        LeaveToThePasses(layout, t, d);
+        kept = false;
+        continue;
+      }
+      if (!folded.empty()) {
+        CopyTemplate(&pool, t, VarId(0), ParamId(0), &made, NoTable, /*cached_constants=*/false);
+        for (int32_t c : folded) conditions.insert(made[c].value());
+      }
+      const ExprId copy = CopyTemplate(&pool, f, VarId(0), ParamId(0), &made, NoTable, /*cached_constants=*/false);
+      if (NamesAbsent(layout, d->connector, pool, copy)) {
+        if (pool.HasIf(copy)) {
+          LeaveToThePasses(layout, f, d);
           kept = false;
         }
         (*use)[j] = DecidedConditions::kLeftOut;
         continue;
       }
-      if (!reads) continue;
-      if (!folded.empty()) {
-        CopyTemplate(&pool, t, VarId(0), ParamId(0), &made, NoTable, /*cached_constants=*/false);
-        for (int32_t c : folded) conditions.insert(made[c].value());
-      }
+      if (!reads) continue;  // named in the template only: the pool folds it away
       // An equation of a conditional block whose guard is false is no equation, nor is an
       // initial equation that folds to 0 = 0 (FoldStructuralConditions).
-      const bool zero = f.nodes.size() == 1 && f.nodes[0].kind == TNode::kConst && f.nodes[0].value == 0;
-      if (zero && (initial || info[j].guarded)) {
+      if (pool.IsConst(copy, 0.0) && (initial || info[j].guarded)) {
         (*use)[j] = DecidedConditions::kLeftOut;
         continue;
       }
@@ -119,7 +152,10 @@ std::vector<int8_t> DecidableConnectors(const TypeLayout& layout, const std::vec
     const uint32_t q = at->second;
     const LocalParam& lp = layout.params[q];
     const Template& binding = layout.param_defaults[q];
-    if (lp.sub >= 0 || lp.decl->type != ValueType::kBoolean || param_modifiers[q] != nullptr ||
+    // An outer parameter (`world.X`) is bound to the model's inner component after the
+    // instances are made: not a number of the type's.
+    if (lp.sub >= 0 || lp.name.find('.') != std::string::npos || lp.decl->type != ValueType::kBoolean ||
+        param_modifiers[q] != nullptr ||
         binding.nodes.size() != 1 || binding.nodes[0].kind != TNode::kConst || Overridden(overrides, lp.name)) {
       continue;
     }
@@ -131,10 +167,22 @@ std::vector<int8_t> DecidableConnectors(const TypeLayout& layout, const std::vec
 DecidedConditions DecideConditions(const TypeLayout& layout, std::vector<int8_t> decidable) {
   DecidedConditions d;
   d.connector = std::move(decidable);
-  // A connection inside the type that names the connector: the passes decide what stays of it.
+  // A connection inside the type that names the connector: the passes decide what stays of it;
+  // so they do for an impact that names it (its contact law is made outside the templates).
   for (size_t k = 0; k < d.connector.size(); ++k) {
     if (d.connector[k] < 0) continue;
     const ConnectorSlot& cs = layout.connectors[k];
+    const uint32_t first = cs.first_local_var, count = SlotVariables(cs);
+    for (const TypeLayout::ImpactTemplate& im : layout.impacts) {
+      const bool names = (im.force >= first && im.force < first + count) ||
+                         (im.contact >= first && im.contact < first + count);
+      if (names || NamesLocalVariables(im.gap, first, count) || NamesLocalVariables(im.velocity, first, count) ||
+          NamesLocalVariables(im.restitution, first, count) || NamesLocalVariables(im.v_small, first, count) ||
+          NamesLocalVariables(im.release, first, count)) {
+        d.connector[k] = -1;
+      }
+    }
+    if (d.connector[k] < 0) continue;
     for (const auto* list : {&layout.equations, &layout.initial_equations}) {
       const auto& info = list == &layout.equations ? layout.equation_info : layout.initial_info;
       for (size_t j = 0; j < list->size(); ++j) {

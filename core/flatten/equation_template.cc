@@ -30,16 +30,26 @@ std::array<int32_t, 3> Children(const TNode& n) {
   }
 }
 
+}  // namespace
+
 bool ReadsTable(const Template& t) {
   return std::any_of(t.nodes.begin(), t.nodes.end(), [](const TNode& n) {
     return n.kind == TNode::kTable || n.kind == TNode::kTimeTable || n.kind == TNode::kBooleanTable;
   });
 }
 
-}  // namespace
-
-Template FixLocalParameters(const Template& t, const std::vector<double>& values, std::vector<int32_t>* folded) {
-  if (t.root < 0 || ReadsTable(t)) return t;
+Template FixLocalParameters(const Template& t, const std::vector<double>& values, std::vector<int32_t>* folded,
+                            bool* outside) {
+  if (outside != nullptr) *outside = false;
+  if (t.root < 0) return t;
+  if (ReadsTable(t)) {
+    if (outside != nullptr) {
+      *outside = std::any_of(t.nodes.begin(), t.nodes.end(), [&](const TNode& n) {
+        return n.kind == TNode::kLocalParam && n.local < values.size() && !std::isnan(values[n.local]);
+      });
+    }
+    return t;
+  }
   const size_t size = t.nodes.size();
   // Each node stands for itself, for an earlier node (a folded if-expression: its branch), or
   // for a number; `fixed` marks the subtrees that read a fixed parameter.
@@ -52,7 +62,7 @@ Template FixLocalParameters(const Template& t, const std::vector<double>& values
     const std::array<int32_t, 3> c = Children(n);
     auto num = [&](int j) { return c[j] >= 0 && is_number[same[c[j]]]; };
     auto value = [&](int j) { return number[same[c[j]]]; };
-    for (int32_t child : c) fixed[k] |= child >= 0 && fixed[child];
+    for (int32_t child : c) fixed[k] |= child >= 0 && fixed[same[child]];
     double v = std::nan("");
     if (n.kind == TNode::kConst) {
       v = n.value;
@@ -66,7 +76,7 @@ Template FixLocalParameters(const Template& t, const std::vector<double>& values
     } else if (n.kind == TNode::kOp && n.op == Op::kIf) {
       if (num(0)) {
         same[k] = same[value(0) != 0 ? c[1] : c[2]];
-        if (fixed[c[0]] && folded != nullptr) folded->push_back(c[0]);
+        if (fixed[same[c[0]]] && folded != nullptr) folded->push_back(c[0]);
         continue;
       }
     } else if (n.kind == TNode::kOp && Arity(n.op) == 1 && num(0)) {
@@ -84,7 +94,9 @@ Template FixLocalParameters(const Template& t, const std::vector<double>& values
   std::vector<uint8_t> reached(size, 0);
   reached[root] = 1;
   for (int32_t k = root; k >= 0; --k) {
-    if (!reached[k] || is_number[k]) continue;
+    if (!reached[k]) continue;
+    if (fixed[k] && outside != nullptr) *outside = true;  // read where no condition decides it
+    if (is_number[k]) continue;
     for (int32_t child : Children(t.nodes[k])) {
       if (child >= 0) reached[same[child]] = 1;
     }

@@ -95,8 +95,14 @@ ExprId NoTable(const TNode& node, const std::vector<ExprId>& made);
 /// finite, an if-expression on a number is its branch, noEvent of a number the number. Only the
 /// nodes its root still reaches are kept, in their order (the root stays the last node). Each
 /// if-expression folded because its condition read a fixed parameter adds its condition's node
-/// index in `t` to `folded` (when given). A template that reads a table is returned unchanged.
-Template FixLocalParameters(const Template& t, const std::vector<double>& values, std::vector<int32_t>* folded);
+/// index in `t` to `folded` (when given). `outside` (when given) is set when a fixed parameter is
+/// still read after folding (anywhere but in a condition it decides, as in `b and x` or `b*x`).
+/// A template that reads a table is returned unchanged (`outside` set if it reads a fixed one).
+Template FixLocalParameters(const Template& t, const std::vector<double>& values, std::vector<int32_t>* folded,
+                            bool* outside = nullptr);
+
+/// Whether template `t` reads a table (its copies need the instance's tables).
+bool ReadsTable(const Template& t);
 
 /// Whether template `t` names one of the local variables [first, first + count) (its value, a
 /// derivative or a left limit), or holds an if-expression.

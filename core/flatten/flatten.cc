@@ -260,16 +260,17 @@ std::vector<double> EvaluateParameters(const FlatSystem& flat, const ParameterOv
   const ExprPool& pool = *flat.pool;
   std::vector<double> values(flat.parameters.size(), 0.0);
   std::vector<const double*> override_of(flat.parameters.size(), nullptr);
-  if (!overrides.empty()) {
-    for (const auto& [name, value] : overrides) {
-      std::optional<ParamId> id = flat.FindParameter(name);
-      if (!id) throw ModelError(flat.file + ": -p " + name + ": no parameter of that name");
-      override_of[id->value()] = &value;
-    }
+  std::vector<ParamId> overridden;  // in the overrides' order
+  for (const auto& [name, value] : overrides) {
+    std::optional<ParamId> id = flat.FindParameter(name);
+    if (!id) throw ModelError(flat.file + ": -p " + name + ": no parameter of that name");
+    override_of[id->value()] = &value;
+    overridden.push_back(*id);
   }
   // A parameter that shaped the structure (count:, indices) keeps the value it was built with.
+  size_t k = 0;
   for (const auto& [name, value] : overrides) {
-    const double* built = flat.StructuralValue(name);
+    const double* built = flat.structural.Find(overridden[k++]);
     if (built != nullptr && *built != value) {
       std::ostringstream msg;
       msg << flat.file << ": -p " << name << "=" << value << ": " << name

@@ -151,6 +151,96 @@ TEST(DecidedConditionsTest, ConnectingADecidedAbsentPortIsTheSameError) {
       << msg;
 }
 
+/// A model of one `Heater` (a resistor of 2 Ohm on a 1 V source, with a heat port that is off by
+/// default) whose type adds `equations` (over v, i, y and T_port) and `impact`; `entry` adds keys to
+/// its component entry.
+std::string Heater(const std::string& equations, const std::string& entry = "") {
+  return R"(model: Heating
+define:
+  Heater:
+    parameters:
+      R: {value: 2}
+      useHeatPort: {value: false, type: Boolean}
+      useOther: {value: true, type: Boolean}
+    connectors:
+      p: Pin
+      n: Pin
+      heatPort: {type: Thermal.HeatPort, condition: useHeatPort}
+    variables: {v: {}, i: {}, y: {}, T_port: {}}
+    equations:
+      - v = p.v - n.v
+      - 0 = p.i + n.i
+      - i = p.i
+      - v = R*i
+      - heatPort.Q_flow = -v*i
+)" + equations + R"(components:
+  ground: {type: Ground}
+  source: {type: ConstantVoltage, V: 1}
+  h: {type: Heater)" + entry + R"(}
+connections:
+  - [source.n, ground.p]
+  - [source.p, h.p]
+  - [h.n, ground.p]
+experiment: {stop: 0.1, interval: 0.05}
+outputs: [h.i, h.y, h.T_port]
+)";
+}
+
+// What the pool folds, or only the passes fold, decides as the passes decide: a guard that reads
+// another parameter too (`useHeatPort and useOther`), a condition folded through a product
+// (`0*heatPort.T` names nothing), a condition read outside an if (`useHeatPort*...`). Each builds
+// and runs as when the component entry sets useHeatPort (the passes decide), to the bit.
+TEST(DecidedConditionsTest, WhatOnlyThePassesFoldIsLeftToThem) {
+  const std::vector<std::string> cases = {
+      // A conditional block whose guard reads another Boolean parameter: its false branch only.
+      "      - if: useHeatPort and useOther\n        then: [y = 1, T_port = heatPort.T]\n"
+      "        else: [y = 2, T_port = 300]\n",
+      // A condition folded into a factor: the port's temperature is multiplied away.
+      "      - T_port = 300 + (if useHeatPort then 1 else 0)*(heatPort.T - 300)\n      - y = 2\n",
+      // The condition read as a number.
+      "      - y = 2 + (if useHeatPort then 1 else 0)\n      - T_port = 300\n",
+  };
+  for (const std::string& eqs : cases) {
+    const std::string& text = eqs;
+    const testing::Built decided = testing::BuildYaml(Heater(text));
+    const testing::Built passes = testing::BuildYaml(Heater(text, ", useHeatPort: false"));
+    ASSERT_EQ(decided.report.passes.size(), passes.report.passes.size()) << text;
+    for (size_t k = 1; k < decided.report.passes.size(); ++k) {
+      EXPECT_EQ(decided.report.passes[k].equations, passes.report.passes[k].equations) << text;
+    }
+    const testing::Trajectory a = testing::RunDefault(decided), b = testing::RunDefault(passes);
+    ASSERT_EQ(a.t.size(), b.t.size()) << text;
+    for (size_t k = 0; k < a.t.size(); ++k) EXPECT_EQ(a.values[k], b.values[k]) << text;
+    EXPECT_EQ(a.Column("h.i", 0), 0.5) << text;
+    EXPECT_EQ(a.Column("h.y", 0), 2) << text;
+    EXPECT_EQ(a.Column("h.T_port", 0), 300) << text;
+  }
+}
+
+// An impact's contact law is made outside the type's templates: an impact that names the
+// connector leaves it to the passes.
+TEST(DecidedConditionsTest, AnImpactThatNamesTheConnectorLeavesItToThePasses) {
+  const std::string stop = R"(model: Stopped
+define:
+  Stop:
+    parameters: {useSupport: {value: false, type: Boolean}, e: {value: 0.5}}
+    connectors: {flange_a: Flange, support: {type: Flange, condition: useSupport}}
+    variables: {v_rel: {}, f: {}, contact: {type: Boolean, start: false}}
+    equations:
+      - v_rel = der(flange_a.s)
+      - flange_a.f = f
+      - support.f = -f
+    impact: {gap: GAP, velocity: v_rel, force: f, restitution: e, contact: contact, release: f > 0, v_small: 1e-3}
+components:
+  stop: {type: Stop}
+)";
+  std::string named = stop, unnamed = stop;
+  named.replace(named.find("GAP"), 3, "flange_a.s - support.s");
+  unnamed.replace(unnamed.find("GAP"), 3, "flange_a.s");
+  EXPECT_EQ(Decided(FlattenYaml(named)), "-1 ");
+  EXPECT_EQ(Decided(FlattenYaml(unnamed)), "0 ");
+}
+
 // FixLocalParameters folds what a fixed parameter decides, as the pool folds its copies, and
 // keeps only what the root reaches, the root last.
 TEST(DecidedConditionsTest, FixLocalParametersFoldsTheIfAndDropsWhatIsNotReached) {
