@@ -5,12 +5,17 @@
 /// variables and its equations, and the build then folds `if useHeatPort`, finds the equations
 /// that name the absent port and removes them: most of a million-component ladder's structural
 /// parameters pass. When nothing can change the condition, it is decided once per type layout:
-///   - the condition is a Boolean parameter of the type's own, bound to a number in the type;
+///   - the condition is a Boolean parameter of the type's own (not an outer one), bound to a
+///     number in the type;
 ///   - the component entry does not modify it, and no `-p` names a parameter of that name;
-///   - the connector is the type's own (not a part's), and no connection inside the type names it.
+///   - the connector is the type's own (not a part's), no connection inside the type and no
+///     impact names it, and the type has no conditional parts;
+///   - the type's equations read the condition only in if-conditions that it decides alone (the
+///     passes fold whole conditions of parameters only: `useHeatPort and x` is theirs).
 /// The instances then copy the type's equations with the condition as its number, folded
 /// (FixLocalParameters), and without those that name the absent connector's variables, which the
 /// passes would have removed: the component's own equations that hold only with the connector.
+/// Which those are is read from a copy in a pool of its own, which folds as the model's pool does.
 /// Whatever does not fit is left to the passes, which stay the reference. The connector's
 /// variables and its record (FlatConditionalConnector::decided) are still made: the passes set
 /// them to zero, refuse a connection to it and count it, as they do for the others.
