@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "core/base/error.h"
+#include "core/compile/model_state.h"
 #include "tests/support/test_models.h"
 
 namespace momenta {
@@ -141,6 +143,25 @@ outputs: [contact.d]
     for (int i = 1; i <= 3; ++i) expected.push_back(std::string(set) + ".x[" + std::to_string(i) + "]");
   }
   EXPECT_EQ(built.report.states, expected);
+}
+
+// The connection graph's conditions (a Spherical joint's branch `if: enforceStates`) shape the
+// structure: a built model refuses another value, as for any structural parameter. (The graph's
+// own record of them was overwritten when flattening ended until 2026-11-29; enforceStates was
+// kept by its if-blocks, a parameter that only the graph reads was not.)
+TEST(MultiBodyStateChoiceTest, TheConnectionGraphsConditionsAreStructural) {
+  const testing::Built built = testing::BuildYaml(SphericalBoxPendulum(
+      "Graph", "angles_fixed: true, w_rel_a_fixed: true", "angles_fixed: true, w_rel_a_fixed: true", R"(["s1.w_rel[1]"])"));
+  const double* built_with = built.model->flat->StructuralValue("s1.enforceStates");
+  ASSERT_NE(built_with, nullptr);
+  EXPECT_EQ(*built_with, 0);
+  ModelState state(built.model);
+  try {
+    state.SetParameters({{"s1.enforceStates", 1}});
+    FAIL() << "expected an error";
+  } catch (const ModelError& e) {
+    EXPECT_NE(std::string(e.what()).find("s1.enforceStates shapes the model's structure"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace
