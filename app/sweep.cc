@@ -125,7 +125,8 @@ int Sweep::CheckSweptNames() const {
   const FlatSystem& flat = *model_->flat;
   for (const auto& a : axes_) {
     if (!a.swept()) continue;
-    if (!flat.FindParameter(a.name)) {
+    const std::optional<ParamId> id = flat.FindParameter(a.name);
+    if (!id) {
       std::vector<std::string> all;  // every name, for the suggestion only
       for (uint32_t k = 0; k < flat.parameters.size(); ++k) all.push_back(flat.ParameterName(ParamId(k)));
       auto close = ClosestNames(a.name, all);
@@ -133,7 +134,7 @@ int Sweep::CheckSweptNames() const {
                 << flat.model_name << (close.empty() ? "" : " (did you mean " + JoinNames(close) + "?)") << "\n";
       return kExitUsage;
     }
-    if (const double* built = flat.StructuralValue(a.name)) {
+    if (const double* built = flat.structural.Find(*id)) {
       std::cerr << "momenta: -p " << a.name << "=" << a.spec << ": " << a.name
                 << " is a structural parameter (a count, a connection index or a Boolean or Integer if-condition; "
                    "the model was built with "

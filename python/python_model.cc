@@ -157,7 +157,8 @@ std::vector<ParameterOverrides> PythonModel::RunOverrides(const std::vector<Para
     ParameterOverrides merged = built_with_;
     for (const auto& [name, value] : run) {
       // An unknown name, with the closest ones.
-      if (!flat.FindParameter(name)) {
+      const std::optional<ParamId> id = flat.FindParameter(name);
+      if (!id) {
         std::vector<std::string> all;
         for (uint32_t k = 0; k < flat.parameters.size(); ++k) all.push_back(flat.ParameterName(ParamId(k)));
         const std::vector<std::string> close = ClosestNames(name, all);
@@ -166,7 +167,7 @@ std::vector<ParameterOverrides> PythonModel::RunOverrides(const std::vector<Para
                          "; Model.parameters lists them");
       }
       // A structural parameter keeps the value the model was built with.
-      if (const double* built = flat.StructuralValue(name); built != nullptr && *built != value) {
+      if (const double* built = flat.structural.Find(*id); built != nullptr && *built != value) {
         throw UsageError(path_ + ": parameter " + name + "=" + NumberText(value) + ": " + name +
                          " shapes the model's structure (a count, a connection index or a Boolean or Integer "
                          "if-condition) and the model was built with " + name + " = " + NumberText(*built) +

@@ -27,12 +27,6 @@ uint32_t SlotVariables(const ConnectorSlot& cs) {
   return cs.type->is_signal ? 1 : static_cast<uint32_t>(cs.type->potentials.size() + cs.type->flows.size());
 }
 
-bool ReadsFixed(const Template& t, const std::vector<double>& values) {
-  return std::any_of(t.nodes.begin(), t.nodes.end(), [&](const TNode& n) {
-    return n.kind == TNode::kLocalParam && n.local < values.size() && !std::isnan(values[n.local]);
-  });
-}
-
 /// Whether `t` names a variable of a connector decided absent.
 bool NamesAbsent(const TypeLayout& layout, const std::vector<int8_t>& connector, const Template& t) {
   for (size_t k = 0; k < connector.size(); ++k) {
@@ -95,12 +89,13 @@ bool FixEquations(const TypeLayout& layout, DecidedConditions* d) {
     fixed->assign(templates.size(), Template());
     for (size_t j = 0; j < templates.size(); ++j) {
       const Template& t = templates[j];
-      const bool reads = ReadsFixed(t, values);
+      const bool reads = ReadsFixedParameter(t, values);
       if (!reads && !NamesAbsent(layout, d->connector, t)) continue;
       std::vector<int32_t> folded;
       bool outside = false;
-      Template f = reads ? FixLocalParameters(t, values, &folded, &outside) : t;
-      if (outside || ReadsTable(f)) {
+      // A table's copy needs the instance's tables, which the pool below has not.
+      Template f = reads && !ReadsTable(t) ? FixLocalParameters(t, values, &folded, &outside) : t;
+      if (outside || ReadsTable(t)) {
         LeaveToThePasses(layout, t, d);
         kept = false;
         continue;

@@ -20,6 +20,7 @@
 /// variables and its record (FlatConditionalConnector::decided) are still made: the passes set
 /// them to zero, refuse a connection to it and count it, as they do for the others.
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -40,12 +41,7 @@ struct DecidedConditions {
   /// The if-expressions' conditions each instance folds (counted as the passes count them: one
   /// per distinct condition).
   uint32_t conditions = 0;
-  bool Any() const {
-    for (int8_t c : connector) {
-      if (c >= 0) return true;
-    }
-    return false;
-  }
+  bool Any() const { return std::any_of(connector.begin(), connector.end(), [](int8_t c) { return c >= 0; }); }
 };
 
 /// Which of the layout's own conditional connectors a component entry leaves decidable (-1 where

@@ -41,15 +41,7 @@ bool ReadsTable(const Template& t) {
 Template FixLocalParameters(const Template& t, const std::vector<double>& values, std::vector<int32_t>* folded,
                             bool* outside) {
   if (outside != nullptr) *outside = false;
-  if (t.root < 0) return t;
-  if (ReadsTable(t)) {
-    if (outside != nullptr) {
-      *outside = std::any_of(t.nodes.begin(), t.nodes.end(), [&](const TNode& n) {
-        return n.kind == TNode::kLocalParam && n.local < values.size() && !std::isnan(values[n.local]);
-      });
-    }
-    return t;
-  }
+  if (t.root < 0 || ReadsTable(t)) return t;
   const size_t size = t.nodes.size();
   // Each node stands for itself, for an earlier node (a folded if-expression: its branch), or
   // for a number; `fixed` marks the subtrees that read a fixed parameter.
@@ -129,8 +121,10 @@ bool NamesLocalVariables(const Template& t, uint32_t first, uint32_t count) {
   });
 }
 
-bool HasIfExpression(const Template& t) {
-  return std::any_of(t.nodes.begin(), t.nodes.end(), [](const TNode& n) { return n.kind == TNode::kOp && n.op == Op::kIf; });
+bool ReadsFixedParameter(const Template& t, const std::vector<double>& values) {
+  return std::any_of(t.nodes.begin(), t.nodes.end(), [&](const TNode& n) {
+    return n.kind == TNode::kLocalParam && n.local < values.size() && !std::isnan(values[n.local]);
+  });
 }
 
 SureAlias ReadSureAlias(const Template& t, const std::vector<bool>& discrete, const std::vector<bool>& conditional) {

@@ -97,17 +97,18 @@ ExprId NoTable(const TNode& node, const std::vector<ExprId>& made);
 /// if-expression folded because its condition read a fixed parameter adds its condition's node
 /// index in `t` to `folded` (when given). `outside` (when given) is set when a fixed parameter is
 /// still read after folding (anywhere but in a condition it decides, as in `b and x` or `b*x`).
-/// A template that reads a table is returned unchanged (`outside` set if it reads a fixed one).
+/// A template that reads a table is returned unchanged: the caller leaves those alone.
 Template FixLocalParameters(const Template& t, const std::vector<double>& values, std::vector<int32_t>* folded,
                             bool* outside = nullptr);
 
 /// Whether template `t` reads a table (its copies need the instance's tables).
 bool ReadsTable(const Template& t);
+/// Whether template `t` reads a local parameter that `values` fixes (not NaN there).
+bool ReadsFixedParameter(const Template& t, const std::vector<double>& values);
 
 /// Whether template `t` names one of the local variables [first, first + count) (its value, a
-/// derivative or a left limit), or holds an if-expression.
+/// derivative or a left limit).
 bool NamesLocalVariables(const Template& t, uint32_t first, uint32_t count);
-bool HasIfExpression(const Template& t);
 
 /// The form of an equation template that alias elimination always removes: x = ±y + c or x = c,
 /// over continuous variables, with c a number. Whatever aliases come before it, it is consumed or

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -45,6 +46,11 @@ components:
 )" + more_connections + R"(experiment: {stop: 0.5, tolerance: 1e-9, interval: 0.01}
 outputs: [C.v, R1.i]
 )";
+}
+
+/// Whether a template holds an if-expression.
+bool HoldsIf(const Template& t) {
+  return std::any_of(t.nodes.begin(), t.nodes.end(), [](const TNode& n) { return n.kind == TNode::kOp && n.op == Op::kIf; });
 }
 
 /// The decided values of the model's conditional connectors, in their order.
@@ -281,7 +287,7 @@ TEST(DecidedConditionsTest, FixLocalParametersFoldsTheIfAndDropsWhatIsNotReached
   EXPECT_EQ(off.nodes[2].b, 1);
   EXPECT_EQ(folded, std::vector<int32_t>{cond});
   EXPECT_FALSE(NamesLocalVariables(off, 1, 1));
-  EXPECT_FALSE(HasIfExpression(off));
+  EXPECT_FALSE(HoldsIf(off));
 
   const Template on = FixLocalParameters(t, {1.0, std::nan("")}, nullptr);
   ASSERT_EQ(on.nodes.size(), 3u);  // T_heatPort, heatPort.T, their difference
@@ -289,7 +295,7 @@ TEST(DecidedConditionsTest, FixLocalParametersFoldsTheIfAndDropsWhatIsNotReached
   // Nothing fixed: the template as it was.
   const Template same = FixLocalParameters(t, {std::nan(""), std::nan("")}, nullptr);
   EXPECT_EQ(same.nodes.size(), t.nodes.size());
-  EXPECT_TRUE(HasIfExpression(same));
+  EXPECT_TRUE(HoldsIf(same));
 }
 
 }  // namespace
