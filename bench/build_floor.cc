@@ -161,16 +161,31 @@ std::vector<ExprId> Intern(const Counts& n, ExprPool* pool, Fields* out) {
   return roots;
 }
 
+// A design's flat records, reserved at flattening's counts.
+template <typename Variable, typename Parameter, typename Equation>
+struct RecordSet {
+  std::vector<Variable> variables;
+  std::vector<Parameter> parameters;
+  std::vector<Equation> equations;
+
+  explicit RecordSet(const Counts& n) {
+    variables.reserve(n.variables);
+    parameters.reserve(n.parameters);
+    equations.reserve(n.equations);
+  }
+  /// Count × size, in MB.
+  double Mb() const {
+    return static_cast<double>(variables.size() * sizeof(Variable) + parameters.size() * sizeof(Parameter) +
+                               equations.size() * sizeof(Equation)) / 1e6;
+  }
+};
+
 // The present design's records, at flattening's counts.
 double Records(const Counts& n, Fields* out) {
   const size_t components = std::max<size_t>(1, n.components);
   const double c0 = CpuSeconds();
-  std::vector<FlatVariable> variables;
-  std::vector<FlatParameter> parameters;
-  std::vector<FlatEquation> equations;
-  variables.reserve(n.variables);
-  parameters.reserve(n.parameters);
-  equations.reserve(n.equations);
+  RecordSet<FlatVariable, FlatParameter, FlatEquation> records(n);
+  auto& [variables, parameters, equations] = records;
   for (size_t i = 0; i < n.variables; ++i) {
     FlatVariable& v = variables.emplace_back();
     v.instance = InstanceId(static_cast<uint32_t>(i * components / n.variables));
@@ -187,9 +202,7 @@ double Records(const Counts& n, Fields* out) {
     e.instance = InstanceId(static_cast<uint32_t>(i * components / n.equations));
   }
   out->Add("records_cpu_s", CpuSeconds() - c0);
-  const double mb = static_cast<double>(variables.size() * sizeof(FlatVariable) +
-                                        parameters.size() * sizeof(FlatParameter) +
-                                        equations.size() * sizeof(FlatEquation)) / 1e6;
+  const double mb = records.Mb();
   out->Add("records_mb", mb);
   return mb;
 }
@@ -223,12 +236,8 @@ double Lean(const Counts& n, Fields* out) {
   struct LeanVariable { uint32_t instance; uint16_t slot, flags; };
   struct LeanParameter { double value; uint32_t instance, binding; };
   struct LeanEquation { uint32_t residual, instance; };
-  std::vector<LeanVariable> variables;
-  std::vector<LeanParameter> parameters;
-  std::vector<LeanEquation> equations;
-  variables.reserve(n.variables);
-  parameters.reserve(n.parameters);
-  equations.reserve(n.equations);
+  RecordSet<LeanVariable, LeanParameter, LeanEquation> records(n);
+  auto& [variables, parameters, equations] = records;
   for (size_t i = 0; i < n.variables; ++i) {
     variables.push_back({static_cast<uint32_t>(i * components / n.variables), static_cast<uint16_t>(i % vars), 0});
   }
@@ -242,9 +251,7 @@ double Lean(const Counts& n, Fields* out) {
   out->Add("append_cpu_s", c1 - c0);
   out->Add("lean_records_cpu_s", c2 - c1);
   const double nodes_mb = static_cast<double>(nodes.size() * sizeof(Node)) / 1e6;
-  const double records_mb = static_cast<double>(variables.size() * sizeof(LeanVariable) +
-                                                parameters.size() * sizeof(LeanParameter) +
-                                                equations.size() * sizeof(LeanEquation)) / 1e6;
+  const double records_mb = records.Mb();
   out->Add("append_mb", nodes_mb);
   out->Add("lean_records_mb", records_mb);
   // Read the arrays once, so that the loops that made them are not optimised away.
