@@ -20,22 +20,23 @@
 //            the per-type data (names, units, bounds, nominal, locations) held once per type
 // Both:
 //   walk     one pass reading each equation's variables once (CollectLeaves, one reused buffer),
-//            over as many equations as flattening makes: the least a structural pass does
+//            over as many equations as flattening makes: the least a structural pass does (on
+//            the present pool's nodes, for both designs)
 // Times are CPU seconds and include first-touch page faults (a build pays them too). Memory is
 // computed as count × size (nodes, the pool's table at 4/3 slots of 8 bytes per node, records);
 // the intern floor's growth of the resident set is printed beside it (the pool also keeps an
-// index of leaves and a nursery). The process runs with the C library's default allocator,
-// whereas `momenta check` restarts itself on huge pages for a large model (README, "Huge pages").
+// index of leaves and a nursery). The pool's arrays are on huge pages (madvise), as in a build;
+// the records and the lean design's arrays are on the C library's default allocator (4 KB pages),
+// whereas `momenta check` restarts itself with malloc on huge pages for a large model (README).
 //
 // usage: build_floor --model FILE [-p NAME=VALUE]... [--repeat K]
 // Prints one key=value line per run and a "median" line, then a summary against the targets.
 #include <algorithm>
-#include <chrono>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
 #include <map>
-#include <memory>
 #include <string>
 #include <stdexcept>
 #include <unistd.h>
@@ -71,8 +72,9 @@ double ResidentMb() {
   return read == 2 ? static_cast<double>(resident) * static_cast<double>(sysconf(_SC_PAGESIZE)) / 1e6 : 0;
 }
 
-/// Written with what the lean arrays hold, so that the loops that made them are kept.
-volatile uint32_t g_sink = 0;
+/// Tells the compiler that `p`'s memory is read here, so that the stores that filled it are made
+/// before the clock is read again (the ClobberMemory idiom of benchmark libraries).
+void Escape(const void* p) { asm volatile("" : : "r"(p) : "memory"); }
 
 struct Counts {
   size_t components = 0;
@@ -137,8 +139,10 @@ std::vector<ExprId> Intern(const Counts& n, ExprPool* pool, Fields* out) {
     const size_t equations = (c + 1) * n.equations / components - c * n.equations / components;
     // The component's chains end at evenly spaced pool sizes (an iteration makes at most four
     // nodes, fewer than a chain's share), so that there are as many as it has equations.
-    const size_t start = pool->size(), budget = goal - start;
-    // Each chain starts from a constant of its own, so that every node after it is new.
+    const size_t start = pool->size(), budget = goal > start ? goal - start : 0;
+    // Each chain starts from a constant of its own, so that every node after it is new (while the
+    // pairs parameter × variable do not repeat: for lcm(parameters, variables) iterations, 24 on
+    // the RC ladder, which makes about 11 per chain).
     ExprId acc = pool->Const(static_cast<double>(roots.size()) + 0.5);
     size_t made = 0;
     for (size_t j = 0; pool->size() < goal; ++j) {
@@ -146,7 +150,7 @@ std::vector<ExprId> Intern(const Counts& n, ExprPool* pool, Fields* out) {
       ExprId term = pool->Mul(pool->Param(ParamId(static_cast<uint32_t>(p0 + j % params))),
                               pool->Var(VarId(static_cast<uint32_t>(v0 + j % vars))));
       acc = pool->Sub(term, acc);
-      if (made + 1 < equations && pool->size() - start >= (made + 1) * budget / equations) {
+      while (made + 1 < equations && pool->size() - start >= (made + 1) * budget / equations) {
         roots.push_back(acc);
         ++made;
         acc = pool->Const(static_cast<double>(roots.size()) + 0.5);
@@ -201,6 +205,9 @@ double Records(const Counts& n, Fields* out) {
     e.residual = ExprId(static_cast<uint32_t>(i));
     e.instance = InstanceId(static_cast<uint32_t>(i * components / n.equations));
   }
+  Escape(variables.data());
+  Escape(parameters.data());
+  Escape(equations.data());
   out->Add("records_cpu_s", CpuSeconds() - c0);
   const double mb = records.Mb();
   out->Add("records_mb", mb);
@@ -232,6 +239,7 @@ double Lean(const Counts& n, Fields* out) {
       nodes.push_back(node);
     }
   }
+  Escape(nodes.data());
   const double c1 = CpuSeconds();
   struct LeanVariable { uint32_t instance; uint16_t slot, flags; };
   struct LeanParameter { double value; uint32_t instance, binding; };
@@ -247,6 +255,9 @@ double Lean(const Counts& n, Fields* out) {
   for (size_t i = 0; i < n.equations; ++i) {
     equations.push_back({static_cast<uint32_t>(i), static_cast<uint32_t>(i * components / n.equations)});
   }
+  Escape(variables.data());
+  Escape(parameters.data());
+  Escape(equations.data());
   const double c2 = CpuSeconds();
   out->Add("append_cpu_s", c1 - c0);
   out->Add("lean_records_cpu_s", c2 - c1);
@@ -254,9 +265,6 @@ double Lean(const Counts& n, Fields* out) {
   const double records_mb = records.Mb();
   out->Add("append_mb", nodes_mb);
   out->Add("lean_records_mb", records_mb);
-  // Read the arrays once, so that the loops that made them are not optimised away.
-  g_sink = nodes.back().a + variables.back().slot + equations.back().instance +
-         static_cast<uint32_t>(parameters.back().value);
   return nodes_mb + records_mb;
 }
 
@@ -274,14 +282,16 @@ void Walk(const ExprPool& pool, const std::vector<ExprId>& roots, Fields* out) {
   out->Add("walk_leaves", static_cast<double>(total));
 }
 
+/// The middle value (the upper of the two middle ones for an even count).
 double Median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   return v.empty() ? 0 : v[v.size() / 2];
 }
 
 // The medians against each other: the build, the present design's floors, the lean design's.
-void PrintSummary(const Counts& n, std::map<std::string, std::vector<double>>& all, double pool_mb) {
-  auto m = [&all](const char* key) { return Median(all[key]); };
+// n and pool_mb are the last run's: every run makes the same counts.
+void PrintSummary(const Counts& n, const std::map<std::string, std::vector<double>>& all, double pool_mb) {
+  auto m = [&all](const char* key) { return Median(all.at(key)); };
   const double build = m("load_cpu_s") + m("build_cpu_s");
   const double present = m("intern_cpu_s") + m("records_cpu_s") + m("walk_cpu_s");
   const double lean = m("append_cpu_s") + m("lean_records_cpu_s") + m("walk_cpu_s");
@@ -325,9 +335,15 @@ int main(int argc, char** argv) {
       const std::string kv = argv[++i];
       const size_t eq = kv.find('=');
       if (eq == std::string::npos) return Usage();
-      overrides[kv.substr(0, eq)] = std::strtod(kv.c_str() + eq + 1, nullptr);
+      char* end = nullptr;
+      const double value = std::strtod(kv.c_str() + eq + 1, &end);
+      if (eq == 0 || end == kv.c_str() + eq + 1 || *end != '\0') return Usage();
+      overrides[kv.substr(0, eq)] = value;
     } else if (a == "--repeat" && i + 1 < argc) {
-      repeat = std::max(1, std::atoi(argv[++i]));
+      char* end = nullptr;
+      const long k = std::strtol(argv[++i], &end, 10);
+      if (end == argv[i] || *end != '\0' || k < 1 || k > 1000) return Usage();
+      repeat = static_cast<int>(k);
     } else {
       return Usage();
     }
@@ -348,6 +364,10 @@ int main(int argc, char** argv) {
       {
         ExprPool pool;
         const std::vector<ExprId> roots = Intern(n, &pool, &f);
+        if (roots.size() != n.equations) {
+          std::fprintf(stderr, "build_floor: the walk reads %zu equations, flattening made %zu\n",
+                       roots.size(), n.equations);
+        }
         Walk(pool, roots, &f);
         pool_mb = (static_cast<double>(pool.size()) * sizeof(Node) +
                    static_cast<double>(pool.size()) * 4.0 / 3.0 * 8.0) / 1e6;
