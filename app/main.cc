@@ -221,7 +221,7 @@ int main(int argc, char** argv) {
   std::string list_name;
   // Every command is defined (the help lists them), but only the one being run gets its options:
   // adding every command's options was 0.7 M instructions, about 5 % of the carrier collision's
-  // whole run of the time (14.9 M; callgrind, bench/RESULTS.md, "Read this first").
+  // whole run (14.9 M instructions; callgrind, bench/RESULTS.md, "Read this first").
   const std::string named = argc > 1 ? argv[1] : "";
   CLI::App* simulate = AddSimulate(&app, &sim, named);
   CLI::App* report = AddReport(&app, &rep, named);

@@ -42,6 +42,7 @@
 #include <unistd.h>
 #include <vector>
 
+#include "bench_util.h"
 #include "core/base/error.h"
 #include "core/build.h"
 #include "core/expr/expr.h"
@@ -56,11 +57,8 @@ namespace {
 
 using namespace momenta;
 
-double CpuSeconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
+using momenta_bench::CpuSeconds;
+using momenta_bench::Median;
 
 /// The resident set in MB (/proc/self/statm), 0 where it cannot be read.
 double ResidentMb() {
@@ -280,12 +278,6 @@ void Walk(const ExprPool& pool, const std::vector<ExprId>& roots, Fields* out) {
   out->Add("walk_cpu_s", CpuSeconds() - c0);
   out->Add("walk_equations", static_cast<double>(roots.size()));
   out->Add("walk_leaves", static_cast<double>(total));
-}
-
-/// The middle value (the upper of the two middle ones for an even count).
-double Median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? 0 : v[v.size() / 2];
 }
 
 // The medians against each other: the build, the present design's floors, the lean design's.

@@ -45,6 +45,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_util.h"
 #include "core/build.h"
 #include "core/base/error.h"
 #include "core/lang/model_spec.h"
@@ -61,11 +62,8 @@ double Since(Clock::time_point t) { return std::chrono::duration<double>(Clock::
 
 // CPU time used by this process so far (user + system), in seconds: on a shared machine it does
 // not count the time spent waiting for a core.
-double CpuSeconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
+using momenta_bench::CpuSeconds;
+using momenta_bench::Median;
 
 /// The residual's cost per evaluation [ns], measured as handwritten_ida.h's residual_eval_ns does:
 /// the median of 5 CPU timings of enough calls to take about 20 ms each, at the start values.
@@ -207,12 +205,6 @@ struct Run {
     return NAN;
   }
 };
-
-double Median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const size_t m = v.size() / 2;
-  return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
-}
 
 }  // namespace
 

@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_util.h"
 #include "core/build.h"
 #include "core/lang/component_type.h"
 #include "core/base/error.h"
@@ -29,11 +30,7 @@
 
 namespace {
 
-double CpuSeconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
+using momenta_bench::CpuSeconds;
 
 struct Named {
   const char* name;

@@ -168,25 +168,23 @@ DecidedConditions DecideConditions(const TypeLayout& layout, std::vector<int8_t>
     if (d.connector[k] < 0) continue;
     const ConnectorSlot& cs = layout.connectors[k];
     const uint32_t first = cs.first_local_var, count = SlotVariables(cs);
+    auto names = [&](const Template& t) { return NamesLocalVariables(t, first, count); };
+    auto is_slot_variable = [&](uint32_t local) { return local >= first && local < first + count; };
     for (const TypeLayout::ImpactTemplate& im : layout.impacts) {
-      const bool names = (im.force >= first && im.force < first + count) ||
-                         (im.contact >= first && im.contact < first + count);
-      if (names || NamesLocalVariables(im.gap, first, count) || NamesLocalVariables(im.velocity, first, count) ||
-          NamesLocalVariables(im.restitution, first, count) || NamesLocalVariables(im.v_small, first, count) ||
-          NamesLocalVariables(im.release, first, count)) {
+      if (is_slot_variable(im.force) || is_slot_variable(im.contact) || names(im.gap) || names(im.velocity) ||
+          names(im.restitution) || names(im.v_small) || names(im.release)) {
         d.connector[k] = -1;
       }
     }
-    if (d.connector[k] < 0) continue;
-    for (const auto* list : {&layout.equations, &layout.initial_equations}) {
-      const auto& info = list == &layout.equations ? layout.equation_info : layout.initial_info;
-      for (size_t j = 0; j < list->size(); ++j) {
+    auto connects = [&](const std::vector<Template>& templates, const std::vector<PartInfo>& info) {
+      for (size_t j = 0; j < templates.size(); ++j) {
         const EquationOrigin o = info[j].origin;
-        if (o != EquationOrigin::kComponent && o != EquationOrigin::kInitial &&
-            NamesLocalVariables((*list)[j], cs.first_local_var, SlotVariables(cs))) {
-          d.connector[k] = -1;
-        }
+        if (o != EquationOrigin::kComponent && o != EquationOrigin::kInitial && names(templates[j])) return true;
       }
+      return false;
+    };
+    if (connects(layout.equations, layout.equation_info) || connects(layout.initial_equations, layout.initial_info)) {
+      d.connector[k] = -1;
     }
   }
   while (d.Any() && !FixEquations(layout, &d)) {

@@ -260,17 +260,18 @@ std::vector<double> EvaluateParameters(const FlatSystem& flat, const ParameterOv
   const ExprPool& pool = *flat.pool;
   std::vector<double> values(flat.parameters.size(), 0.0);
   std::vector<const double*> override_of(flat.parameters.size(), nullptr);
-  std::vector<ParamId> overridden;  // in the overrides' order
-  for (const auto& [name, value] : overrides) {
-    std::optional<ParamId> id = flat.FindParameter(name);
-    if (!id) throw ModelError(flat.file + ": -p " + name + ": no parameter of that name");
-    override_of[id->value()] = &value;
-    overridden.push_back(*id);
+  // Every name is checked before any value (the first error is an unknown name, if any).
+  std::vector<std::pair<ParamId, const ParameterOverrides::value_type*>> given;  // in the overrides' order
+  for (const auto& entry : overrides) {
+    std::optional<ParamId> id = flat.FindParameter(entry.first);
+    if (!id) throw ModelError(flat.file + ": -p " + entry.first + ": no parameter of that name");
+    override_of[id->value()] = &entry.second;
+    given.emplace_back(*id, &entry);
   }
   // A parameter that shaped the structure (count:, indices) keeps the value it was built with.
-  size_t k = 0;
-  for (const auto& [name, value] : overrides) {
-    const double* built = flat.structural.Find(overridden[k++]);
+  for (const auto& [id, entry] : given) {
+    const auto& [name, value] = *entry;
+    const double* built = flat.structural.Find(id);
     if (built != nullptr && *built != value) {
       std::ostringstream msg;
       msg << flat.file << ": -p " << name << "=" << value << ": " << name
